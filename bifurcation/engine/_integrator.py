@@ -1,0 +1,118 @@
+"""One compiled Taylor integrator per (law, precision), reused for every (ν, ν_f).
+
+Scaled equations (PHYSICS.md): with U = νW,
+
+    Ẅ = c·t − W + Σ_k s_k g_k(x)/ν,   x = ν a Ẇ,   a = 1/ν_f = 2α,
+
+where g_k = 1 − Φ on piece k of the law and s_k is a one-hot runtime parameter that selects the piece
+(flipped at a terminal event, so a kink is crossed exactly and never smoothed). c = 1 for a finite-ν
+cycle; c = 0 with ν = 1 turns the same integrator into the ν = 0 flow Ü = −U + g(U̇/ν_f) used by the
+direct limit. Runtime parameters: par[0] = ν, par[1] = a, par[2] = c, par[3 + k] = s_k.
+
+Every event function is O(1) in the scaled variables while the block slips (PHYSICS.md: a switching
+function of size 1e12 spoils the location of other events).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+import heyoka as hy
+import numpy as np
+
+from ..laws import FrictionLaw
+
+__all__ = ["Compiled", "EventKind", "compiled", "fp_info"]
+
+_CACHE: dict = {}
+
+
+class EventKind(Enum):
+    STOP = "stop"            # U̇ returns to 0: terminal for the cycle
+    MAX_VELOCITY = "max"     # dU̇/dt = 0 from above: a velocity maximum
+    REACH_NU_F = "creep"     # U̇ = ν_f from below (t1), where 1 is not a breakpoint
+    SWITCH = "switch"        # U̇/ν_f crosses a breakpoint of the law
+
+
+@dataclass(frozen=True)
+class Compiled:
+    """A compiled integrator and the meaning of its terminal events."""
+
+    law: FrictionLaw
+    precision: str
+    integrator: object
+    kinds: tuple            # EventKind per terminal event index
+    breakpoint_of: tuple    # breakpoint index per event (-1 where not a switch)
+    n_pieces: int
+    batch_size: int
+
+
+def fp_info(precision: str):
+    """(heyoka fp_type or None for double, numpy dtype, constant maker) for a precision name."""
+    if precision == "double":
+        return None, np.float64, lambda v: hy.expression(float(v))
+    if precision == "quad":
+        return hy.real128, hy.real128, lambda v: hy.expression(hy.real128(str(v)))
+    raise ValueError(precision)
+
+
+def _system(law: FrictionLaw, num):
+    W, V = hy.make_vars("W", "V")
+    nu, a, c = hy.par[0], hy.par[1], hy.par[2]
+    x = nu * a * V
+    pieces = law.pieces
+    if len(pieces) == 1:
+        drop = pieces[0].drop(x, num)
+    else:
+        drop = hy.sum([hy.par[3 + k] * p.drop(x, num) for k, p in enumerate(pieces)])
+    rhs = c * hy.time - W + drop / nu
+    # dx/dt = ν a Ẅ, written without the 1/ν so that it stays O(1) during the slip.
+    dxdt = a * (nu * (c * hy.time - W) + drop)
+    return (W, V), rhs, x, dxdt
+
+
+def _events(law: FrictionLaw, x, dxdt, batch: bool, fp_type):
+    make = hy.t_event_batch if batch else hy.t_event
+
+    def ev(eq, direction):
+        return make(eq, direction=direction, **({"fp_type": fp_type} if fp_type is not None else {}))
+
+    neg, pos, anyd = (hy.event_direction.negative, hy.event_direction.positive, hy.event_direction.any)
+    events = [ev(x, direction=neg), ev(dxdt, direction=neg)]
+    kinds = [EventKind.STOP, EventKind.MAX_VELOCITY]
+    bp_of = [-1, -1]
+    if 1.0 not in law.breakpoints:
+        events.append(ev(x - 1.0, direction=pos))
+        kinds.append(EventKind.REACH_NU_F)
+        bp_of.append(-1)
+    for j, b in enumerate(law.breakpoints):
+        events.append(ev(x / b - 1.0, direction=anyd))
+        kinds.append(EventKind.SWITCH)
+        bp_of.append(j)
+    return events, tuple(kinds), tuple(bp_of)
+
+
+def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> Compiled:
+    """The cached compiled integrator for ``law`` (built on first use in this process)."""
+    key = (law.name, law.formula, precision, batch_size)
+    hit = _CACHE.get(key)
+    if hit is not None:
+        return hit
+    fp_type, dtype, num = fp_info(precision)
+    (W, V), rhs, x, dxdt = _system(law, num)
+    batch = batch_size > 1
+    events, kinds, bp_of = _events(law, x, dxdt, batch, fp_type)
+    npars = 3 + (len(law.pieces) if len(law.pieces) > 1 else 0)
+    kwargs = dict(t_events=events, compact_mode=precision == "quad")
+    if fp_type is not None:
+        kwargs["fp_type"] = fp_type
+    if batch:
+        ta = hy.taylor_adaptive_batch([(W, V), (V, rhs)], np.zeros((2, batch_size)),
+                                      pars=np.zeros((npars, batch_size)), **kwargs)
+    else:
+        ta = hy.taylor_adaptive([(W, V), (V, rhs)], np.zeros(2, dtype=dtype),
+                                pars=np.zeros(npars, dtype=dtype), **kwargs)
+    result = Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size)
+    _CACHE[key] = result
+    return result

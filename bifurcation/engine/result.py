@@ -1,0 +1,106 @@
+"""Outcome of a slip cycle: result fields and status codes.
+
+A grid never throws per point: each point carries a status. The codes are stable (they are stored).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+
+__all__ = ["FIELDS", "FIELD_ATTRS", "SlipResult", "Status"]
+
+
+class Status(IntEnum):
+    """Per-point outcome. ``str(Status.STICK_SLIP) == "stick-slip"``."""
+
+    NOT_COMPUTED = 0   #: never computed (used by the store's fill value)
+    #: Stopped, and the slip stays finite as ν → 0: ν_f ≤ 1/2 (the ν = 0 fixed point is an unstable
+    #: node, so the block always leaves the linear regime), or ν_f > 1/2 but U̇ reached ν_f at this ν
+    #: (the finite-ν rounding of the transition). Not "U̇ reached ν_f" alone: with Carlson–Langer at
+    #: ν_f = 0.4 the slip is finite (Δ → 0.738) while U̇ never exceeds 0.34.
+    STICK_SLIP = 1
+    #: Stopped with ν_f > 1/2 and U̇ < ν_f throughout: the linear creep cycle of Eqs. (7)–(10), Δ ∝ ν.
+    CREEP = 2
+    NO_STOP = 3        #: did not stop before t_max or max_steps (bounded, never hangs)
+    NO_STICK = 4       #: stopped, but the spring force then exceeds static friction (back-slip)
+    NONFINITE = 5      #: the integrator produced a non-finite state
+    INVALID = 6        #: the point's input was invalid (never produced by ``slip`` on valid input)
+
+    def __str__(self) -> str:  # "stick-slip", as users and the store see it
+        return self.name.lower().replace("_", "-")
+
+    @classmethod
+    def parse(cls, text: str) -> "Status":
+        return cls[text.upper().replace("-", "_")]
+
+
+#: Float fields of a slip result, in order.
+FIELDS = ("delta", "period", "creep_time", "slip_duration", "stop_time", "max_velocity")
+
+#: Long names and units, used by the CLI and the store.
+FIELD_ATTRS = {
+    "delta": ("slip Δ of one cycle (U at the stop)", "F0/k"),
+    "period": ("recurrence time T = Δ/ν", "sqrt(m/k)"),
+    "creep_time": ("t1: time from the start until U̇ first reaches ν_f (NaN if it never does)", "sqrt(m/k)"),
+    "slip_duration": ("time from t1 to the stop (NaN if U̇ never reaches ν_f)", "sqrt(m/k)"),
+    "stop_time": ("time from the start to the stop (t0 of Eq. 9 in creep)", "sqrt(m/k)"),
+    "max_velocity": ("maximum block velocity U̇ during the cycle", "V0 = F0/sqrt(mk)"),
+    "steps": ("Taylor steps taken", "1"),
+    "status": ("outcome code (see bifurcation.Status)", "1"),
+}
+
+
+@dataclass(frozen=True)
+class SlipResult:
+    """Arrays of one broadcast shape: the float ``FIELDS``, ``steps`` (int64) and ``status`` (int8 codes).
+
+    Fields are reachable as attributes or keys (``r.delta``, ``r["delta"]``). ``messages`` maps a
+    flat index to a message for points whose status is not stick-slip or creep.
+    """
+
+    nu: np.ndarray
+    nu_f: np.ndarray
+    delta: np.ndarray
+    period: np.ndarray
+    creep_time: np.ndarray
+    slip_duration: np.ndarray
+    stop_time: np.ndarray
+    max_velocity: np.ndarray
+    steps: np.ndarray
+    status: np.ndarray
+    messages: dict
+    law: str
+    precision: str
+
+    def __getitem__(self, key: str):
+        return getattr(self, key)
+
+    def keys(self):
+        return ("nu", "nu_f", *FIELDS, "steps", "status")
+
+    def status_names(self) -> np.ndarray:
+        """Status codes as strings ("stick-slip", ...), same shape."""
+        names = np.array([str(s) for s in Status], dtype=object)
+        return names[self.status]
+
+    def to_records(self) -> list[dict]:
+        """One dict per point (flattened C order), statuses as strings, NaN as None."""
+        out = []
+        flat = {k: np.asarray(self[k]).ravel() for k in self.keys()}
+        for i in range(flat["nu"].size):
+            rec = {"law": self.law}
+            for k, v in flat.items():
+                if k == "status":
+                    rec[k] = str(Status(int(v[i])))
+                elif k == "steps":
+                    rec[k] = int(v[i])
+                else:
+                    x = float(v[i])
+                    rec[k] = x if np.isfinite(x) else None
+            if i in self.messages:
+                rec["message"] = self.messages[i]
+            out.append(rec)
+        return out
