@@ -3,11 +3,12 @@
 Vasconcelos, "First-order phase transition in a model for earthquakes", PRL 76, 4865 (1996).
 """
 
-from .engine import FIELDS, SlipResult, Status, slip
+from .engine import FIELDS, LIMIT_FIELDS, LimitResult, SlipResult, Status, limit, slip
 from .errors import InputError
 from .laws import FrictionLaw, law_names, resolve_law
 
 __all__ = sorted([
-    "FIELDS", "FrictionLaw", "InputError", "SlipResult", "Status", "law_names", "resolve_law", "slip",
+    "FIELDS", "FrictionLaw", "InputError", "LIMIT_FIELDS", "LimitResult", "SlipResult", "Status",
+    "law_names", "limit", "resolve_law", "slip",
 ])
 __version__ = "0.1.0"

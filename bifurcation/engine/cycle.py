@@ -37,7 +37,7 @@ def _set_piece(pars, piece: int, n_pieces: int) -> None:
         pars[3 + piece] = 1
 
 
-def run_cycle(c: Compiled, nu, a, *, forcing: float = 1.0, state0=(0.0, 0.0), piece: int = 0,
+def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0), piece: int = 0,
               t_max: float = DEFAULT_T_MAX, max_steps: int = DEFAULT_MAX_STEPS) -> dict:
     """Integrate one cycle with the compiled integrator ``c``; returns a dict of raw outcomes.
 
@@ -50,7 +50,7 @@ def run_cycle(c: Compiled, nu, a, *, forcing: float = 1.0, state0=(0.0, 0.0), pi
     ta.time = dtype(0)
     ta.state[:] = state0
     pars = ta.pars
-    pars[0], pars[1], pars[2] = nu, a, forcing
+    pars[0], pars[1], pars[2] = nu, nu_f, forcing
     _set_piece(pars, piece, c.n_pieces)
     breakpoints = c.law.breakpoints
     creep_time = math.nan
@@ -100,8 +100,8 @@ def run_cycle(c: Compiled, nu, a, *, forcing: float = 1.0, state0=(0.0, 0.0), pi
 
 def _finite_nu_point(c: Compiled, nu: float, nu_f: float, t_max: float, max_steps: int):
     _, dtype, _ = fp_info(c.precision)
-    nu_q, a_q = dtype(nu), dtype(1) / dtype(nu_f)
-    raw = run_cycle(c, nu_q, a_q, t_max=t_max, max_steps=max_steps)
+    nu_q = dtype(nu)
+    raw = run_cycle(c, nu_q, dtype(nu_f), t_max=t_max, max_steps=max_steps)
     status, message = raw["status"], raw["message"]
     t_stop, W = raw["time"], raw["W"]
     delta = nu_q * W

@@ -21,7 +21,7 @@ from ._integrator import EventKind, compiled, fp_info
 from ._validate import check_nu_f, check_precision
 from .cycle import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, run_cycle
 from .manifold import fast_manifold_start
-from .result import Status
+from .result import Status, records, status_names
 
 __all__ = ["LIMIT_FIELDS", "LimitResult", "limit"]
 
@@ -58,6 +58,14 @@ class LimitResult:
     def keys(self):
         return ("nu_f", *LIMIT_FIELDS, "steps", "status")
 
+    def status_names(self) -> np.ndarray:
+        """Status codes as strings, same shape."""
+        return status_names(self.status)
+
+    def to_records(self) -> list[dict]:
+        """One dict per ν_f, statuses as strings, NaN as None."""
+        return records(self)
+
 
 def _to_fp(value, dtype):
     return dtype(mpmath.nstr(value, 45)) if dtype is not np.float64 else float(value)
@@ -75,9 +83,8 @@ def _stick_slip_limit(law: FrictionLaw, nu_f: float, precision: str):
             y_start /= 10
     else:
         return (math.nan,) * 4 + (0, Status.NONFINITE, "fast-manifold series did not converge")
-    a = dtype(1) / dtype(nu_f)
     # The creep event marks U̇ = ν_f; run_cycle records it and every later crossing of breakpoint 1.
-    raw = run_cycle(c, dtype(1), a, forcing=0.0, state0=(_to_fp(U, dtype), _to_fp(Ud, dtype)),
+    raw = run_cycle(c, dtype(1), dtype(nu_f), forcing=0.0, state0=(_to_fp(U, dtype), _to_fp(Ud, dtype)),
                     t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS)
     if raw["status"] is not Status.STICK_SLIP:
         return (math.nan,) * 4 + (raw["steps"], raw["status"], raw["message"])

@@ -10,7 +10,7 @@ from enum import IntEnum
 
 import numpy as np
 
-__all__ = ["FIELDS", "FIELD_ATTRS", "SlipResult", "Status"]
+__all__ = ["FIELDS", "FIELD_ATTRS", "SlipResult", "Status", "records", "status_names"]
 
 
 class Status(IntEnum):
@@ -83,24 +83,34 @@ class SlipResult:
 
     def status_names(self) -> np.ndarray:
         """Status codes as strings ("stick-slip", ...), same shape."""
-        names = np.array([str(s) for s in Status], dtype=object)
-        return names[self.status]
+        return status_names(self.status)
 
     def to_records(self) -> list[dict]:
         """One dict per point (flattened C order), statuses as strings, NaN as None."""
-        out = []
-        flat = {k: np.asarray(self[k]).ravel() for k in self.keys()}
-        for i in range(flat["nu"].size):
-            rec = {"law": self.law}
-            for k, v in flat.items():
-                if k == "status":
-                    rec[k] = str(Status(int(v[i])))
-                elif k == "steps":
-                    rec[k] = int(v[i])
-                else:
-                    x = float(v[i])
-                    rec[k] = x if np.isfinite(x) else None
-            if i in self.messages:
-                rec["message"] = self.messages[i]
-            out.append(rec)
-        return out
+        return records(self)
+
+
+def status_names(codes) -> np.ndarray:
+    """Status codes as strings ("stick-slip", ...), same shape (object array)."""
+    names = np.array([str(s) for s in Status], dtype=object)
+    return np.asarray(names[np.asarray(codes)], dtype=object)
+
+
+def records(result) -> list[dict]:
+    """Flatten a result (anything with ``keys()``, ``law``, ``messages``) to one dict per point."""
+    flat = {k: np.asarray(result[k]).ravel() for k in result.keys()}
+    out = []
+    for i in range(next(iter(flat.values())).size):
+        rec = {"law": result.law}
+        for k, v in flat.items():
+            if k == "status":
+                rec[k] = str(Status(int(v[i])))
+            elif k == "steps":
+                rec[k] = int(v[i])
+            else:
+                x = float(v[i])
+                rec[k] = x if np.isfinite(x) else None
+        if i in result.messages:
+            rec["message"] = result.messages[i]
+        out.append(rec)
+    return out

@@ -1,0 +1,97 @@
+"""Engine subcommands: ``laws``, ``slip``, ``limit``, ``bench``."""
+
+from __future__ import annotations
+
+import click
+
+from ._common import echo_json
+
+__all__ = ["COMMANDS"]
+
+_PRECISION = click.Choice(["double", "quad"])
+
+
+def _number(name: str):
+    """A float option parsed by us, so a bad value gets our one-line message."""
+
+    def convert(ctx, param, value):
+        if value is None:
+            return None
+        try:
+            return float(value)
+        except ValueError:
+            raise click.BadParameter(f"{value!r} is not a number; give e.g. 1e-9", param_hint=name) from None
+
+    return convert
+
+
+@click.command("laws")
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def laws(as_json: bool) -> None:
+    """List the named friction laws with their equations and sources."""
+    from ..laws import law_names, resolve_law
+
+    rows = [resolve_law(n) for n in law_names()]
+    if as_json:
+        echo_json([{"name": l.name, "formula": l.formula, "equation": l.equation, "source": l.source}
+                   for l in rows])
+        return
+    for l in rows:
+        click.echo(f"{l.name:18s} {l.equation}\n{'':18s} {l.source}")
+    click.echo("\nOr give --law a formula in x, e.g. 'exp(-x)', '1/sqrt(1+2*x)', 'piecewise(1 - x, 1, 0)'.")
+
+
+def _print_point(record: dict, keys, as_json: bool) -> None:
+    if as_json:
+        echo_json(record)
+        return
+    for k in keys:
+        v = record.get(k)
+        click.echo(f"{k:18s} {v:.17g}" if isinstance(v, float) else f"{k:18s} {v}")
+
+
+@click.command("slip")
+@click.option("--law", required=True, help="Law name (see `bifurcation laws`) or formula in x.")
+@click.option("--nu", required=True, callback=_number("--nu"), help="Pulling speed ν > 0.")
+@click.option("--nu-f", "nu_f", required=True, callback=_number("--nu-f"), help="Friction velocity ν_f > 0.")
+@click.option("--precision", type=_PRECISION, default="double", show_default=True)
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def slip_cmd(law: str, nu: float, nu_f: float, precision: str, as_json: bool) -> None:
+    """One slip cycle at (ν, ν_f): Δ, T, t1, slip duration, max velocity, status."""
+    from ..engine import FIELDS, slip
+
+    record = slip(law, nu=nu, nu_f=nu_f, precision=precision).to_records()[0]
+    record["precision"] = precision
+    _print_point(record, ("law", "nu", "nu_f", *FIELDS, "steps", "status", "message"), as_json)
+
+
+@click.command("limit")
+@click.option("--law", required=True, help="Law name (see `bifurcation laws`) or formula in x.")
+@click.option("--nu-f", "nu_f", required=True, callback=_number("--nu-f"), help="Friction velocity ν_f > 0.")
+@click.option("--precision", type=_PRECISION, default="double", show_default=True)
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
+    """The ν → 0 limit at ν_f, computed directly on the ν = 0 flow: Δ0 and more."""
+    from ..engine import LIMIT_FIELDS, limit
+
+    record = limit(law, nu_f=nu_f, precision=precision).to_records()[0]
+    _print_point(record, ("law", "nu_f", *LIMIT_FIELDS, "status", "message"), as_json)
+
+
+@click.command("bench")
+@click.option("--points", default=2000, show_default=True, help="Grid points for the engine timing.")
+@click.option("--subset", default=12, show_default=True, help="Points for the slow baselines (DOP853).")
+@click.option("--pipeline", "pipeline_points", default=0, show_default=True,
+              help="Also time the Dask pipeline on this many points (0: skip).")
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def bench(points: int, subset: int, pipeline_points: int, as_json: bool) -> None:
+    """Benchmarks, side by side in one run, reported as ratios (never a test)."""
+    from ..bench import run_bench
+
+    report = run_bench(points=points, subset=subset, pipeline_points=pipeline_points,
+                       echo=None if as_json else click.echo)
+    if as_json:
+        echo_json(report)
+
+
+COMMANDS = [laws, slip_cmd, limit_cmd, bench]
