@@ -28,7 +28,7 @@ import numpy as np
 
 from ..laws import FrictionLaw
 
-__all__ = ["Compiled", "EventKind", "compiled", "fp_info"]
+__all__ = ["Compiled", "EventKind", "build", "compiled", "fp_info"]
 
 _CACHE: dict = {}
 
@@ -102,8 +102,13 @@ def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -
     """The cached compiled integrator for ``law`` (built on first use in this process)."""
     key = (law.name, law.formula, precision, batch_size)
     hit = _CACHE.get(key)
-    if hit is not None:
-        return hit
+    if hit is None:
+        hit = _CACHE[key] = build(law, precision, batch_size)
+    return hit
+
+
+def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> Compiled:
+    """Compile a new integrator for ``law`` (uncached; the benchmark's naive baseline uses this)."""
     fp_type, dtype, num = fp_info(precision)
     (W, V), rhs, x, dxdt = _system(law, num)
     batch = batch_size > 1
@@ -118,6 +123,4 @@ def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -
     else:
         ta = hy.taylor_adaptive([(W, V), (V, rhs)], np.zeros(2, dtype=dtype),
                                 pars=np.zeros(npars, dtype=dtype), **kwargs)
-    result = Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size)
-    _CACHE[key] = result
-    return result
+    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size)

@@ -1,0 +1,166 @@
+"""``bifurcation bench``: the engine against its baselines, side by side in one run, as ratios.
+
+Baselines, on the same scaled equations and the same events (stop at U̇ = 0, switches of the
+piecewise-linear law at U̇ = ν_f):
+- scipy ``solve_ivp`` DOP853 at rtol = atol = 1e-13, with a Python right-hand side;
+- naive heyoka: a new integrator compiled for every point.
+Each method's error is measured against independent references: the exact piecewise mpmath solution
+(``bifurcation.reference``) for the piecewise-linear law, heyoka real128 runs for Carlson–Langer.
+Timings are wall-clock on one core after a warm-up; they are reported, never asserted.
+"""
+
+from __future__ import annotations
+
+import math
+import platform
+import time
+
+import numpy as np
+
+__all__ = ["run_bench"]
+
+_NUS = np.array([1e-3, 1e-6, 1e-9, 1e-12, 1e-15])
+
+
+def _grid(points: int):
+    nus = 10.0 ** -np.arange(3, 16)
+    n_f = max(points // nus.size, 1)
+    nu_f = np.linspace(0.02, 0.98, n_f)
+    return nus[:, None], nu_f[None, :]
+
+
+def _subset(n: int):
+    nu_f = np.array([0.1, 0.3, 0.45, 0.5, 0.6, 0.9])
+    pts = [(nu, nf) for nu in _NUS for nf in nu_f]
+    idx = np.linspace(0, len(pts) - 1, min(n, len(pts))).round().astype(int)
+    return [pts[i] for i in sorted(set(idx))]
+
+
+# -- DOP853 on the same scaled equations ---------------------------------------------------------
+def _drops(law: str):
+    if law == "piecewise-linear":
+        return [lambda x: x, lambda x: 1.0], [1.0]
+    if law == "carlson-langer":
+        return [lambda x: x / (1.0 + x)], []
+    raise ValueError(law)
+
+
+def dop853_cycle(law: str, nu: float, nu_f: float, rtol: float = 1e-13) -> float:
+    """Δ by scipy's DOP853 on Ẅ = t − W + g(νẆ/ν_f)/ν, pieces switched at terminal events."""
+    from scipy.integrate import solve_ivp
+
+    drops, breaks = _drops(law)
+    piece, t0, y0 = 0, 0.0, np.zeros(2)
+    for _ in range(8):
+        g = drops[piece]
+
+        def rhs(t, y, g=g):
+            return (y[1], t - y[0] + g(nu * y[1] / nu_f) / nu)
+
+        def stop(t, y):
+            return nu * y[1] / nu_f if t > t0 else 1.0
+
+        stop.terminal, stop.direction = True, -1
+        events = [stop]
+        for b in breaks:
+            def switch(t, y, b=b):
+                return nu * y[1] / nu_f / b - 1.0
+
+            switch.terminal, switch.direction = True, (1 if piece == 0 else -1)
+            events.append(switch)
+        sol = solve_ivp(rhs, (t0, 1e4), y0, method="DOP853", rtol=rtol, atol=rtol, events=events)
+        if sol.t_events[0].size:
+            return nu * sol.y_events[0][0][0]
+        t0, y0 = sol.t_events[1][0], sol.y_events[1][0]
+        piece = 1 - piece
+    return math.nan
+
+
+def _naive_heyoka(law: str, nu: float, nu_f: float) -> float:
+    from .engine._integrator import build
+    from .engine.cycle import run_cycle
+    from .laws import resolve_law
+
+    c = build(resolve_law(law))
+    return nu * float(run_cycle(c, nu, nu_f)["W"])
+
+
+def _reference(law: str, nu: float, nu_f: float) -> float:
+    if law == "piecewise-linear":
+        from .reference import piecewise_linear_exact
+
+        return float(piecewise_linear_exact(nu, nu_f, dps=30)["delta"])
+    from .engine import slip
+
+    return float(slip(law, nu=nu, nu_f=nu_f, precision="quad").delta)
+
+
+def _timed(fn, *args):
+    t = time.perf_counter()
+    value = fn(*args)
+    return value, time.perf_counter() - t
+
+
+def _engine_grid(law: str, points: int) -> dict:
+    from .engine import slip
+
+    nu, nu_f = _grid(points)
+    slip(law, nu=1e-9, nu_f=0.3)  # warm-up: compile once, as a worker does
+    r, dt = _timed(lambda: slip(law, nu=nu, nu_f=nu_f))
+    n = r.delta.size
+    return {"points": n, "us_per_point": 1e6 * dt / n, "mean_steps": float(r.steps.mean())}
+
+
+def _compare(law: str, subset: int) -> dict:
+    from .engine import slip
+
+    pts = _subset(subset)
+    out = {}
+    refs = [_reference(law, nu, nf) for nu, nf in pts]
+    methods = {
+        "engine": lambda nu, nf: float(slip(law, nu=nu, nu_f=nf).delta),
+        "naive_heyoka": lambda nu, nf: _naive_heyoka(law, nu, nf),
+        "dop853": lambda nu, nf: dop853_cycle(law, nu, nf),
+    }
+    methods["engine"](1e-9, 0.3)
+    for name, fn in methods.items():
+        total, errs = 0.0, []
+        for (nu, nf), ref in zip(pts, refs):
+            value, dt = _timed(fn, nu, nf)
+            total += dt
+            errs.append(abs(value - ref) / abs(ref))
+        out[name] = {"us_per_point": 1e6 * total / len(pts), "max_rel_error": float(np.nanmax(errs)),
+                     "median_rel_error": float(np.nanmedian(errs))}
+    for name in ("naive_heyoka", "dop853"):
+        out[name]["time_ratio_vs_engine"] = out[name]["us_per_point"] / out["engine"]["us_per_point"]
+    out["points"] = len(pts)
+    return out
+
+
+def run_bench(points: int = 2000, subset: int = 12, pipeline_points: int = 0, echo=print) -> dict:
+    """Run the benchmarks; return a JSON-able report (and print a table through ``echo``)."""
+    import heyoka
+
+    say = echo or (lambda *_: None)
+    report = {"machine": {"python": platform.python_version(), "heyoka": heyoka.__version__,
+                          "processor": platform.machine()}, "laws": {}}
+    for law in ("carlson-langer", "piecewise-linear"):
+        say(f"\n== {law}")
+        grid = _engine_grid(law, points)
+        say(f"engine grid: {grid['points']} points (ν 1e-3…1e-15 × ν_f 0.02…0.98): "
+            f"{grid['us_per_point']:.1f} µs/trajectory, {grid['mean_steps']:.1f} steps on average")
+        cmp_ = _compare(law, subset)
+        say(f"subset of {cmp_['points']} points (ν 1e-3…1e-15, ν_f 0.1…0.9) vs references:")
+        say(f"  {'method':14s} {'µs/point':>12s} {'× engine':>10s} {'max rel err':>12s} {'median':>10s}")
+        for name in ("engine", "naive_heyoka", "dop853"):
+            m = cmp_[name]
+            ratio = m.get("time_ratio_vs_engine", 1.0)
+            say(f"  {name:14s} {m['us_per_point']:12.1f} {ratio:10.1f} {m['max_rel_error']:12.2e} "
+                f"{m['median_rel_error']:10.2e}")
+        report["laws"][law] = {"grid": grid, "subset": cmp_}
+    if pipeline_points:
+        from .run.bench import bench_pipeline
+
+        say(f"\n== pipeline ({pipeline_points} points)")
+        report["pipeline"] = bench_pipeline(points=pipeline_points, echo=say)
+    return report
