@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["check_nu", "check_nu_f", "check_precision"]
+__all__ = ["check_batch", "check_nu", "check_nu_f", "check_precision"]
 
 PRECISIONS = ("double", "quad")
 
@@ -37,3 +37,13 @@ def check_precision(precision: str) -> str:
     if precision not in PRECISIONS:
         raise InputError("precision", precision, "is not a precision", "use 'double' or 'quad'")
     return precision
+
+
+def check_batch(batch, precision: str) -> int:
+    """Batch lanes: an integer ≥ 1; batches are double precision only."""
+    if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
+        raise InputError("batch", batch, "is not a lane count", "give an integer ≥ 1 (e.g. 8), or 1 for scalar")
+    if batch > 1 and precision != "double":
+        raise InputError("batch", batch, f"is not available with precision={precision!r}",
+                         "use batch=1 for quad precision")
+    return int(batch)
