@@ -1,14 +1,42 @@
 """bifurcation: high-precision bifurcation studies of the spring-block earthquake model.
 
 Vasconcelos, "First-order phase transition in a model for earthquakes", PRL 76, 4865 (1996).
+
+Public names are imported on first use (PEP 562), so ``bifurcation --help`` does not load heyoka,
+dask or matplotlib.
 """
 
-from .engine import FIELDS, LIMIT_FIELDS, LimitResult, SlipResult, Status, limit, slip
-from .errors import InputError
-from .laws import FrictionLaw, law_names, resolve_law
+from __future__ import annotations
 
-__all__ = sorted([
-    "FIELDS", "FrictionLaw", "InputError", "LIMIT_FIELDS", "LimitResult", "SlipResult", "Status",
-    "law_names", "limit", "resolve_law", "slip",
-])
+import importlib
+
 __version__ = "0.1.0"
+
+_LAZY = {
+    "FIELDS": "engine",
+    "FrictionLaw": "laws",
+    "InputError": "errors",
+    "LIMIT_FIELDS": "engine",
+    "LimitResult": "engine",
+    "SlipResult": "engine",
+    "Status": "engine",
+    "law_names": "laws",
+    "limit": "engine",
+    "open_store": "store",
+    "resolve_law": "laws",
+    "slip": "engine",
+}
+
+__all__ = sorted(_LAZY)
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'bifurcation' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -1,0 +1,25 @@
+"""Every advertised public name exists, and the advertised lists are sorted (STYLE.md §1)."""
+
+import importlib
+
+import pytest
+
+PACKAGES = ["bifurcation", "bifurcation.engine", "bifurcation.laws", "bifurcation.theory"]
+
+
+@pytest.mark.parametrize("name", PACKAGES)
+def test_all_names_exist_and_are_sorted(name):
+    module = importlib.import_module(name)
+    assert module.__all__ == sorted(module.__all__)
+    missing = [n for n in module.__all__ if not hasattr(module, n)]
+    assert not missing
+
+
+def test_cli_help_does_not_import_the_heavy_parts():
+    import subprocess
+    import sys
+
+    code = ("import sys; from bifurcation.cli import cli; "
+            "print(any(m in sys.modules for m in ('heyoka', 'dask', 'xarray', 'matplotlib', 'zarr')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
