@@ -215,3 +215,28 @@ def test_bad_batch():
         bf.slip("carlson-langer", nu=1e-9, nu_f=0.4, batch=0)
     with pytest.raises(bf.InputError, match="precision='quad'"):
         bf.slip("carlson-langer", nu=1e-9, nu_f=0.4, batch=4, precision="quad")
+
+
+def test_a_point_does_not_depend_on_the_points_before_it():
+    # Regression: heyoka's terminal-event cooldowns survive a reset of time and state; without
+    # clearing them, the direct limit of a list failed from its second entry on.
+    nu_f = [1e-6, 0.01, 0.3, 0.5, 0.6]
+    many = bf.limit("carlson-langer", nu_f=nu_f)
+    one_by_one = [bf.limit("carlson-langer", nu_f=v).delta0.item() for v in nu_f]
+    assert many.delta0.tolist() == one_by_one
+    nu = np.array([1.0, 1e-3, 1e-15, 1e-9])
+    forward = bf.slip("piecewise-linear", nu=nu[:, None], nu_f=[1e-3, 0.3, 0.5, 0.7])
+    backward = bf.slip("piecewise-linear", nu=nu[::-1, None], nu_f=[0.7, 0.5, 0.3, 1e-3])
+    assert (forward.delta[::-1, ::-1] == backward.delta).all()
+    for batch in (1, 4):
+        reused = bf.slip("carlson-langer", nu=nu[:, None], nu_f=[1e-3, 0.3, 0.5, 0.7], batch=batch)
+        fresh = [bf.slip("carlson-langer", nu=n, nu_f=f, batch=batch).delta.item()
+                 for n in nu for f in [1e-3, 0.3, 0.5, 0.7]]
+        np.testing.assert_array_equal(reused.delta.ravel(), fresh)
+
+
+def test_fast_pulling_can_back_slip():
+    # At ν = 1 with a tiny ν_f the friction vanishes at once: the block swings past the point where
+    # the spring pushes back harder than static friction, which the engine reports, not hides.
+    r = bf.slip("piecewise-linear", nu=1.0, nu_f=1e-3)
+    assert r.status_names().item() == "no-stick" and "slide back" in r.messages[0]

@@ -57,6 +57,7 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
             return
         hi[lane] = lo[lane] = 0.0
         state[:, lane] = 0.0
+        ta.reset_cooldowns(lane)  # the previous point's cooldowns must not reach this one
         pars[0, lane], pars[1, lane], pars[2, lane] = nu[i], nu_f[i], 1.0
         if n_pieces > 1:
             pars[3:3 + n_pieces, lane] = 0.0
@@ -74,7 +75,6 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
     for lane in range(lanes):
         load(lane)
     ta.set_dtime(hi, lo)
-    ta.reset_cooldowns()
     while (point >= 0).any():
         active = point >= 0
         target = np.where(active, t_max, hi)

@@ -49,6 +49,9 @@ def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
     _, dtype, _ = fp_info(c.precision)
     ta.time = dtype(0)
     ta.state[:] = state0
+    # A terminal event's cooldown outlives a reset of time and state: clear it, or a point would
+    # depend on the one before it.
+    ta.reset_cooldowns()
     pars = ta.pars
     pars[0], pars[1], pars[2] = nu, nu_f, forcing
     _set_piece(pars, piece, c.n_pieces)
