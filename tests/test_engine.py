@@ -196,18 +196,23 @@ def test_unknown_law():
         bf.slip("coulomb", nu=1e-9, nu_f=0.4)
 
 
-def test_batch_mode_agrees_and_is_reproducible():
+@pytest.mark.parametrize("law", ["piecewise-linear", "carlson-langer"])
+def test_batch_mode_agrees_and_is_reproducible(law):
     nu = np.repeat(NUS, 7)
     nu_f = np.tile([0.05, 0.2, 0.4, 0.5, 0.51, 0.7, 0.95], NUS.size)
-    scalar = bf.slip("piecewise-linear", nu=nu, nu_f=nu_f)
-    eight = bf.slip("piecewise-linear", nu=nu, nu_f=nu_f, batch=8)
+    scalar = bf.slip(law, nu=nu, nu_f=nu_f)
+    eight = bf.slip(law, nu=nu, nu_f=nu_f, batch=8)
     perm = np.random.default_rng(0).permutation(nu.size)
-    four = bf.slip("piecewise-linear", nu=nu[perm], nu_f=nu_f[perm], batch=4)
+    four = bf.slip(law, nu=nu[perm], nu_f=nu_f[perm], batch=4)
     assert (eight.status == scalar.status).all()
     # SIMD code rounds differently from scalar code: agreement to rounding (≤ 3e-15 seen; 3e-14 is the
     # conditioning-limited floor at ν_f = 0.51, see above), and bit for bit whatever lanes and order.
-    assert (np.abs(eight.delta - scalar.delta) / scalar.delta).max() <= 3e-14
-    assert (four.delta == eight.delta[perm]).all() and (four.steps == eight.steps[perm]).all()
+    # Velocity maxima and t1 come from non-terminal events in batch mode: same values, same NaNs.
+    for field in ("delta", "max_velocity", "creep_time", "stop_time"):
+        a, b = getattr(eight, field), getattr(scalar, field)
+        assert (np.isnan(a) == np.isnan(b)).all(), field
+        assert np.nanmax(np.abs(a - b) / np.abs(b)) <= 3e-14, field
+        assert (getattr(four, field) == a[perm])[~np.isnan(a[perm])].all(), field
 
 
 def test_bad_batch():

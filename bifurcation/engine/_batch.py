@@ -1,7 +1,9 @@
 """Many slip cycles through heyoka's batch (SIMD) integrator, one point per lane, lanes refilled.
 
 A terminal event in any lane returns control for the whole batch (heyoka's batch semantics); the
-lanes without an event have just finished a step and continue at the next call. A lane whose point
+lanes without an event have just finished a step and continue at the next call. So only the stop and
+the piece switches are terminal here; velocity maxima and t1 are recorded by non-terminal events
+(``LaneRecorder``), which keeps the SIMD lanes stepping between returns. A lane whose point
 has stopped is loaded at once with the next point (its own time, state and parameters), so the SIMD
 width stays busy until the queue is empty. Every lane keeps its double-length time exactly
 (``dtime``/``set_dtime``), so a point gives the same bits whichever lane and neighbours it had.
@@ -42,8 +44,7 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
 
     point = np.full(lanes, -1)
     piece = np.zeros(lanes, dtype=int)
-    creep = np.full(lanes, math.nan)
-    vmax = np.zeros(lanes)
+    creep, vmax = c.recorder.creep, c.recorder.vmax  # written by the non-terminal events too
     steps = np.zeros(lanes, dtype=np.int64)
     hi, lo = (np.array(a) for a in ta.dtime)
     state = ta.state
@@ -104,12 +105,7 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
             if kind is EventKind.STOP:
                 finish(lane, Status.STICK_SLIP)
                 reloaded = True
-            elif kind is EventKind.MAX_VELOCITY:
-                vmax[lane] = max(vmax[lane], state[1, lane])
-            elif kind is EventKind.REACH_NU_F:
-                if math.isnan(creep[lane]):
-                    creep[lane] = hi[lane]
-            else:
+            else:  # only the stop and the switches are terminal in batch mode
                 j = c.breakpoint_of[index]
                 up = j == piece[lane]
                 piece[lane] += 1 if up else -1

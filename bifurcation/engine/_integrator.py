@@ -28,7 +28,7 @@ import numpy as np
 
 from ..laws import FrictionLaw
 
-__all__ = ["Compiled", "EventKind", "build", "compiled", "fp_info"]
+__all__ = ["Compiled", "EventKind", "LaneRecorder", "build", "compiled", "fp_info"]
 
 _CACHE: dict = {}
 
@@ -51,6 +51,7 @@ class Compiled:
     breakpoint_of: tuple    # breakpoint index per event (-1 where not a switch)
     n_pieces: int
     batch_size: int
+    recorder: "LaneRecorder | None" = None  # batch mode: where non-terminal events record
 
 
 def fp_info(precision: str):
@@ -77,25 +78,62 @@ def _system(law: FrictionLaw, num):
     return (W, V), rhs, x, dxdt
 
 
-def _events(law: FrictionLaw, x, dxdt, batch: bool, fp_type):
+class LaneRecorder:
+    """Velocity maxima and t1 of each batch lane, recorded by non-terminal event callbacks.
+
+    In batch mode a terminal event in any lane returns control for all lanes, so only the events
+    that change the integration (the stop, the piece switches) are terminal; the others are recorded
+    here at the exact event time from heyoka's dense output, without leaving the integrator.
+    """
+
+    def __init__(self, lanes: int) -> None:
+        self.vmax = np.zeros(lanes)
+        self.creep = np.full(lanes, np.nan)
+
+    def __deepcopy__(self, memo) -> "LaneRecorder":
+        # heyoka deep-copies each event callback on construction; all of them must record here.
+        return self
+
+    def on_max_velocity(self, ta, time, d_sgn, lane) -> None:
+        times = np.array(ta.time)
+        times[lane] = time
+        ta.update_d_output(times)
+        self.vmax[lane] = max(self.vmax[lane], ta.d_output[1, lane])
+
+    def on_reach_nu_f(self, ta, time, d_sgn, lane) -> None:
+        if np.isnan(self.creep[lane]):
+            self.creep[lane] = time
+
+
+def _events(law: FrictionLaw, x, dxdt, fp_type, recorder: LaneRecorder | None):
+    """Terminal events (with their kinds and breakpoint indices) and non-terminal events."""
+    batch = recorder is not None
     make = hy.t_event_batch if batch else hy.t_event
+    fp = {"fp_type": fp_type} if fp_type is not None else {}
 
     def ev(eq, direction):
-        return make(eq, direction=direction, **({"fp_type": fp_type} if fp_type is not None else {}))
+        return make(eq, direction=direction, **fp)
 
     neg, pos, anyd = (hy.event_direction.negative, hy.event_direction.positive, hy.event_direction.any)
-    events = [ev(x, direction=neg), ev(dxdt, direction=neg)]
-    kinds = [EventKind.STOP, EventKind.MAX_VELOCITY]
-    bp_of = [-1, -1]
-    if 1.0 not in law.breakpoints:
-        events.append(ev(x - 1.0, direction=pos))
-        kinds.append(EventKind.REACH_NU_F)
+    events, kinds, bp_of, nt_events = [ev(x, direction=neg)], [EventKind.STOP], [-1], []
+    if batch:
+        nt_events.append(hy.nt_event_batch(dxdt, recorder.on_max_velocity, direction=neg))
+    else:
+        events.append(ev(dxdt, direction=neg))
+        kinds.append(EventKind.MAX_VELOCITY)
         bp_of.append(-1)
+    if 1.0 not in law.breakpoints:
+        if batch:
+            nt_events.append(hy.nt_event_batch(x - 1.0, recorder.on_reach_nu_f, direction=pos))
+        else:
+            events.append(ev(x - 1.0, direction=pos))
+            kinds.append(EventKind.REACH_NU_F)
+            bp_of.append(-1)
     for j, b in enumerate(law.breakpoints):
         events.append(ev(x / b - 1.0, direction=anyd))
         kinds.append(EventKind.SWITCH)
         bp_of.append(j)
-    return events, tuple(kinds), tuple(bp_of)
+    return events, tuple(kinds), tuple(bp_of), nt_events
 
 
 def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> Compiled:
@@ -112,9 +150,10 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> C
     fp_type, dtype, num = fp_info(precision)
     (W, V), rhs, x, dxdt = _system(law, num)
     batch = batch_size > 1
-    events, kinds, bp_of = _events(law, x, dxdt, batch, fp_type)
+    recorder = LaneRecorder(batch_size) if batch else None
+    events, kinds, bp_of, nt_events = _events(law, x, dxdt, fp_type, recorder)
     npars = 3 + (len(law.pieces) if len(law.pieces) > 1 else 0)
-    kwargs = dict(t_events=events, compact_mode=precision == "quad")
+    kwargs = dict(t_events=events, nt_events=nt_events, compact_mode=precision == "quad")
     if fp_type is not None:
         kwargs["fp_type"] = fp_type
     if batch:
@@ -123,4 +162,4 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> C
     else:
         ta = hy.taylor_adaptive([(W, V), (V, rhs)], np.zeros(2, dtype=dtype),
                                 pars=np.zeros(npars, dtype=dtype), **kwargs)
-    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size)
+    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder)
