@@ -245,3 +245,15 @@ def test_fast_pulling_can_back_slip():
     # the spring pushes back harder than static friction, which the engine reports, not hides.
     r = bf.slip("piecewise-linear", nu=1.0, nu_f=1e-3)
     assert r.status_names().item() == "no-stick" and "slide back" in r.messages[0]
+
+
+def test_a_piece_undefined_outside_its_interval_does_not_poison_the_others():
+    # The second piece, -0.1·log(x), is -inf/NaN at x = 0 where the first piece holds; a product with
+    # the one-hot selector would give 0·NaN = NaN there. Its friction turns negative beyond x = 1, so
+    # the block overshoots: a legitimate no-stick, computed to the same digits in double and real128.
+    law = "piecewise(1 - x, 1, -0.1*log(x))"
+    d = bf.slip(law, nu=[1e-3, 1e-9], nu_f=0.3)
+    q = bf.slip(law, nu=[1e-3, 1e-9], nu_f=0.3, precision="quad")
+    assert np.isfinite(d.delta).all() and (d.status == q.status).all()
+    assert (np.abs(d.delta - q.delta) / q.delta).max() <= 1e-14
+    assert math.isfinite(bf.limit(law, nu_f=0.3).delta0.item())

@@ -5,7 +5,8 @@ Scaled equations (PHYSICS.md): with U = νW,
     Ẅ = c·t − W + Σ_k s_k g_k(x)/ν,   x = νẆ/ν_f,
 
 where g_k = 1 − Φ on piece k of the law and s_k is a one-hot runtime parameter that selects the piece
-(flipped at a terminal event, so a kink is crossed exactly and never smoothed). c = 1 for a finite-ν
+(flipped at a terminal event, so a kink is crossed exactly and never smoothed; the sum is taken with
+``select`` on the parameter, so an unselected piece never enters). c = 1 for a finite-ν
 cycle; c = 0 with ν = 1 turns the same integrator into the ν = 0 flow Ü = −U + g(U̇/ν_f) used by the
 direct limit. Runtime parameters: par[0] = ν, par[1] = ν_f, par[2] = c, par[3 + k] = s_k.
 
@@ -71,7 +72,12 @@ def _system(law: FrictionLaw, num):
     if len(pieces) == 1:
         drop = pieces[0].drop(x, num)
     else:
-        drop = hy.sum([hy.par[3 + k] * p.drop(x, num) for k, p in enumerate(pieces)])
+        # select on the one-hot parameter, not a product with it: a piece may be NaN outside its own
+        # interval (log(x) at x = 0, say) and 0·NaN is NaN. The condition is constant over every step,
+        # so this is no state-dependent switch and weakens no event guarantee.
+        drop = hy.select(hy.par[3 + len(pieces) - 1], pieces[-1].drop(x, num), num(0))
+        for k in range(len(pieces) - 2, -1, -1):
+            drop = hy.select(hy.par[3 + k], pieces[k].drop(x, num), drop)
     rhs = c * hy.time - W + drop / nu
     # dx/dt = νẄ/ν_f, written without the 1/ν so that it stays O(1) during the slip.
     dxdt = (nu * (c * hy.time - W) + drop) / nu_f
