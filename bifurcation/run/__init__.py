@@ -1,0 +1,5 @@
+"""Running workflows on Dask: ``submit`` (resumable, fault-tolerant) and the pipeline benchmark."""
+
+from .submission import WRITERS, Summary, submit
+
+__all__ = sorted(["Summary", "WRITERS", "submit"])

@@ -1,0 +1,114 @@
+"""Benchmark of the whole pipeline against the in-memory engine on the same points.
+
+(a) ``slip`` over the grid in this process, no store (the engine alone, one core);
+(b) ``submit`` of the same grid to a local cluster of ``workers`` processes, store writes, metadata
+    and consolidation included. The cluster is started first (workers preloaded with the package,
+    then warmed by a small untimed submit) and timed apart (``cluster_start_s``): ``ratio`` = (a) / (b)
+    is the throughput gain of the pipeline, ``cold_pipeline_s`` adds the start.
+CPU seconds of both are reported too (``cpu_efficiency`` = serial CPU / pipeline CPU, workers and
+coordinator): on a shared machine the wall-clock ratio depends on the other load, these much less.
+Worker memory is the peak RSS (``ru_maxrss``) of each worker process after the run.
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["bench_pipeline", "bench_workflow"]
+
+
+def bench_workflow(points: int, *, law: str = "carlson-langer", tiles=(128, 64)):
+    """A grid of about ``points`` points: 64 ν log-spaced over 1e-3 … 1e-15, ν_f evenly over (0, 1)."""
+    from ..workflow import Workflow
+    from ..workflow._axes import linear_points, log_points
+
+    n_nu = 64
+    n_nu_f = max(2, math.ceil(points / n_nu))
+    return Workflow(name=f"bench-{points}", laws=(law,), nu=log_points(1e-3, 1e-15, n_nu),
+                    nu_f=linear_points(1e-3, 0.999, n_nu_f), tiles=tuple(tiles),
+                    description="bifurcation.run.bench grid")
+
+
+def _cpu_seconds() -> float:
+    import resource
+
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _peak_rss() -> int:
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024   # Linux: kB
+
+
+def bench_pipeline(points: int = 100_000, workers: int = 2, *, law: str = "carlson-langer",
+                   tiles=(128, 64), writer: str = "workers", serial: bool = True, store=None) -> dict:
+    """Time (a) the in-memory engine and (b) the pipeline on one grid; returns a dict of numbers.
+
+    ``serial=False`` skips (a) (for 10^6 points it takes a minute on one core). ``store`` defaults to a
+    temporary directory, removed afterwards. Tiles of 128 × 64 = 8192 points (~0.3 s a task): writing a
+    tile costs ~10–20 ms of zarr overhead whatever its size, so big grids want big tiles.
+    """
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    from ..engine.cycle import slip
+    from .submission import submit
+
+    import dask.array  # noqa: F401 — process start-up (imports), like the cluster start, is not timed
+    import xarray  # noqa: F401
+    import zarr  # noqa: F401
+
+    workflow = bench_workflow(points, law=law, tiles=tiles)
+    out = {"points": workflow.n_points, "workers": workers, "law": law, "tiles": list(workflow.tiles),
+           "writer": writer}
+    if serial:
+        nu_f, nu = np.meshgrid(np.asarray(workflow.nu_f), np.asarray(workflow.nu), indexing="ij")
+        slip(law, nu=1e-3, nu_f=0.3)   # compile outside the timing, as every worker does once
+        t0, cpu0 = time.perf_counter(), time.process_time()
+        slip(law, nu=nu.ravel(), nu_f=nu_f.ravel())
+        out["serial_s"] = time.perf_counter() - t0
+        out["serial_cpu_s"] = time.process_time() - cpu0
+        out["serial_points_per_s"] = workflow.n_points / out["serial_s"]
+    with tempfile.TemporaryDirectory(prefix="bifurcation-bench-") as tmp:
+        path = Path(store) if store is not None else Path(tmp) / "bench.zarr"
+        t0 = time.perf_counter()
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR, preload=["bifurcation.run.submission"])
+        client = Client(cluster, set_as_default=False)
+        out["cluster_start_s"] = time.perf_counter() - t0
+        try:
+            client.wait_for_workers(workers)
+            # warm the workers (first zarr writes, first tasks) on a small grid of the same law, untimed
+            warm = bench_workflow(workers * 2 * tiles[0] * tiles[1], law=law, tiles=tiles)
+            submit(warm, store=Path(tmp) / "warm.zarr", scheduler=client, progress=False)
+            workers_cpu0, cpu0 = client.run(_cpu_seconds), _cpu_seconds()
+            summary = submit(workflow, store=path, scheduler=client, progress=False,
+                             new_store=True, writer=writer)
+            coordinator_cpu = _cpu_seconds() - cpu0
+            workers_cpu = sum(client.run(_cpu_seconds).values()) - sum(workers_cpu0.values())
+            rss = client.run(_peak_rss)
+        finally:
+            client.close()
+            cluster.close()
+    out["pipeline_s"] = summary.wall_time
+    out["pipeline_points_per_s"] = workflow.n_points / summary.wall_time
+    out["cold_pipeline_s"] = out["cluster_start_s"] + summary.wall_time
+    out["complete"] = summary.complete
+    # CPU seconds spent by the pipeline (workers + coordinator, which also hosts the scheduler): on a
+    # shared machine the wall-clock ratio swings with the other load, these much less
+    out["pipeline_cpu_s"] = workers_cpu + coordinator_cpu
+    out["coordinator_cpu_s"] = coordinator_cpu
+    out["worker_peak_rss_mb"] = max(rss.values()) / 2**20
+    out["coordinator_peak_rss_mb"] = _peak_rss() / 2**20
+    if serial:
+        out["ratio"] = out["serial_s"] / out["pipeline_s"]
+        out["cpu_efficiency"] = out["serial_cpu_s"] / out["pipeline_cpu_s"]
+    return out

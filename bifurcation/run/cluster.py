@@ -1,0 +1,101 @@
+"""Where the tiles run: an embedded local cluster, or an existing Dask scheduler.
+
+* no ``scheduler`` and no ``DASK_SCHEDULER_ADDRESS`` (dask config ``scheduler-address``): a
+  ``LocalCluster`` of processes in this machine, ``workers`` of them (default: the number of cores),
+  one thread each (the engine is single-threaded and holds the GIL);
+* ``scheduler`` an address (``tcp://host:8786``, ``host:8786``) or the path of a scheduler file written
+  by ``dask scheduler --scheduler-file`` or dask-jobqueue: ``Client`` to that scheduler; with ``workers``,
+  wait until that many workers are connected;
+* ``scheduler`` a ``distributed.Client``: used as it is and left open (several submits, one cluster).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from contextlib import contextmanager
+from pathlib import Path
+
+from ..errors import InputError
+
+__all__ = ["check_scheduler", "connect", "describe"]
+
+_CONNECT_TIMEOUT = "10s"
+
+
+def check_scheduler(scheduler) -> tuple[str, object, str] | None:
+    """``(kind, where, source)`` with kind "address" or "file", or None (embedded).
+
+    Checked before anything is written; ``source`` names where it came from, for error messages.
+    """
+    if hasattr(scheduler, "submit") and hasattr(scheduler, "scheduler_info"):   # a distributed.Client
+        return ("client", scheduler, "scheduler")
+    if scheduler is None:
+        import dask
+
+        address = dask.config.get("scheduler-address", None)
+        return ("address", str(address), "DASK_SCHEDULER_ADDRESS") if address else None
+    text = str(scheduler).strip()
+    if "://" in text:
+        return ("address", text, "--scheduler")
+    path = Path(text)
+    if path.is_file():
+        return ("file", str(path), "--scheduler")
+    host, _, port = text.rpartition(":")
+    if host and port.isdigit():
+        return ("address", f"tcp://{text}", "--scheduler")
+    raise InputError("--scheduler", text, "is neither a scheduler address nor an existing scheduler file",
+                     "give tcp://HOST:PORT or the path written by `dask scheduler --scheduler-file`")
+
+
+def check_workers(workers) -> int | None:
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise InputError("--workers", workers, "is not a positive number of workers", "give a whole number such as --workers 2")
+    return workers
+
+
+def describe(target) -> str:
+    if target is None:
+        return "embedded local cluster"
+    if target[0] == "client":
+        return f"client of {target[1].scheduler.address}"
+    return f"{target[0]} {target[1]}"
+
+
+@contextmanager
+def connect(target, workers: int | None = None):
+    """A ``distributed.Client`` for ``target`` (from ``check_scheduler``); closes what it started."""
+    from distributed import Client, LocalCluster
+
+    if target is None:
+        n = workers or os.cpu_count() or 1
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
+        try:
+            with Client(cluster, set_as_default=False) as client:
+                yield client
+        finally:
+            cluster.close()
+        return
+    kind, where, source = target
+    if kind == "client":
+        if workers:
+            where.wait_for_workers(workers)
+        yield where
+        return
+    try:
+        if kind == "file":
+            client = Client(scheduler_file=where, timeout=_CONNECT_TIMEOUT, set_as_default=False)
+        else:
+            client = Client(where, timeout=_CONNECT_TIMEOUT, set_as_default=False)
+    except (OSError, TimeoutError) as exc:
+        raise InputError(source, where, f"cannot connect ({type(exc).__name__}: {exc})",
+                         "start `dask scheduler` there or check the address / scheduler file") from None
+    try:
+        if workers:
+            client.wait_for_workers(workers)
+        yield client
+    finally:
+        client.close()

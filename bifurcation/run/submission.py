@@ -1,0 +1,235 @@
+"""Submit a workflow: its missing tiles run on a Dask cluster and stream into the store.
+
+The submitting process is the coordinator: it checks the workflow against the store, creates the
+store (metadata only), hands tiles to the cluster a window at a time and consolidates the metadata at
+the end. Each tile is written into its own chunk by exactly one writer, data first and ``done`` last.
+
+Faults. A task that raises is retried (``retries``); a task whose worker dies (``kill -9``) is
+rescheduled by the scheduler on another worker, and a later write of the same tile writes the same
+numbers. If the submitting process dies, every tile whose ``done`` chunk was written stays done; the
+next submit of the same workflow to the same store computes only the rest.
+"""
+
+from __future__ import annotations
+
+import shlex
+import sys
+import time
+import uuid
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..engine.result import Status
+from ..errors import InputError
+from ..tiles import Tile, compute_tile, iter_tiles
+from ..workflow import Workflow, load_workflow
+from .cluster import check_scheduler, check_workers, connect, describe
+from .progress import Progress
+
+__all__ = ["WRITERS", "Summary", "submit"]
+
+#: Who writes a finished tile: the worker that computed it (the store must be on a filesystem that
+#: every worker sees at the same path), or the submitting process (no shared filesystem needed).
+WRITERS = ("workers", "client")
+
+
+@dataclass(frozen=True)
+class Summary:
+    """What a submit did. ``points_per_second`` counts computed points over the whole wall time."""
+
+    study: str
+    store: str
+    points: int                 # points in the grid
+    computed: int               # points computed by this submit
+    skipped: int                # points already done before it
+    failed: int                 # points of tiles that failed after all retries (resubmit to retry)
+    tiles: int                  # tiles handed to the cluster
+    wall_time: float            # seconds, the whole submit (cluster start-up included)
+    compute_time: float         # seconds, from the first task to the last result
+    statuses: dict = field(default_factory=dict)   # status name → computed points
+    cluster: str = ""
+    errors: tuple = ()
+
+    @property
+    def points_per_second(self) -> float:
+        return self.computed / self.wall_time if self.wall_time > 0 else 0.0
+
+    @property
+    def complete(self) -> bool:
+        return self.failed == 0 and self.computed + self.skipped == self.points
+
+    def to_dict(self) -> dict:
+        out = asdict(self)
+        out["errors"] = list(self.errors)
+        out["points_per_second"] = self.points_per_second
+        return out
+
+    def __str__(self) -> str:
+        statuses = ", ".join(f"{k} {v}" for k, v in self.statuses.items()) or "-"
+        lines = [
+            f"study {self.study} → {self.store}",
+            f"points: {self.points} in the grid, {self.computed} computed, {self.skipped} skipped "
+            f"(already done), {self.failed} failed",
+            f"statuses of computed points: {statuses}",
+            f"wall time {self.wall_time:.2f} s ({self.compute_time:.2f} s computing), "
+            f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}",
+        ]
+        lines += [f"error: {e}" for e in self.errors]
+        if self.failed:
+            lines.append("some tiles failed: submit the same workflow again to compute the rest")
+        return "\n".join(lines)
+
+
+def _report(values: dict) -> list[int]:
+    """Status counts of the computed points of a tile (small: what a worker sends back)."""
+    return np.bincount(values["status"][values["done"]].astype(np.int64), minlength=len(Status)).tolist()
+
+
+def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
+    """Worker task: compute a tile and write it into its chunk of the store."""
+    from ..store import write_tile
+
+    values = compute_tile(tile)
+    write_tile(store, tile, values, run_id)
+    return _report(values)
+
+
+def submit(workflow, store=None, scheduler=None, workers=None, progress=None, new_store: bool = False, *,
+           writer: str = "workers", retries: int = 3, command: str | None = None) -> Summary:
+    """Compute the missing points of ``workflow`` into ``store``; returns a ``Summary``.
+
+    Parameters
+    ----------
+    workflow : Workflow, str or Path
+        A ``Workflow`` or the path of its TOML file.
+    store : str or Path, optional
+        The Zarr store; default ``results/<study name>.zarr``. An existing store must hold the same
+        workflow (same ``fingerprint``) unless ``new_store``, which replaces it.
+    scheduler : str or distributed.Client, optional
+        A scheduler address or scheduler file, or a ``Client`` (left open: several submits can share
+        one cluster); default ``DASK_SCHEDULER_ADDRESS`` or else an embedded local cluster of
+        ``workers`` processes (default: the number of cores).
+    workers : int, optional
+        Embedded: the number of worker processes. With a scheduler: wait for that many workers.
+    progress : None, bool or callable
+        See ``bifurcation.run.progress.Progress`` (default: a counter on stderr if it is a terminal).
+    writer : {"workers", "client"}
+        Who writes finished tiles (``WRITERS``).
+    retries : int
+        Retries of a task that raises.
+    """
+    started = time.perf_counter()
+    if not isinstance(workflow, Workflow):
+        workflow = load_workflow(workflow)
+    target = check_scheduler(scheduler)
+    workers = check_workers(workers)
+    if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
+        raise InputError("retries", retries, "is not a number of retries", "give an integer >= 0 such as 3")
+    if writer not in WRITERS:
+        raise InputError("writer", writer, "is not a writer", f"use one of {', '.join(WRITERS)}")
+    path = Path(store) if store is not None else workflow.default_store
+    from ..store import check_store, create_store, read_done, record_submit, store_kind
+
+    kind = store_kind(path)
+    if kind == "other":
+        raise InputError("--store", str(path), "exists and is not a bifurcation store",
+                         "choose another --store path (it is never overwritten)")
+    fresh = kind == "missing" or new_store
+    if not fresh:
+        check_store(path, workflow)   # refuses another workflow: nothing is written
+        done = read_done(path)
+    else:
+        done = np.zeros(workflow.shape, dtype=bool)
+    skipped = int(np.count_nonzero(done))
+    todo = workflow.n_points - skipped
+    command = command if command is not None else shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]])
+    statuses = np.zeros(len(Status), dtype=np.int64)
+    computed = failed = n_tiles = 0
+    errors: list[str] = []
+    compute_time = 0.0
+    cluster_name = "nothing to compute"
+    if todo:   # fresh stores always have work; the cluster comes first so a bad one writes nothing
+        with connect(target, workers) as client:
+            if fresh:
+                create_store(path, workflow, command=command, overwrite=new_store)
+            cluster_name = describe(target)
+            run_id = str(check_store(path, workflow)["run_id"])
+            t0 = time.perf_counter()
+            computed, failed, n_tiles = _run(client, workflow, path, run_id, done, statuses, errors,
+                                             Progress(progress, todo), writer, retries)
+            compute_time = time.perf_counter() - t0
+    wall = time.perf_counter() - started
+    summary = Summary(study=workflow.name, store=str(path), points=workflow.n_points, computed=computed,
+                      skipped=skipped, failed=failed, tiles=n_tiles, wall_time=wall,
+                      compute_time=compute_time,
+                      statuses={str(Status(i)): int(n) for i, n in enumerate(statuses) if n},
+                      cluster=cluster_name, errors=tuple(errors[:5]))
+    record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,
+                         "wall_time": round(wall, 3), "cluster": cluster_name})
+    return summary
+
+
+def _window(client) -> int:
+    # Enough tasks queued that no worker waits for the coordinator, few enough that memory stays
+    # bounded however big the grid (tiles are generated lazily).
+    return max(8, 3 * sum(client.nthreads().values()))
+
+
+def _run(client, workflow, path: Path, run_id: str, done, statuses, errors, progress, writer, retries):
+    from distributed import as_completed
+
+    from ..store import write_tile
+
+    store = str(path.resolve())
+    token = uuid.uuid4().hex[:8]
+    tiles = iter_tiles(workflow, done)
+    pending: dict = {}
+    stream = as_completed(loop=client.loop)
+    computed = failed = n_tiles = 0
+    window, checked = _window(client), time.monotonic()
+
+    def top_up():
+        nonlocal n_tiles
+        while len(pending) < window:
+            tile = next(tiles, None)
+            if tile is None:
+                return
+            key = f"bifurcation-tile-{tile.name}-{token}"
+            if writer == "workers":
+                future = client.submit(run_tile, tile, store, run_id, key=key, retries=retries, pure=False)
+            else:
+                future = client.submit(compute_tile, tile, key=key, retries=retries, pure=False)
+            pending[future.key] = (future, tile)
+            stream.add(future)
+            n_tiles += 1
+
+    try:
+        top_up()
+        for future in stream:
+            _, tile = pending.pop(future.key)
+            try:
+                if writer == "workers":
+                    counts = future.result()
+                else:
+                    values = future.result()
+                    write_tile(store, tile, values, run_id)
+                    counts = _report(values)
+            except Exception as exc:  # noqa: BLE001 — a failed tile is reported, the rest goes on
+                failed += tile.n_todo
+                errors.append(f"tile {tile.name} ({tile.law}): {type(exc).__name__}: {exc}".splitlines()[0])
+            else:
+                statuses += np.asarray(counts, dtype=np.int64)
+                computed += tile.n_todo
+            finally:
+                future.release()
+            progress.update(tile.n_todo)
+            if time.monotonic() - checked > 2:   # clusters grow (adaptive, jobqueue): widen the window
+                window, checked = _window(client), time.monotonic()
+            top_up()
+    finally:
+        progress.close()
+        if pending:   # interrupted: do not leave work behind on a shared scheduler
+            client.cancel([future for future, _ in pending.values()])
+    return computed, failed, n_tiles

@@ -1,0 +1,176 @@
+"""Create, open, check and write the Zarr store (layout in ``bifurcation.store.layout``).
+
+Only the coordinator creates the store, changes its metadata and consolidates it; tile writers (worker
+tasks or the coordinator) only write the chunks of their own tile.
+"""
+
+from __future__ import annotations
+
+import shutil
+import warnings
+from collections import OrderedDict
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..tiles import OUTPUTS
+from .layout import DIMS, STORE_FORMAT, VARIABLES, coordinate_attrs, provenance, utc_now, variable_attrs
+
+__all__ = ["check_store", "create_store", "open_store", "read_attrs", "read_done", "record_submit",
+           "store_kind", "write_tile"]
+
+_WRITERS: OrderedDict = OrderedDict()   # (path, run_id) → {name: zarr.Array}, per process
+_WRITERS_MAX = 4
+
+
+@contextmanager
+def _quiet():
+    # zarr warns that consolidated metadata and string arrays are not in the v3 spec yet; both are
+    # read back by the zarr and xarray versions we pin, and the warning would reach every user.
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*Consolidated metadata.*")
+        warnings.filterwarnings("ignore", message=".*does not have a Zarr V3 specification.*")
+        yield
+
+
+def store_kind(path) -> str:
+    """``"missing"``, ``"store"`` (a bifurcation store) or ``"other"`` (anything else at ``path``)."""
+    path = Path(path)
+    if not path.exists():
+        return "missing"
+    try:
+        attrs = read_attrs(path)
+    except Exception:
+        return "other"
+    return "store" if attrs.get("bifurcation_store") == STORE_FORMAT else "other"
+
+
+def read_attrs(path) -> dict:
+    """The group attributes of the store at ``path``."""
+    import zarr
+
+    with _quiet():
+        return dict(zarr.open_group(str(path), mode="r").attrs)
+
+
+def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
+    """Attributes of the store at ``path``; ``InputError`` if it is not one, or holds another study."""
+    kind = store_kind(path)
+    if kind == "missing":
+        raise InputError(argument, str(path), "no such store",
+                         "give the path of a store written by `bifurcation submit`")
+    if kind == "other":
+        raise InputError(argument, str(path), "is not a bifurcation store (or of another format)",
+                         "give the path of a store written by `bifurcation submit`, or another path")
+    attrs = read_attrs(path)
+    if workflow is not None and attrs.get("workflow_fingerprint") != workflow.fingerprint:
+        raise InputError(argument, str(path),
+                         f"holds another workflow (study {attrs.get('title')!r}, fingerprint "
+                         f"{str(attrs.get('workflow_fingerprint'))[:12]} ≠ {workflow.fingerprint[:12]})",
+                         "pass --new-store to replace it, or choose another --store path")
+    return attrs
+
+
+def create_store(path, workflow, *, command: str | None = None, overwrite: bool = False) -> dict:
+    """Write the empty store of ``workflow`` (coordinates, metadata, attributes); returns its attrs.
+
+    No data chunk is written: every point reads as not computed. With ``overwrite`` an existing
+    bifurcation store at ``path`` is deleted first (anything else at ``path`` is refused).
+    """
+    import dask.array as da
+    import xarray as xr
+
+    path = Path(path)
+    kind = store_kind(path)
+    if kind == "other":
+        raise InputError("--store", str(path), "exists and is not a bifurcation store",
+                         "choose another --store path (only a bifurcation store is ever replaced)")
+    if kind == "store" and not overwrite:
+        raise InputError("--store", str(path), "already exists", "pass --new-store to replace it")
+    if kind == "store":
+        shutil.rmtree(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    shape, chunks = workflow.shape, (1, *workflow.tiles)
+    data_vars, encoding = {}, {}
+    for name, dtype in VARIABLES.items():
+        # one lazy dask chunk: nothing is computed (compute=False), only the metadata is written
+        fill = np.nan if dtype.kind == "f" else 0
+        data_vars[name] = (DIMS, da.full(shape, fill, dtype=dtype, chunks=shape), variable_attrs(name))
+        encoding[name] = {"chunks": chunks}
+    coords_attrs = coordinate_attrs()
+    coords = {"law": ("law", np.array(workflow.laws, dtype=object), coords_attrs["law"]),
+              "nu_f": ("nu_f", np.array(workflow.nu_f, dtype=np.float64), coords_attrs["nu_f"]),
+              "nu": ("nu", np.array(workflow.nu, dtype=np.float64), coords_attrs["nu"])}
+    attrs = provenance(workflow, command)
+    ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
+    with _quiet():
+        ds.to_zarr(str(path), mode="w-", compute=False, encoding=encoding, zarr_format=3, consolidated=True)
+    return attrs
+
+
+def open_store(path, **kwargs):
+    """The store at ``path`` as an ``xarray.Dataset`` (lazy; ``kwargs`` go to ``xarray.open_zarr``).
+
+    Points never computed hold NaN / 0 with ``status == 0`` (not computed) and ``done == False``.
+    """
+    import xarray as xr
+
+    check_store(path, None, argument="store")
+    kwargs.setdefault("chunks", None)
+    with _quiet():
+        return xr.open_zarr(str(path), zarr_format=3, consolidated=True, **kwargs)
+
+
+def read_done(path) -> np.ndarray:
+    """The (law, ν_f, ν) done mask of the store at ``path``."""
+    import zarr
+
+    with _quiet():
+        return np.asarray(zarr.open_group(str(path), mode="r", use_consolidated=False)["done"][...], dtype=bool)
+
+
+def _arrays(path: str, run_id: str) -> dict:
+    import zarr
+
+    key = (path, run_id)
+    arrays = _WRITERS.get(key)
+    if arrays is None:
+        with _quiet():
+            group = zarr.open_group(path, mode="r+", use_consolidated=False)
+            if group.attrs.get("run_id") != run_id:   # the store was replaced under this path
+                raise RuntimeError(f"store {path} is not the one this run created (run_id changed)")
+            arrays = {name: group[name] for name in OUTPUTS}
+        _WRITERS[key] = arrays
+        while len(_WRITERS) > _WRITERS_MAX:
+            _WRITERS.popitem(last=False)
+    return arrays
+
+
+def write_tile(path, tile, values: dict, run_id: str) -> None:
+    """Write one computed tile into its chunk: the data variables first, ``done`` last.
+
+    For a partly done tile (``tile.todo``) the points already done are read back and kept, so the
+    whole chunk is rewritten by this one writer without losing them.
+    """
+    arrays = _arrays(str(path), run_id)
+    region = tile.region
+    if tile.todo is not None:
+        keep = ~np.asarray(tile.todo, dtype=bool)
+        values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in OUTPUTS}
+    with _quiet():
+        for name in OUTPUTS:   # OUTPUTS ends with "done"
+            arrays[name][region] = np.asarray(values[name], dtype=VARIABLES[name])[None]
+
+
+def record_submit(path, entry: dict) -> None:
+    """Append one submit's summary to the store's ``submits`` attribute and consolidate the metadata."""
+    import zarr
+
+    with _quiet():
+        group = zarr.open_group(str(path), mode="r+", use_consolidated=False)
+        history = list(group.attrs.get("submits", []))
+        history.append({"utc": utc_now(), **entry})
+        group.attrs["submits"] = history
+        zarr.consolidate_metadata(str(path))

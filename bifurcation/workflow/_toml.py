@@ -1,0 +1,98 @@
+"""A strict reader for TOML tables: every key known, every value of the right type.
+
+Each error is an ``InputError`` naming the dotted key (``grid.nu.log.per_decade``), the value and the fix.
+"""
+
+from __future__ import annotations
+
+import math
+from numbers import Real
+
+from ..errors import InputError
+
+__all__ = ["Table"]
+
+_MISSING = object()
+
+
+def _type_name(value) -> str:
+    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string", list: "an array",
+            dict: "a table"}.get(type(value), type(value).__name__)
+
+
+class Table:
+    """Read keys of one TOML table; ``done()`` refuses the keys nobody asked for."""
+
+    def __init__(self, data, key: str, allowed: tuple[str, ...]) -> None:
+        if not isinstance(data, dict):
+            raise InputError(key, data, f"is {_type_name(data)}, not a table",
+                             f"write it as a table [{key}] or {{ ... }}")
+        self.data, self.key, self.allowed = data, key, allowed
+        unknown = [k for k in data if k not in allowed]
+        if unknown:
+            raise InputError(self.path(unknown[0]), data[unknown[0]], "is not a known key",
+                             f"use only {', '.join(allowed)} in [{key}]" if key else
+                             f"use only the tables {', '.join(allowed)}")
+
+    def path(self, name: str) -> str:
+        return f"{self.key}.{name}" if self.key else name
+
+    def has(self, name: str) -> bool:
+        return name in self.data
+
+    def raw(self, name: str, default=_MISSING, *, fix: str = ""):
+        if name in self.data:
+            return self.data[name]
+        if default is _MISSING:
+            raise InputError(self.path(name), None, "is missing", fix or f"add {name} = ... to [{self.key}]")
+        return default
+
+    def table(self, name: str, allowed: tuple[str, ...], *, required: bool = True) -> "Table | None":
+        if name not in self.data and not required:
+            return None
+        return Table(self.raw(name, fix=f"add a table [{self.path(name)}]"), self.path(name), allowed)
+
+    def string(self, name: str, default=_MISSING, *, fix: str = "") -> str:
+        value = self.raw(name, default, fix=fix)
+        if not isinstance(value, str):
+            raise InputError(self.path(name), value, f"is {_type_name(value)}, not a string",
+                             fix or "write it in quotes")
+        return value
+
+    def integer(self, name: str, default=_MISSING, *, low: int = 1, high: int | None = None,
+                fix: str = "") -> int:
+        value = self.raw(name, default, fix=fix)
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise InputError(self.path(name), value, f"is {_type_name(value)}, not an integer",
+                             fix or "write a whole number without a decimal point")
+        check_range(self.path(name), value, low, high, fix)
+        return value
+
+    def number(self, name: str, default=_MISSING, *, fix: str = "") -> float:
+        return as_number(self.path(name), self.raw(name, default, fix=fix), fix)
+
+    def array(self, name: str, default=_MISSING, *, fix: str = "") -> list:
+        value = self.raw(name, default, fix=fix)
+        if not isinstance(value, list):
+            raise InputError(self.path(name), value, f"is {_type_name(value)}, not an array",
+                             fix or f"write {name} = [ ... ]")
+        if not value:
+            raise InputError(self.path(name), value, "is empty", fix or "give at least one element")
+        return value
+
+
+def as_number(key: str, value, fix: str = "") -> float:
+    """A finite real number (TOML integer or float, never a boolean or a string)."""
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise InputError(key, value, f"is {_type_name(value)}, not a number",
+                         fix or "write a number such as 0.4 or 1e-9 (no quotes)")
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(key, value, "is not finite", fix or "give a finite number")
+    return value
+
+
+def check_range(key: str, value, low, high, fix: str = "") -> None:
+    if (low is not None and value < low) or (high is not None and value > high):
+        span = f"in [{low:g}, {high:g}]" if high is not None else f">= {low:g}"
+        raise InputError(key, value, f"is out of range: must be {span}", fix or f"give a value {span}")

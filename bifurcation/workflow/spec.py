@@ -1,0 +1,326 @@
+r"""Workflows: a study over a (law, ν_f, ν) grid, written as a TOML file.
+
+Schema (every key is checked; unknown keys, wrong types and impossible values are refused with an
+``InputError`` naming the dotted key, e.g. ``grid.nu.log.per_decade``)::
+
+    [study]
+    name = "critical-point"          # required; letters, digits, . _ -  (default store results/<name>.zarr)
+    description = "..."              # optional
+
+    [engine]
+    laws = ["piecewise-linear", "carlson-langer"]   # required; names of bifurcation.law_names()
+                                     # or formulas in x ("exp(-x)"); each is checked with resolve_law
+    precision = "double"             # optional: "double" (default) or "quad"
+    t_max = 1e5                      # optional: bound on the time of one cycle (> 0)
+    max_steps = 200000               # optional: bound on the Taylor steps of one cycle (>= 1)
+
+    [grid.nu]                        # pulling speed ν of Eq. (5); at least one of values / log
+    values = [1e-9]                  # explicit points, kept exactly as written
+    log = { start = 1e-3, stop = 1e-15, per_decade = 4 }   # or num = 49 instead of per_decade
+
+    [grid.nu_f]                      # friction velocity ν_f of Eq. (2); at least one of values / ranges
+    values = [0.2, 0.3, 0.4, 0.5]
+    ranges = [{ start = 0.45, stop = 0.55, num = 101 }]    # evenly spaced, both ends included
+
+    [tiles]                          # optional: tile (= store chunk) shape, default 64 × 64
+    nu_f = 64
+    nu = 64
+
+Each axis is the sorted union of its points with exact duplicates removed. Range and log points are
+computed in decimal arithmetic and rounded once, so a range that passes through 0.4 yields exactly
+``0.4`` (the float a user types) and a log axis from 1e-3 to 1e-15 passes through exactly 1e-9. A log
+axis has at least ``per_decade`` points per decade and always includes both ends.
+
+Bounds: ν ∈ [1e-16, 1] (below ~1e-16 the double-precision engine meets non-finite states; above 1 the
+block is not slowly driven), ν_f ∈ [1e-4, 10] (the paper's range is (0, 1); ν_f > 1/2 is creep
+as ν → 0), tiles of 1 … 4096 points a side and at most 2^16 points, at most 10^9 points in a grid.
+
+Two workflows are the *same study* when their ``fingerprint`` agrees: the sha256 of what determines
+the numbers and the store layout (laws, precision, bounds, grid, tiles) — not of the text, so comments,
+formatting, the name and the description may change without invalidating a store.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..engine.cycle import DEFAULT_MAX_STEPS, DEFAULT_T_MAX
+from ..errors import InputError
+from ..laws import resolve_law
+from ._axes import linear_points, log_count, log_points, union
+from ._toml import Table, as_number, check_range
+
+__all__ = ["MAX_POINTS", "NU_BOUNDS", "NU_F_BOUNDS", "PRECISIONS", "TILE_MAX", "TILE_MAX_POINTS",
+           "Workflow", "load_workflow", "parse_workflow"]
+
+NU_BOUNDS = (1e-16, 1.0)
+NU_F_BOUNDS = (1e-4, 10.0)
+PRECISIONS = ("double", "quad")
+TILE_MAX = 4096
+TILE_MAX_POINTS = 1 << 16
+MAX_POINTS = 10**9
+DEFAULT_TILES = (64, 64)
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
+_LOG_COUNT_MAX = 100_000
+
+
+def _set(obj, name, value) -> None:
+    object.__setattr__(obj, name, value)
+
+
+@dataclass(frozen=True)
+class Workflow:
+    """A validated study: laws × ν_f × ν points, engine options and the tile (chunk) shape.
+
+    Build one with ``load_workflow(path)``, ``parse_workflow(text)`` or directly (``nu`` and ``nu_f``
+    are any sequences; they are sorted and deduplicated). Checked on construction.
+    """
+
+    name: str
+    laws: tuple[str, ...]
+    nu: tuple[float, ...]
+    nu_f: tuple[float, ...]
+    description: str = ""
+    precision: str = "double"
+    t_max: float = DEFAULT_T_MAX
+    max_steps: int = DEFAULT_MAX_STEPS
+    tiles: tuple[int, int] = DEFAULT_TILES   # (nu_f, nu)
+    source: str | None = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not _NAME.match(self.name):
+            raise InputError("study.name", self.name, "is not a valid study name",
+                             "use letters, digits, '.', '_' and '-' (it names the default store)")
+        if not isinstance(self.description, str):
+            raise InputError("study.description", self.description, "is not a string", "write it in quotes")
+        _set(self, "laws", _check_laws(self.laws))
+        if self.precision not in PRECISIONS:
+            raise InputError("engine.precision", self.precision, "is not a precision",
+                             "use \"double\" or \"quad\"")
+        _set(self, "t_max", as_number("engine.t_max", self.t_max))
+        if self.t_max <= 0:
+            raise InputError("engine.t_max", self.t_max, "must be > 0", "give a positive time such as 1e5")
+        if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) or self.max_steps < 1:
+            raise InputError("engine.max_steps", self.max_steps, "is not a positive integer",
+                             "give a whole number of steps such as 200000")
+        _set(self, "nu", _check_axis("grid.nu", self.nu, NU_BOUNDS))
+        _set(self, "nu_f", _check_axis("grid.nu_f", self.nu_f, NU_F_BOUNDS))
+        tiles = tuple(self.tiles)
+        if len(tiles) != 2:
+            raise InputError("tiles", self.tiles, "is not a (nu_f, nu) pair", "give two tile sizes")
+        for key, size in zip(("tiles.nu_f", "tiles.nu"), tiles):
+            if isinstance(size, bool) or not isinstance(size, int):
+                raise InputError(key, size, "is not an integer", "give a whole number such as 64")
+            check_range(key, size, 1, TILE_MAX)
+        if tiles[0] * tiles[1] > TILE_MAX_POINTS:
+            raise InputError("tiles", f"{tiles[0]} x {tiles[1]}", f"has more than {TILE_MAX_POINTS} points",
+                             "use smaller tiles so that one task stays small in memory")
+        _set(self, "tiles", tiles)
+        if self.n_points > MAX_POINTS:
+            raise InputError("grid", self.shape, f"has {self.n_points} points, more than {MAX_POINTS}",
+                             "split the study into several workflows")
+
+    # -- derived -------------------------------------------------------------------------------
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        """(laws, ν_f, ν): the shape of the store's arrays."""
+        return (len(self.laws), len(self.nu_f), len(self.nu))
+
+    @property
+    def n_points(self) -> int:
+        law, nu_f, nu = self.shape
+        return law * nu_f * nu
+
+    @property
+    def text(self) -> str:
+        """The TOML source (as loaded), or a canonical TOML rendering for a workflow built in code."""
+        return self.source if self.source is not None else self.to_toml()
+
+    @property
+    def sha256(self) -> str:
+        """sha256 of ``text``."""
+        return hashlib.sha256(self.text.encode()).hexdigest()
+
+    @property
+    def fingerprint(self) -> str:
+        """sha256 of what determines the numbers and the store layout (see the module docstring)."""
+        canonical = dict(laws=list(self.laws), precision=self.precision, t_max=repr(self.t_max),
+                         max_steps=self.max_steps, nu=[repr(x) for x in self.nu],
+                         nu_f=[repr(x) for x in self.nu_f], tiles=list(self.tiles))
+        return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()
+
+    @property
+    def default_store(self) -> Path:
+        return Path("results") / f"{self.name}.zarr"
+
+    def to_toml(self) -> str:
+        """A TOML text that ``parse_workflow`` turns back into this workflow (explicit values)."""
+        def floats(xs):
+            return "[" + ", ".join(repr(x) for x in xs) + "]"
+
+        return "\n".join([
+            "[study]",
+            f"name = {json.dumps(self.name)}",
+            f"description = {json.dumps(self.description, ensure_ascii=False)}",
+            "",
+            "[engine]",
+            "laws = [" + ", ".join(json.dumps(law, ensure_ascii=False) for law in self.laws) + "]",
+            f"precision = {json.dumps(self.precision)}",
+            f"t_max = {self.t_max!r}",
+            f"max_steps = {self.max_steps}",
+            "",
+            "[grid.nu]",
+            f"values = {floats(self.nu)}",
+            "",
+            "[grid.nu_f]",
+            f"values = {floats(self.nu_f)}",
+            "",
+            "[tiles]",
+            f"nu_f = {self.tiles[0]}",
+            f"nu = {self.tiles[1]}",
+            "",
+        ])
+
+
+def _check_laws(laws) -> tuple[str, ...]:
+    if isinstance(laws, str) or not laws:
+        raise InputError("engine.laws", laws, "is not a non-empty list of laws",
+                         "write laws = [\"carlson-langer\"] (names or formulas in x)")
+    out, seen = [], {}
+    for i, law in enumerate(laws):
+        key = f"engine.laws[{i}]"
+        if not isinstance(law, str):
+            raise InputError(key, law, "is not a string", "write a law name or formula in quotes")
+        try:
+            resolved = resolve_law(law)
+        except InputError as exc:
+            raise InputError(key, law, exc.problem, exc.fix) from None
+        text = law.strip()
+        identity = (resolved.name, resolved.formula)
+        if identity in seen:
+            raise InputError(key, law, f"repeats engine.laws[{seen[identity]}]", "list each law once")
+        seen[identity] = i
+        out.append(text)
+    return tuple(out)
+
+
+def _check_axis(key: str, values, bounds) -> tuple[float, ...]:
+    try:
+        points = [as_number(key, v) for v in values]
+    except TypeError:
+        raise InputError(key, values, "is not a sequence of numbers", "give a list of numbers") from None
+    if not points:
+        raise InputError(key, [], "is empty", "give at least one point")
+    for x in points:
+        check_range(key, x, *bounds)
+    return union(points)
+
+
+# -- TOML ------------------------------------------------------------------------------------------
+def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
+    """The ``Workflow`` written in TOML ``text`` (schema in the module docstring).
+
+    ``source`` (the file name) is only used in error messages.
+    """
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("workflow", source if source is not None else _short(text),
+                         f"is not valid TOML ({exc})", "fix the syntax; see workflows/*.toml for examples") from None
+    root = Table(data, "", ("study", "engine", "grid", "tiles"))
+    study = root.table("study", ("name", "description"))
+    engine = root.table("engine", ("laws", "precision", "t_max", "max_steps"))
+    grid = root.table("grid", ("nu", "nu_f"))
+    tiles = root.table("tiles", ("nu_f", "nu"), required=False)
+
+    laws = engine.array("laws", fix="write laws = [\"carlson-langer\"] (names or formulas in x)")
+    options = {}
+    if engine.has("precision"):
+        options["precision"] = engine.string("precision", fix="use \"double\" or \"quad\"")
+    if engine.has("t_max"):
+        options["t_max"] = engine.number("t_max")
+    if engine.has("max_steps"):
+        options["max_steps"] = engine.integer("max_steps")
+    if tiles is not None:
+        options["tiles"] = (tiles.integer("nu_f", DEFAULT_TILES[0], high=TILE_MAX),
+                            tiles.integer("nu", DEFAULT_TILES[1], high=TILE_MAX))
+    return Workflow(
+        name=study.string("name", fix="add name = \"my-study\" to [study]"),
+        description=study.string("description", ""),
+        laws=tuple(laws),
+        nu=_nu_axis(grid.table("nu", ("values", "log"))),
+        nu_f=_nu_f_axis(grid.table("nu_f", ("values", "ranges"))),
+        source=text,
+        **options,
+    )
+
+
+def load_workflow(path) -> Workflow:
+    """The ``Workflow`` of the TOML file at ``path``."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError("workflow", str(path), "no such file",
+                         "give the path of a TOML workflow such as workflows/paper-fig2.toml") from None
+    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
+        raise InputError("workflow", str(path), f"cannot be read ({type(exc).__name__})",
+                         "give the path of a readable UTF-8 TOML file") from None
+    return parse_workflow(text, source=str(path))
+
+
+def _short(text: str) -> str:
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _values(table: Table, bounds) -> list[float]:
+    values = table.array("values")
+    for i, v in enumerate(values):
+        key = f"{table.key}.values[{i}]"
+        check_range(key, as_number(key, v), *bounds)
+    return [float(v) for v in values]
+
+
+def _nu_axis(table: Table) -> tuple[float, ...]:
+    if not (table.has("values") or table.has("log")):
+        raise InputError("grid.nu", table.data, "has no points", "give values = [...] and/or log = {...}")
+    groups = [_values(table, NU_BOUNDS)] if table.has("values") else []
+    log = table.table("log", ("start", "stop", "per_decade", "num"), required=False)
+    if log is not None:
+        start, stop = log.number("start"), log.number("stop")
+        check_range(log.path("start"), start, *NU_BOUNDS)
+        check_range(log.path("stop"), stop, *NU_BOUNDS)
+        if start == stop:
+            raise InputError(log.path("stop"), stop, "equals start", "give two different ends")
+        if log.has("per_decade") == log.has("num"):
+            raise InputError(log.path("per_decade"), log.data.get("per_decade"),
+                             "must be given, or num instead, but not both", "give per_decade = 4 or num = 49")
+        if log.has("num"):
+            num = log.integer("num", low=2, high=_LOG_COUNT_MAX)
+        else:
+            num = log_count(start, stop, log.integer("per_decade", high=1000))
+        groups.append(log_points(start, stop, num))
+    return union(*groups)
+
+
+def _nu_f_axis(table: Table) -> tuple[float, ...]:
+    if not (table.has("values") or table.has("ranges")):
+        raise InputError("grid.nu_f", table.data, "has no points",
+                         "give values = [...] and/or ranges = [{start, stop, num}]")
+    groups = [_values(table, NU_F_BOUNDS)] if table.has("values") else []
+    if table.has("ranges"):
+        for i, item in enumerate(table.array("ranges", fix="write ranges = [{ start = 0.05, stop = 0.95, num = 19 }]")):
+            r = Table(item, f"grid.nu_f.ranges[{i}]", ("start", "stop", "num"))
+            start, stop = r.number("start"), r.number("stop")
+            check_range(r.path("start"), start, *NU_F_BOUNDS)
+            check_range(r.path("stop"), stop, *NU_F_BOUNDS)
+            if not start < stop:
+                raise InputError(r.path("stop"), stop, f"is not above start = {start!r}",
+                                 "give start < stop")
+            groups.append(linear_points(start, stop, r.integer("num", low=2, high=_LOG_COUNT_MAX)))
+    return union(*groups)
