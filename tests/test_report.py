@@ -1,0 +1,219 @@
+"""The report and the analysis CLI: files written, deterministic PNGs, self-contained HTML, every claim
+present; `extrapolate`, `fit-period`, `report` and `reproduce` through the CLI runner (exit code first)."""
+
+import json
+import re
+import textwrap
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from bifurcation.analysis import CLAIM_KEYS, slip_dataset
+from bifurcation.cli import cli
+from bifurcation.report import analyse, write_report
+from bifurcation.report import figures as F
+
+LAWS = ["piecewise-linear", "carlson-langer"]
+
+
+@pytest.fixture(scope="module")
+def sources():
+    """Small stand-ins for the three paper workflows (store layout, computed in process)."""
+    nu_f = np.unique(np.round(np.r_[np.linspace(0.02, 0.98, 49), np.linspace(0.45, 0.55, 21)], 6))
+    critical = slip_dataset(LAWS, [0.2, 0.3, 0.4, 0.5], np.logspace(-3, -15, 49))
+    fig2 = slip_dataset("piecewise-linear", nu_f, [1e-3, 1e-6, 1e-9])
+    fig3 = slip_dataset("carlson-langer", nu_f, [1e-9, 1e-12])
+    return [critical, fig2, fig3]
+
+
+@pytest.fixture(scope="module")
+def report(sources, tmp_path_factory):
+    data = analyse(sources)
+    first = write_report(sources, tmp_path_factory.mktemp("report1"), data=data)
+    second = write_report(sources, tmp_path_factory.mktemp("report2"), data=data)
+    return data, first, second
+
+
+def test_report_files(report):
+    data, files, _ = report
+    assert files["markdown"].is_file() and files["html"].is_file()
+    assert len(files["figures"]) == 5
+    for png in files["figures"]:
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert png.stat().st_size > 10_000
+    md = files["markdown"].read_text(encoding="utf-8")
+    for png in files["figures"]:
+        assert f"]({png.name})" in md   # relative links
+    for section in ("## Claims", "## Errata", "## Δ(ν → 0)", "## Recurrence time", "## Figures",
+                    "## Provenance"):
+        assert section in md
+    # in-process stand-ins are not stores: nothing was computed behind the reader's back
+    assert data.computed_in_process == []
+
+
+def test_pngs_are_deterministic(report):
+    _, first, second = report
+    for a, b in zip(first["figures"], second["figures"]):
+        assert a.read_bytes() == b.read_bytes(), a.name
+    assert first["markdown"].read_text() == second["markdown"].read_text()
+
+
+def test_png_has_no_date_or_software(report):
+    png = report[1]["figures"][0].read_bytes()
+    assert b"Software" not in png and b"matplotlib" not in png.lower() and b"tIME" not in png
+
+
+def test_html_is_self_contained(report):
+    page = report[1]["html"].read_text(encoding="utf-8")
+    srcs = re.findall(r'src="([^"]*)"', page)
+    assert len(srcs) == 5 and all(s.startswith("data:image/png;base64,") for s in srcs)
+    assert "<link" not in page and "<script" not in page and "http://" not in page and "https://" not in page
+    assert 'url(' not in page
+
+
+def test_claims_table_in_report(report):
+    data, files, _ = report
+    assert tuple(c.key for c in data.claims) == CLAIM_KEYS
+    md = files["markdown"].read_text(encoding="utf-8")
+    page = files["html"].read_text(encoding="utf-8")
+    for claim in data.claims:
+        assert claim.where in md and claim.verdict in md
+    for item in ("Eq. (8)", "Eq. (9)", "Eq. (10)", "Eq. (13)", "Eq. (16)", "Eq. (17)", "Eq. (18)", "Fig. 2",
+                 "Fig. 3", "Δ = 0.17", "T = Δ/ν + t1"):
+        assert item in md, item
+        assert item.replace("&", "&amp;") in page, item
+    assert "refuted" in md and "incomplete" in md
+
+
+def test_figures_use_no_pyplot(report):
+    import sys
+
+    assert "matplotlib.pyplot" not in sys.modules
+    fig = F.figure_period(report[0].period_fits)
+    assert fig.canvas.__class__.__name__ == "FigureCanvasAgg"
+    assert all(ax.get_ylabel() for ax in fig.axes)                       # labelled axes, units in brackets
+    assert all("[" in ax.get_ylabel() or "error" in ax.get_ylabel() for ax in fig.axes)
+    assert sum("ν  [V0]" in ax.get_xlabel() for ax in fig.axes) == 2     # x shared down each column
+
+
+# -- CLI ------------------------------------------------------------------------------------------------------
+_TINY = {
+    "tiny-fig2.toml": """
+        [study]
+        name = "tiny-fig2"
+        [engine]
+        laws = ["piecewise-linear"]
+        [grid.nu]
+        values = [1e-6, 1e-9]
+        [grid.nu_f]
+        ranges = [{ start = 0.02, stop = 0.98, num = 25 }]
+        """,
+    "tiny-fig3.toml": """
+        [study]
+        name = "tiny-fig3"
+        [engine]
+        laws = ["carlson-langer"]
+        [grid.nu]
+        values = [1e-9]
+        [grid.nu_f]
+        values = [0.4]
+        ranges = [{ start = 0.02, stop = 0.98, num = 25 }]
+        """,
+    "tiny-critical.toml": """
+        [study]
+        name = "tiny-critical"
+        [engine]
+        laws = ["piecewise-linear", "carlson-langer"]
+        [grid.nu]
+        log = { start = 1e-3, stop = 1e-15, per_decade = 4 }
+        [grid.nu_f]
+        values = [0.2, 0.3, 0.4, 0.5]
+        """,
+}
+
+
+@pytest.fixture(scope="module")
+def reproduced(tmp_path_factory):
+    """`bifurcation reproduce` end to end (embedded cluster, one worker) on tiny paper-like workflows."""
+    from bifurcation.cli import _analysis
+
+    root = tmp_path_factory.mktemp("reproduce")
+    wf = root / "workflows"
+    wf.mkdir()
+    for name, text in _TINY.items():
+        (wf / name).write_text(textwrap.dedent(text))
+    mp = pytest.MonkeyPatch()
+    mp.setattr(_analysis, "PAPER_WORKFLOWS", tuple(_TINY))
+    mp.setattr(_analysis, "_workflow_dir", lambda: wf)
+    mp.chdir(root)
+    try:
+        result = CliRunner().invoke(cli, ["reproduce", "--workers", "1"])
+    finally:
+        mp.undo()
+    return root, result
+
+
+def test_reproduce_writes_stores_and_report(reproduced):
+    root, result = reproduced
+    assert result.exit_code == 0, result.output
+    for name in ("tiny-fig2", "tiny-fig3", "tiny-critical"):
+        assert (root / "results" / f"{name}.zarr").is_dir()
+    out = root / "results" / "paper"
+    assert (out / "REPORT.md").is_file() and (out / "report.html").is_file()
+    assert len(list(out.glob("*.png"))) == 5
+    assert "wrote results/paper/REPORT.md" in result.output
+
+
+def test_cli_extrapolate_json(reproduced):
+    root, _ = reproduced
+    store = root / "results" / "tiny-critical.zarr"
+    r = CliRunner().invoke(cli, ["extrapolate", "--store", str(store), "--law", "carlson-langer",
+                                 "--nu-f", "0.5", "--json"])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.output)
+    for key in ("delta0_extrapolated", "uncertainty", "delta0_direct", "paper_value"):
+        assert key in out
+    assert out["paper_value"] == 0.17
+    assert abs(out["delta0_extrapolated"] - out["delta0_direct"]) <= out["uncertainty"] <= 5e-3
+    r = CliRunner().invoke(cli, ["extrapolate", "--store", str(store), "--law", "carlson-langer",
+                                 "--nu-f", "0.3", "--json"])
+    assert r.exit_code == 0 and json.loads(r.output)["paper_value"] is None   # the paper gives none there
+
+
+def test_cli_fit_period_json(reproduced):
+    root, _ = reproduced
+    r = CliRunner().invoke(cli, ["fit-period", "--store", str(root / "results"), "--law", "piecewise-linear",
+                                 "--nu-f", "0.4", "--json"])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.output)
+    for key in ("log_coefficient", "log_coefficient_expected", "C0", "K", "residual_max", "terms"):
+        assert key in out
+    assert out["log_coefficient"] == pytest.approx(out["log_coefficient_expected"], rel=0.01)
+
+
+def test_cli_text_output_and_report(reproduced, tmp_path):
+    root, _ = reproduced
+    r = CliRunner().invoke(cli, ["fit-period", "--store", str(root / "results" / "tiny-critical.zarr"),
+                                 "--law", "carlson-langer", "--nu-f", "0.4"])
+    assert r.exit_code == 0, r.output
+    assert "log_coefficient_expected 0.5000000000" in r.output and "resonance" in r.output
+
+
+@pytest.mark.parametrize("args, message", [
+    (["fit-period", "--law", "carlson-langer", "--nu-f", "0.5"], "--nu-f=0.5: is not below 1/2"),
+    (["extrapolate", "--law", "carlson-langer", "--nu-f", "0.33"], "--nu-f=0.33: has no finished points"),
+    (["extrapolate", "--law", "carlson-langer", "--nu-f", "abc"], "'abc' is not a number"),
+])
+def test_cli_bad_input_is_one_line_exit_2(reproduced, args, message):
+    root, _ = reproduced
+    store = str(root / "results" / "tiny-critical.zarr")
+    r = CliRunner().invoke(cli, [*args, "--store", store])
+    assert r.exit_code == 2, r.output
+    assert message in r.output and len(r.output.strip().splitlines()) == 1
+
+
+def test_cli_missing_store_exit_2(tmp_path):
+    r = CliRunner().invoke(cli, ["report", "--store", str(tmp_path / "nope"), "--out", str(tmp_path / "o")])
+    assert r.exit_code == 2
+    assert "does not exist" in r.output
