@@ -148,21 +148,24 @@ def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:
     from ..errors import InputError
     from ..report import write_report
     from ..run import submit
+    from ..run.cluster import check_scheduler, check_workers, connect
 
     started = time.perf_counter()
     stores = []
-    for name in PAPER_WORKFLOWS:
-        try:
-            summary = submit(_workflow_dir() / name, scheduler=scheduler, workers=workers, new_store=new_stores)
-        except InputError as exc:
-            fail(f"{name}: {exc.argument}={exc.value!r}: {exc.problem}; {exc.fix} (or run `bifurcation "
-                 "reproduce --new-stores` to recompute the paper's stores)")
-        click.echo(str(summary))
-        if summary.failed:
-            click.echo(f"bifurcation: {summary.failed} points of {name} failed; run `bifurcation reproduce` "
-                       "again to retry them", err=True)
-            sys.exit(1)
-        stores.append(summary.store)
+    # One cluster for the three workflows (starting an embedded one costs ~1 s and compiles per worker).
+    with connect(check_scheduler(scheduler), check_workers(workers)) as client:
+        for name in PAPER_WORKFLOWS:
+            try:
+                summary = submit(_workflow_dir() / name, scheduler=client, new_store=new_stores)
+            except InputError as exc:
+                fail(f"{name}: {exc.argument}={exc.value!r}: {exc.problem}; {exc.fix} (or run "
+                     "`bifurcation reproduce --new-stores` to recompute the paper's stores)")
+            click.echo(str(summary))
+            if summary.failed:
+                click.echo(f"bifurcation: {summary.failed} points of {name} failed; run `bifurcation "
+                           "reproduce` again to retry them", err=True)
+                sys.exit(1)
+            stores.append(summary.store)
     files = write_report(stores, out)
     click.echo(f"wrote {files['markdown']} (and report.html, {len(files['figures'])} figures) in "
                f"{time.perf_counter() - started:.1f} s")
