@@ -8,24 +8,12 @@ from pathlib import Path
 
 import click
 
-from ._common import echo_json, fail
+from ._common import echo_json, fail, number
 
 __all__ = ["COMMANDS", "PAPER_WORKFLOWS"]
 
 #: The paper's workflows, run by ``bifurcation reproduce`` (files in the repository's workflows/).
 PAPER_WORKFLOWS = ("paper-fig2.toml", "paper-fig3.toml", "critical-point.toml")
-
-
-def _number(name: str):
-    def convert(ctx, param, value):
-        if value is None:
-            return None
-        try:
-            return float(value)
-        except ValueError:
-            raise click.BadParameter(f"{value!r} is not a number; give e.g. 0.5", param_hint=name) from None
-
-    return convert
 
 
 def _stores(paths):
@@ -58,7 +46,7 @@ def _with_options(message_names: dict):
 _STORE = click.option("--store", "stores", metavar="PATH", multiple=True, required=True,
                       help="A store written by `bifurcation submit`, or a directory of stores (repeatable).")
 _LAW = click.option("--law", required=True, help="Law label in the store, e.g. carlson-langer.")
-_NU_F = click.option("--nu-f", "nu_f", required=True, callback=_number("--nu-f"), help="Friction velocity ν_f.")
+_NU_F = click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f"), help="Friction velocity ν_f.")
 _JSON = click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 _NAMES = {"nu_f": "--nu-f", "law": "--law", "store": "--store", "nu": "--store (ν values)"}
 

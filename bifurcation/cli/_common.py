@@ -10,7 +10,7 @@ import click
 
 from ..errors import InputError
 
-__all__ = ["Group", "echo_json", "fail"]
+__all__ = ["Group", "echo_json", "fail", "number"]
 
 
 def fail(message: str) -> None:
@@ -53,3 +53,18 @@ def _clean(obj):
 def echo_json(obj) -> None:
     """Print ``obj`` as strict JSON (NaN and inf become null)."""
     click.echo(json.dumps(_clean(obj), indent=2, allow_nan=False))
+
+
+def number(name: str, example: str = "0.5"):
+    """A click callback that parses a float itself, so a bad value gets our one-line message."""
+
+    def convert(ctx, param, value):
+        if value is None:
+            return None
+        try:
+            return float(value)
+        except ValueError:
+            raise click.BadParameter(f"{value!r} is not a number; give e.g. {example}",
+                                     param_hint=name) from None
+
+    return convert

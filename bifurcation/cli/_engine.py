@@ -4,25 +4,11 @@ from __future__ import annotations
 
 import click
 
-from ._common import echo_json
+from ._common import echo_json, number
 
 __all__ = ["COMMANDS"]
 
 _PRECISION = click.Choice(["double", "quad"])
-
-
-def _number(name: str):
-    """A float option parsed by us, so a bad value gets our one-line message."""
-
-    def convert(ctx, param, value):
-        if value is None:
-            return None
-        try:
-            return float(value)
-        except ValueError:
-            raise click.BadParameter(f"{value!r} is not a number; give e.g. 1e-9", param_hint=name) from None
-
-    return convert
 
 
 @click.command("laws")
@@ -52,8 +38,8 @@ def _print_point(record: dict, keys, as_json: bool) -> None:
 
 @click.command("slip")
 @click.option("--law", required=True, help="Law name (see `bifurcation laws`) or formula in x.")
-@click.option("--nu", required=True, callback=_number("--nu"), help="Pulling speed ν > 0.")
-@click.option("--nu-f", "nu_f", required=True, callback=_number("--nu-f"), help="Friction velocity ν_f > 0.")
+@click.option("--nu", required=True, callback=number("--nu", "1e-9"), help="Pulling speed ν > 0.")
+@click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f", "0.4"), help="Friction velocity ν_f > 0.")
 @click.option("--precision", type=_PRECISION, default="double", show_default=True)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def slip_cmd(law: str, nu: float, nu_f: float, precision: str, as_json: bool) -> None:
@@ -67,7 +53,7 @@ def slip_cmd(law: str, nu: float, nu_f: float, precision: str, as_json: bool) ->
 
 @click.command("limit")
 @click.option("--law", required=True, help="Law name (see `bifurcation laws`) or formula in x.")
-@click.option("--nu-f", "nu_f", required=True, callback=_number("--nu-f"), help="Friction velocity ν_f > 0.")
+@click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f", "0.4"), help="Friction velocity ν_f > 0.")
 @click.option("--precision", type=_PRECISION, default="double", show_default=True)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:

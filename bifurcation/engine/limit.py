@@ -21,7 +21,7 @@ from ._integrator import EventKind, compiled, fp_info
 from ._validate import check_nu_f, check_precision
 from .cycle import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, run_cycle
 from .manifold import fast_manifold_start
-from .result import Status, records, status_names
+from .result import Status, _Fields
 
 __all__ = ["LIMIT_FIELDS", "LimitResult", "limit"]
 
@@ -29,7 +29,7 @@ LIMIT_FIELDS = ("delta0", "max_velocity0", "slip_duration0", "tau1", "creep_coef
 
 
 @dataclass(frozen=True)
-class LimitResult:
+class LimitResult(_Fields):
     """ν → 0 limit per ν_f.
 
     ``delta0``: Δ0 (0 for ν_f > 1/2). ``max_velocity0``: max U̇ along the limit orbit.
@@ -52,19 +52,8 @@ class LimitResult:
     law: str
     precision: str
 
-    def __getitem__(self, key: str):
-        return getattr(self, key)
-
     def keys(self):
         return ("nu_f", *LIMIT_FIELDS, "steps", "status")
-
-    def status_names(self) -> np.ndarray:
-        """Status codes as strings, same shape."""
-        return status_names(self.status)
-
-    def to_records(self) -> list[dict]:
-        """One dict per ν_f, statuses as strings, NaN as None."""
-        return records(self)
 
 
 def _to_fp(value, dtype):

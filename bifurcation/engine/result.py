@@ -53,8 +53,23 @@ FIELD_ATTRS = {
 }
 
 
+class _Fields:
+    """Key access, status names and records for the result dataclasses (which define ``keys``)."""
+
+    def __getitem__(self, key: str):
+        return getattr(self, key)
+
+    def status_names(self) -> np.ndarray:
+        """Status codes as strings ("stick-slip", ...), same shape."""
+        return status_names(self.status)
+
+    def to_records(self) -> list[dict]:
+        """One dict per point (flattened C order), statuses as strings, NaN as None."""
+        return records(self)
+
+
 @dataclass(frozen=True)
-class SlipResult:
+class SlipResult(_Fields):
     """Arrays of one broadcast shape: the float ``FIELDS``, ``steps`` (int64) and ``status`` (int8 codes).
 
     Fields are reachable as attributes or keys (``r.delta``, ``r["delta"]``). ``messages`` maps a
@@ -75,19 +90,8 @@ class SlipResult:
     law: str
     precision: str
 
-    def __getitem__(self, key: str):
-        return getattr(self, key)
-
     def keys(self):
         return ("nu", "nu_f", *FIELDS, "steps", "status")
-
-    def status_names(self) -> np.ndarray:
-        """Status codes as strings ("stick-slip", ...), same shape."""
-        return status_names(self.status)
-
-    def to_records(self) -> list[dict]:
-        """One dict per point (flattened C order), statuses as strings, NaN as None."""
-        return records(self)
 
 
 def status_names(codes) -> np.ndarray:
