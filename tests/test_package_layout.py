@@ -4,7 +4,9 @@ import importlib
 
 import pytest
 
-PACKAGES = ["bifurcation", "bifurcation.engine", "bifurcation.laws", "bifurcation.theory"]
+PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.engine", "bifurcation.laws",
+            "bifurcation.report", "bifurcation.run", "bifurcation.store", "bifurcation.theory",
+            "bifurcation.workflow"]
 
 
 @pytest.mark.parametrize("name", PACKAGES)

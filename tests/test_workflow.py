@@ -147,14 +147,3 @@ def test_shipped_workflows():
         assert sum(10.0 ** -(k + 1) <= x < float(f"1e-{k}") for x in cp.nu) >= 4
     # all three together run in well under a minute on 2 cores (~35 µs a point)
     assert fig2.n_points + fig3.n_points + cp.n_points < 50_000
-
-
-def test_package_layout_advertises_existing_names():
-    import bifurcation.run
-    import bifurcation.store
-    import bifurcation.workflow
-
-    for module in (bifurcation.workflow, bifurcation.store, bifurcation.run):
-        assert list(module.__all__) == sorted(module.__all__)
-        for name in module.__all__:
-            assert hasattr(module, name), f"{module.__name__}.{name}"
