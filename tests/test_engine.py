@@ -257,3 +257,13 @@ def test_a_piece_undefined_outside_its_interval_does_not_poison_the_others():
     assert np.isfinite(d.delta).all() and (d.status == q.status).all()
     assert (np.abs(d.delta - q.delta) / q.delta).max() <= 1e-14
     assert math.isfinite(bf.limit(law, nu_f=0.3).delta0.item())
+
+
+def test_no_switch_missed_at_the_smallest_speeds():
+    # Regression: heyoka's automatic cooldown grows with the state (W ~ Δ/ν); at ν ≤ 3e-17 it hid the
+    # switch back to the linear piece of Eq. (12) and Δ came out 1.9487 instead of 1.9372. Below 1e-15
+    # Δ(ν) − Δ0 ~ ν^{1−(α−ω)²} = ν^{8/9} < 1e-13 at ν_f = 0.3: Δ must equal the direct limit there.
+    d0 = bf.limit("piecewise-linear", nu_f=0.3).delta0.item()
+    r = bf.slip("piecewise-linear", nu=[1e-17, 1e-20], nu_f=0.3)
+    assert (r.status_names() == "stick-slip").all()
+    np.testing.assert_allclose(r.delta, d0, rtol=1e-13)

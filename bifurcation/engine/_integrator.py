@@ -33,6 +33,13 @@ __all__ = ["Compiled", "EventKind", "LaneRecorder", "build", "compiled", "fp_inf
 
 _CACHE: dict = {}
 
+#: Cooldown of the terminal events. heyoka's automatic one scales with the error estimate of the event
+#: equation, which follows the state: at ν ≤ 3e-17 (W ~ 1e17) it outlasted the two time units between
+#: the up- and down-crossings of the kink of Eq. (12), the second switch was missed and Δ came out 0.6 %
+#: wrong. 1e-12 is far above the restart offset (a few ulps of t ≲ 1e3) and far below the shortest
+#: time between events (~ln 2/(2α) ≈ 7e-5 at ν_f = 1e-4).
+COOLDOWN = 1e-12
+
 
 class EventKind(Enum):
     STOP = "stop"            # U̇ returns to 0: terminal for the cycle
@@ -117,8 +124,10 @@ def _events(law: FrictionLaw, x, dxdt, fp_type, recorder: LaneRecorder | None):
     make = hy.t_event_batch if batch else hy.t_event
     fp = {"fp_type": fp_type} if fp_type is not None else {}
 
+    cooldown = fp_type(COOLDOWN) if fp_type is not None else COOLDOWN
+
     def ev(eq, direction):
-        return make(eq, direction=direction, **fp)
+        return make(eq, direction=direction, cooldown=cooldown, **fp)
 
     neg, pos, anyd = (hy.event_direction.negative, hy.event_direction.positive, hy.event_direction.any)
     events, kinds, bp_of, nt_events = [ev(x, direction=neg)], [EventKind.STOP], [-1], []
