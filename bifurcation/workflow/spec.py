@@ -31,8 +31,8 @@ computed in decimal arithmetic and rounded once, so a range that passes through 
 ``0.4`` (the float a user types) and a log axis from 1e-3 to 1e-15 passes through exactly 1e-9. A log
 axis has at least ``per_decade`` points per decade and always includes both ends.
 
-Bounds: ν ∈ [1e-16, 1] (below ~1e-16 the double-precision engine meets non-finite states; above 1 the
-block is not slowly driven), ν_f ∈ [1e-4, 10] (the paper's range is (0, 1); ν_f > 1/2 is creep
+Bounds: ν ∈ [1e-20, 1] (the engine is checked against real128 down to 1e-20; above 1 the block is
+not slowly driven), ν_f ∈ [1e-4, 10] (the paper's range is (0, 1); ν_f > 1/2 is creep
 as ν → 0), tiles of 1 … 4096 points a side and at most 2^16 points, at most 10^9 points in a grid.
 
 Two workflows are the *same study* when their ``fingerprint`` agrees: the sha256 of what determines
@@ -58,7 +58,7 @@ from ._toml import Table, as_number, check_range
 __all__ = ["MAX_POINTS", "NU_BOUNDS", "NU_F_BOUNDS", "PRECISIONS", "TILE_MAX", "TILE_MAX_POINTS",
            "Workflow", "load_workflow", "parse_workflow"]
 
-NU_BOUNDS = (1e-16, 1.0)
+NU_BOUNDS = (1e-20, 1.0)
 NU_F_BOUNDS = (1e-4, 10.0)
 PRECISIONS = ("double", "quad")
 TILE_MAX = 4096
