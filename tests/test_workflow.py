@@ -41,7 +41,7 @@ MALFORMED = [
     (VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 4.0 }"), "grid.nu.log.per_decade"),
     (VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 4, num = 49 }"),
      "grid.nu.log.per_decade"),
-    (VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-20, per_decade = 4 }"), "grid.nu.log.stop"),
+    (VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-25, per_decade = 4 }"), "grid.nu.log.stop"),
     (VALID.replace("values = [1e-9]", "values = [1e-9, 0.0]"), "grid.nu.values[1]"),
     (VALID.replace("values = [1e-9]", "values = [1e-9, 2.0]"), "grid.nu.values[1]"),
     (VALID.replace("values = [1e-9]", 'values = ["1e-9"]'), "grid.nu.values[0]"),
