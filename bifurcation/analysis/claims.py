@@ -139,7 +139,7 @@ def _stick_claims():
     d17 = float(np.max(np.abs(lim.slip_duration0 - tau2(nf))))
     out.append(Claim(
         "eq17", "Eq. (17)", "stop of the slip, measured from U̇ = ν_f", "τ2 = τ1 + ln(1 + ω/α)/(2ω)",
-        f"direct ν → 0 orbit, same ν_f (at 1/2 the limit τ1 + 1/2)", f"max |Δτ2| = {d17:.1e}",
+        "direct ν → 0 orbit, same ν_f (at 1/2 the limit τ1 + 1/2)", f"max |Δτ2| = {d17:.1e}",
         "confirmed" if d17 < 1e-12 else "refuted", numbers={"abs_diff": d17, "tau2_minus_tau1": s.tolist()}))
     d18 = _rel(lim.delta0, d0)
     fin = slip("piecewise-linear", nu=1e-15, nu_f=nf)

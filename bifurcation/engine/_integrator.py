@@ -60,6 +60,8 @@ class Compiled:
     n_pieces: int
     batch_size: int
     recorder: "LaneRecorder | None" = None  # batch mode: where non-terminal events record
+    dtype: type = np.float64                # numpy type of the integrator's numbers
+    switch_at_one: int = -1                 # index of the breakpoint x = 1 (U̇ = ν_f), -1 if none
 
 
 def fp_info(precision: str):
@@ -177,4 +179,5 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> C
     else:
         ta = hy.taylor_adaptive([(W, V), (V, rhs)], np.zeros(2, dtype=dtype),
                                 pars=np.zeros(npars, dtype=dtype), **kwargs)
-    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder)
+    at_one = law.breakpoints.index(1.0) if 1.0 in law.breakpoints else -1
+    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder, dtype, at_one)

@@ -14,7 +14,7 @@ import heyoka as hy
 import numpy as np
 
 from ..laws import FrictionLaw, resolve_law
-from ._integrator import Compiled, EventKind, compiled, fp_info
+from ._integrator import Compiled, EventKind, compiled
 from ._validate import check_batch, check_nu, check_nu_f, check_precision
 from .result import SlipResult, Status
 
@@ -26,15 +26,8 @@ DEFAULT_T_MAX = 1.0e5
 #: Bound on the Taylor steps of one cycle (a few hundred are typical).
 DEFAULT_MAX_STEPS = 200_000
 
-_TIME_LIMIT = hy.taylor_outcome.time_limit
-_STEP_LIMIT = hy.taylor_outcome.step_limit
 _NONFINITE = hy.taylor_outcome.err_nf_state
-
-
-def _set_piece(pars, piece: int, n_pieces: int) -> None:
-    if n_pieces > 1:
-        pars[3:3 + n_pieces] = 0
-        pars[3 + piece] = 1
+_STOP, _MAX_VELOCITY, _REACH_NU_F = EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F
 
 
 def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0), piece: int = 0,
@@ -43,57 +36,65 @@ def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
 
     ``forcing = 1`` is a finite-ν cycle in the scaled variables; ``forcing = 0`` with ``nu = 1`` is
     the ν = 0 flow (the direct limit). Times and positions are returned in the integrator's
-    precision (numpy scalars).
+    precision (numpy scalars). This loop runs once per event of every point: it keeps Python work
+    per event to a few integer comparisons.
     """
     ta = c.integrator
-    _, dtype, _ = fp_info(c.precision)
+    dtype = c.dtype
     ta.time = dtype(0)
-    ta.state[:] = state0
+    state = ta.state  # views on the integrator's buffers
+    pars = ta.pars
+    state[0], state[1] = state0
     # A terminal event's cooldown outlives a reset of time and state: clear it, or a point would
     # depend on the one before it.
     ta.reset_cooldowns()
-    pars = ta.pars
     pars[0], pars[1], pars[2] = nu, nu_f, forcing
-    _set_piece(pars, piece, c.n_pieces)
-    breakpoints = c.law.breakpoints
+    n_pieces = c.n_pieces
+    if n_pieces > 1:
+        pars[3:] = 0
+        pars[3 + piece] = 1
+    kinds, breakpoint_of, at_one = c.kinds, c.breakpoint_of, c.switch_at_one
+    n_events = len(kinds)
+    propagate = ta.propagate_until
+    t_end = dtype(t_max)
     creep_time = math.nan
     crossings = []  # times U̇ crosses ν_f (x = 1) after t1, for τ1 of Eq. (16)
-    vmax = ta.state[1]
+    vmax = state[1]
     steps = 0
     status = Status.NO_STOP
     message = ""
     while True:
-        outcome, _, _, n, *_ = ta.propagate_until(dtype(t_max), max_steps=max(max_steps - steps, 1))
+        outcome, _, _, n, *_ = propagate(t_end, max_steps=max(max_steps - steps, 1))
         steps += n
-        code = int(outcome)
-        if code >= 0 or outcome in (_TIME_LIMIT, _STEP_LIMIT, _NONFINITE):
+        index = -int(outcome) - 1  # terminal event i comes back as the outcome −(i + 1)
+        if not 0 <= index < n_events:  # time or step limit, or a non-finite state
             if outcome == _NONFINITE:
                 status, message = Status.NONFINITE, f"non-finite state at t = {float(ta.time):.17g}"
             else:
-                status = Status.NO_STOP
                 message = (f"no stop before t_max = {t_max:g} / max_steps = {max_steps} "
                            f"(t = {float(ta.time):.6g}, steps = {steps})")
             break
-        index = -code - 1
-        kind = c.kinds[index]
-        if kind is EventKind.STOP:
+        kind = kinds[index]
+        if kind is _STOP:
             status = Status.STICK_SLIP
             break
-        if kind is EventKind.MAX_VELOCITY:
-            vmax = max(vmax, ta.state[1])
-        elif kind is EventKind.REACH_NU_F:
-            if math.isnan(creep_time):
+        if kind is _MAX_VELOCITY:
+            if state[1] > vmax:
+                vmax = state[1]
+        elif kind is _REACH_NU_F:
+            if creep_time != creep_time:  # NaN: the first time only
                 creep_time = ta.time
         else:  # a switch at breakpoint j: the upper end of this piece means up, the lower means down
-            j = c.breakpoint_of[index]
+            j = breakpoint_of[index]
             up = j == piece
             if not up and j != piece - 1:  # cannot happen with ordered breakpoints; be explicit
                 status, message = Status.NONFINITE, f"switch event {j} seen in piece {piece}"
                 break
+            pars[3 + piece] = 0
             piece = piece + 1 if up else piece - 1
-            _set_piece(pars, piece, c.n_pieces)
-            if breakpoints[j] == 1.0:
-                if up and math.isnan(creep_time):
+            pars[3 + piece] = 1
+            if j == at_one:
+                if up and creep_time != creep_time:
                     creep_time = ta.time
                 else:
                     crossings.append(ta.time)
@@ -103,7 +104,7 @@ def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
 
 def _scalar_points(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, t_max: float, max_steps: int) -> dict:
     """Raw outcomes for flat arrays of points, one scalar integration each."""
-    _, dtype, _ = fp_info(c.precision)
+    dtype = c.dtype
     keys = ("time", "W", "vmax", "creep_time")
     out = {k: np.full(nu.size, math.nan) for k in (*keys, "duration")}
     out["steps"] = np.zeros(nu.size, dtype=np.int64)

@@ -17,7 +17,7 @@ import mpmath
 import numpy as np
 
 from ..laws import FrictionLaw, resolve_law
-from ._integrator import EventKind, compiled, fp_info
+from ._integrator import compiled, fp_info
 from ._validate import check_nu_f, check_precision
 from .cycle import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, run_cycle
 from .manifold import fast_manifold_start
