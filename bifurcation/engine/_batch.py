@@ -21,10 +21,9 @@ from .result import Status
 
 __all__ = ["run_batch"]
 
-_TIME_LIMIT = hy.taylor_outcome.time_limit
-_STEP_LIMIT = hy.taylor_outcome.step_limit
 _NONFINITE = hy.taylor_outcome.err_nf_state
 _SUCCESS = hy.taylor_outcome.success
+_STOP = EventKind.STOP
 
 
 def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, max_steps: int) -> dict:
@@ -33,7 +32,6 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
     lanes = c.batch_size
     n_points = nu.size
     n_pieces = c.n_pieces
-    breakpoints = c.law.breakpoints
     out_time = np.full(n_points, math.nan)
     out_W = np.full(n_points, math.nan)
     out_vmax = np.full(n_points, math.nan)
@@ -73,6 +71,8 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
             messages[i] = message
         load(lane)
 
+    kinds, breakpoint_of, at_one = c.kinds, c.breakpoint_of, c.switch_at_one
+    n_events = len(kinds)
     for lane in range(lanes):
         load(lane)
     ta.set_dtime(hi, lo)
@@ -86,33 +86,31 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
         for lane in np.flatnonzero(active):
             outcome, _, _, n = results[lane]
             steps[lane] += n
-            if outcome == _SUCCESS:
+            index = -int(outcome) - 1  # terminal event i comes back as −(i + 1)
+            if 0 <= index < n_events:
+                if kinds[index] is _STOP:
+                    finish(lane, Status.STICK_SLIP)
+                    reloaded = True
+                    continue
+                # only the stop and the switches are terminal in batch mode
+                j = breakpoint_of[index]
+                up = j == piece[lane]
+                pars[3 + piece[lane], lane] = 0.0
+                piece[lane] += 1 if up else -1
+                pars[3 + piece[lane], lane] = 1.0
+                if up and j == at_one and creep[lane] != creep[lane]:
+                    creep[lane] = hi[lane]
+            elif outcome == _SUCCESS:  # stopped because another lane had an event
                 if steps[lane] >= max_steps:
                     finish(lane, Status.NO_STOP, f"no stop within max_steps = {max_steps}")
                     reloaded = True
-                continue
-            code = int(outcome)
-            if code >= 0 or outcome in (_TIME_LIMIT, _STEP_LIMIT, _NONFINITE):
+            else:
                 if outcome == _NONFINITE:
                     finish(lane, Status.NONFINITE, f"non-finite state at t = {hi[lane]:.17g}")
                 else:
                     finish(lane, Status.NO_STOP, f"no stop before t_max = {t_max:g} / max_steps = "
                                                  f"{max_steps} (t = {hi[lane]:.6g}, steps = {steps[lane]})")
                 reloaded = True
-                continue
-            index = -code - 1
-            kind = c.kinds[index]
-            if kind is EventKind.STOP:
-                finish(lane, Status.STICK_SLIP)
-                reloaded = True
-            else:  # only the stop and the switches are terminal in batch mode
-                j = c.breakpoint_of[index]
-                up = j == piece[lane]
-                piece[lane] += 1 if up else -1
-                pars[3:3 + n_pieces, lane] = 0.0
-                pars[3 + piece[lane], lane] = 1.0
-                if up and breakpoints[j] == 1.0 and math.isnan(creep[lane]):
-                    creep[lane] = hi[lane]
         if reloaded:
             ta.set_dtime(hi, lo)
     return dict(time=out_time, W=out_W, vmax=out_vmax, creep_time=out_creep,
