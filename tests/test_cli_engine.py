@@ -82,3 +82,13 @@ def test_console_script_exit_status_and_no_traceback():
                            "--nu", "-1", "--nu-f", "0.4"], capture_output=True, text=True)
     assert proc.returncode == 2
     assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+
+
+def test_bench_without_scipy_says_how_to_install_it(monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "scipy" else real(name, *a))
+    result = run("bench", "--points", "10")
+    assert result.exit_code == 2
+    assert 'needs scipy; install it with python -m pip install -e ".[bench]"' in result.stderr

@@ -72,6 +72,11 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 def bench(points: int, subset: int, pipeline_points: int, as_json: bool) -> None:
     """Benchmarks, side by side in one run, reported as ratios (never a test)."""
+    import importlib.util
+
+    if importlib.util.find_spec("scipy") is None:
+        raise click.UsageError("the benchmark's DOP853 baseline needs scipy; install it with "
+                               "python -m pip install -e \".[bench]\"")
     from ..bench import run_bench
 
     report = run_bench(points=points, subset=subset, pipeline_points=pipeline_points,
