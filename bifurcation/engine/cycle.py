@@ -30,7 +30,7 @@ _NONFINITE = hy.taylor_outcome.err_nf_state
 _STOP, _MAX_VELOCITY, _REACH_NU_F = EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F
 
 
-def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0), piece: int = 0,
+def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
               t_max: float = DEFAULT_T_MAX, max_steps: int = DEFAULT_MAX_STEPS) -> dict:
     """Integrate one cycle with the compiled integrator ``c``; returns a dict of raw outcomes.
 
@@ -49,10 +49,10 @@ def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
     # depend on the one before it.
     ta.reset_cooldowns()
     pars[0], pars[1], pars[2] = nu, nu_f, forcing
-    n_pieces = c.n_pieces
-    if n_pieces > 1:
+    piece = 0  # both starts (rest at x = 0, the manifold at x < first breakpoint) are on piece 0
+    if c.n_pieces > 1:
         pars[3:] = 0
-        pars[3 + piece] = 1
+        pars[3] = 1
     kinds, breakpoint_of, at_one = c.kinds, c.breakpoint_of, c.switch_at_one
     n_events = len(kinds)
     propagate = ta.propagate_until
@@ -98,7 +98,7 @@ def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
                     creep_time = ta.time
                 else:
                     crossings.append(ta.time)
-    return dict(time=ta.time, W=ta.state[0], V=ta.state[1], vmax=vmax, creep_time=creep_time,
+    return dict(time=ta.time, W=state[0], vmax=vmax, creep_time=creep_time,
                 crossings=crossings, steps=steps, status=status, message=message)
 
 
