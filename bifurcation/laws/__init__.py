@@ -30,7 +30,7 @@ def _resolve_text(text: str) -> FrictionLaw:
         return BUILTIN[text]()
     from .formula import parse_formula
 
-    if _NAME.match(text) and text != "x" and "-" in text or (_NAME.match(text) and "x" not in text):
+    if _NAME.match(text) and text != "x":  # a bare name, not a formula in x
         raise InputError("law", text, "is not a known law",
                          f"use one of {', '.join(BUILTIN)} or a formula in x such as 'exp(-x)'")
     return parse_formula(text)
