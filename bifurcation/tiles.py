@@ -36,6 +36,7 @@ class Tile:
     precision: str = "double"
     t_max: float = 1e5
     max_steps: int = 200_000
+    batch: int = 1
     todo: np.ndarray | None = None
 
     @property
@@ -85,7 +86,7 @@ def iter_tiles(workflow, done: np.ndarray | None = None) -> Iterator[Tile]:
                         todo = ~block
                 yield Tile(law=law, index=(law_index, i, j), nu_f=nu_f[i:i + t_nu_f], nu=nu[j:j + t_nu],
                            precision=workflow.precision, t_max=workflow.t_max,
-                           max_steps=workflow.max_steps, todo=todo)
+                           max_steps=workflow.max_steps, batch=workflow.batch, todo=todo)
 
 
 def compute_tile(tile: Tile) -> dict[str, np.ndarray]:
@@ -107,7 +108,7 @@ def compute_tile(tile: Tile) -> dict[str, np.ndarray]:
     out["done"] = mask.copy()
     if mask.any():
         result = slip(tile.law, nu=nu_grid[mask], nu_f=nu_f_grid[mask], precision=tile.precision,
-                      t_max=tile.t_max, max_steps=tile.max_steps)
+                      t_max=tile.t_max, max_steps=tile.max_steps, batch=tile.batch)
         for name in (*FIELDS, "steps", "status"):
             out[name][mask] = result[name]
     return out
@@ -123,7 +124,7 @@ def compute_serial(workflow) -> dict[str, np.ndarray]:
     nu_f, nu = np.meshgrid(np.asarray(workflow.nu_f, dtype=float), np.asarray(workflow.nu, dtype=float),
                            indexing="ij")
     results = [slip(law, nu=nu, nu_f=nu_f, precision=workflow.precision, t_max=workflow.t_max,
-                    max_steps=workflow.max_steps) for law in workflow.laws]
+                    max_steps=workflow.max_steps, batch=workflow.batch) for law in workflow.laws]
     out = {name: np.stack([r[name] for r in results]) for name in (*FIELDS, "steps", "status")}
     out["done"] = np.ones(workflow.shape, dtype=bool)
     return out

@@ -94,6 +94,15 @@ def test_submit_equals_serial_and_resubmit_computes_nothing(scheduler, tmp_path,
     assert open_store(tmp_path / summary.store).attrs["submits"][-1]["skipped"] == w.n_points
 
 
+def test_batched_study_equals_its_serial_run(scheduler, tmp_path):
+    # batch = 8: heyoka's SIMD lanes in every tile; lanes and point order do not change the bits, so
+    # the distributed store still equals the serial run exactly
+    w = workflow(name="batched", batch=8)
+    summary = submit(w, store=tmp_path / "b.zarr", scheduler=scheduler, progress=False)
+    assert summary.computed == w.n_points and summary.failed == 0
+    assert_store_equals_serial(tmp_path / "b.zarr", w)
+
+
 def test_resume_computes_only_missing_tiles_and_points(scheduler, tmp_path):
     import zarr
 

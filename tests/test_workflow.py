@@ -37,6 +37,10 @@ MALFORMED = [
     (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nprecision = "single"'), "engine.precision"),
     (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nt_max = -1.0'), "engine.t_max"),
     (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nmax_steps = 1.5'), "engine.max_steps"),
+    (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = 0'), "engine.batch"),
+    (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = "8"'), "engine.batch"),
+    (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = 8\nprecision = "quad"'),
+     "engine.batch"),
     (VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 0 }"), "grid.nu.log.per_decade"),
     (VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 4.0 }"), "grid.nu.log.per_decade"),
     (VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 4, num = 49 }"),
@@ -147,3 +151,14 @@ def test_shipped_workflows():
         assert sum(10.0 ** -(k + 1) <= x < float(f"1e-{k}") for x in cp.nu) >= 4
     # all three together run in well under a minute on 2 cores (~35 µs a point)
     assert fig2.n_points + fig3.n_points + cp.n_points < 50_000
+
+
+def test_batch_round_trips_and_changes_the_fingerprint_only_when_used():
+    plain = parse_workflow(VALID)
+    batched = parse_workflow(VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = 8'))
+    assert batched.batch == 8 and parse_workflow(batched.to_toml()) == batched
+    # batch results equal scalar ones to rounding only, so a batched study is another study; batch = 1
+    # (the default) leaves the fingerprints of existing stores as they were
+    assert batched.fingerprint != plain.fingerprint
+    assert parse_workflow(VALID.replace('laws = ["carlson-langer"]',
+                                        'laws = ["carlson-langer"]\nbatch = 1')).fingerprint == plain.fingerprint

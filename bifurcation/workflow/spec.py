@@ -13,6 +13,7 @@ Schema (every key is checked; unknown keys, wrong types and impossible values ar
     precision = "double"             # optional: "double" (default) or "quad"
     t_max = 1e5                      # optional: bound on the time of one cycle (> 0)
     max_steps = 200000               # optional: bound on the Taylor steps of one cycle (>= 1)
+    batch = 8                        # optional: heyoka SIMD lanes (1..64, double only; default 1)
 
     [grid.nu]                        # pulling speed ν of Eq. (5); at least one of values / log
     values = [1e-9]                  # explicit points, kept exactly as written
@@ -89,6 +90,7 @@ class Workflow:
     precision: str = "double"
     t_max: float = DEFAULT_T_MAX
     max_steps: int = DEFAULT_MAX_STEPS
+    batch: int = 1                           # heyoka SIMD lanes (see bifurcation.slip)
     tiles: tuple[int, int] = DEFAULT_TILES   # (nu_f, nu)
     source: str | None = field(default=None, compare=False, repr=False)
 
@@ -108,6 +110,12 @@ class Workflow:
         if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) or self.max_steps < 1:
             raise InputError("engine.max_steps", self.max_steps, "is not a positive integer",
                              "give a whole number of steps such as 200000")
+        if isinstance(self.batch, bool) or not isinstance(self.batch, int) or not 1 <= self.batch <= 64:
+            raise InputError("engine.batch", self.batch, "is not a lane count from 1 to 64",
+                             "give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
+        if self.batch > 1 and self.precision != "double":
+            raise InputError("engine.batch", self.batch, f"is not available with precision = {self.precision!r}",
+                             "remove batch, or use precision = \"double\"")
         _set(self, "nu", _check_axis("grid.nu", self.nu, NU_BOUNDS))
         _set(self, "nu_f", _check_axis("grid.nu_f", self.nu_f, NU_F_BOUNDS))
         tiles = tuple(self.tiles)
@@ -152,6 +160,8 @@ class Workflow:
         canonical = dict(laws=list(self.laws), precision=self.precision, t_max=repr(self.t_max),
                          max_steps=self.max_steps, nu=[repr(x) for x in self.nu],
                          nu_f=[repr(x) for x in self.nu_f], tiles=list(self.tiles))
+        if self.batch != 1:  # batch results equal scalar ones to rounding only; 1 keeps old fingerprints
+            canonical["batch"] = self.batch
         return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()
 
     @property
@@ -173,6 +183,7 @@ class Workflow:
             f"precision = {json.dumps(self.precision)}",
             f"t_max = {self.t_max!r}",
             f"max_steps = {self.max_steps}",
+            f"batch = {self.batch}",
             "",
             "[grid.nu]",
             f"values = {floats(self.nu)}",
@@ -234,7 +245,7 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
                          f"is not valid TOML ({exc})", "fix the syntax; see workflows/*.toml for examples") from None
     root = Table(data, "", ("study", "engine", "grid", "tiles"))
     study = root.table("study", ("name", "description"))
-    engine = root.table("engine", ("laws", "precision", "t_max", "max_steps"))
+    engine = root.table("engine", ("laws", "precision", "t_max", "max_steps", "batch"))
     grid = root.table("grid", ("nu", "nu_f"))
     tiles = root.table("tiles", ("nu_f", "nu"), required=False)
 
@@ -246,6 +257,8 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
         options["t_max"] = engine.number("t_max")
     if engine.has("max_steps"):
         options["max_steps"] = engine.integer("max_steps")
+    if engine.has("batch"):
+        options["batch"] = engine.integer("batch", high=64, fix="give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
     if tiles is not None:
         options["tiles"] = (tiles.integer("nu_f", DEFAULT_TILES[0], high=TILE_MAX),
                             tiles.integer("nu", DEFAULT_TILES[1], high=TILE_MAX))
