@@ -136,15 +136,15 @@ def _classify(raw: dict, nu: np.ndarray, nu_f: np.ndarray) -> tuple[dict, dict]:
         status[i] = int(Status.NO_STICK)
         messages[int(i)] = (f"spring force {1 + nu[i] * (raw['time'][i] - raw['W'][i]):.6g} exceeds "
                             "static friction after the stop: the block would slide back")
-    ok = stopped  # stick-slip or creep, or no-stick (the cycle itself is still well defined)
-    W = np.where(ok, raw["W"], math.nan)
+    # stick-slip, creep and no-stick all stopped: the cycle itself is well defined
+    W = np.where(stopped, raw["W"], math.nan)
     fields = {
         "delta": nu * W,
         "period": W,
-        "creep_time": np.where(ok, raw["creep_time"], math.nan),
-        "slip_duration": np.where(ok, raw["duration"], math.nan),
-        "stop_time": np.where(ok, raw["time"], math.nan),
-        "max_velocity": np.where(ok, nu * raw["vmax"], math.nan),
+        "creep_time": np.where(stopped, raw["creep_time"], math.nan),
+        "slip_duration": np.where(stopped, raw["duration"], math.nan),
+        "stop_time": np.where(stopped, raw["time"], math.nan),
+        "max_velocity": np.where(stopped, nu * raw["vmax"], math.nan),
         "steps": raw["steps"],
         "status": status,
     }
@@ -168,9 +168,10 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
     batch : int
         Lanes of heyoka's batch (SIMD) integrator (double only); 1 integrates point by point. Results
         of a batch run do not depend on the batch size or the order of points, and agree with the
-        scalar run to rounding (≤ 3e-15 seen), not bit for bit (SIMD code differs). The scalar run is
-        the default: with a terminal event in any lane returning control for all lanes, batching
-        buys no speed for cycles of ~2–4 events (see ``bifurcation bench``).
+        scalar run to rounding (≤ 3e-15 seen), not bit for bit (SIMD code differs). A terminal event
+        in any lane returns control for all lanes, so batching pays for laws with one piece (~1.5×
+        for Carlson–Langer) and not for piecewise laws, whose switches are terminal (see
+        ``bifurcation bench``). The scalar run is the default.
 
     Returns
     -------

@@ -18,16 +18,9 @@ from __future__ import annotations
 
 import mpmath
 
-__all__ = ["ManifoldStart", "fast_manifold_start"]
+__all__ = ["fast_manifold_start", "manifold_coefficients"]
 
 _DPS = 60
-
-
-class ManifoldStart(tuple):
-    """(U, U̇) on the fast manifold, as mpmath numbers, with the series order used."""
-
-    order: int
-    y: object
 
 
 def _series_mul(a, b, n):
@@ -60,11 +53,12 @@ def manifold_coefficients(coeffs, alpha, order: int):
     return u, lam
 
 
-def fast_manifold_start(law, nu_f, *, y_start: float = 1e-3, order: int = 12) -> tuple:
-    """A point (U, U̇) on the fast manifold where U̇/ν_f ≈ ``y_start``, accurate to ≪ 1e-34 relative.
+def fast_manifold_start(law, nu_f, *, y_start: float = 1e-3, order: int = 12, tries: int = 6) -> tuple:
+    """A point (U, U̇) on the fast manifold where U̇/ν_f ≈ y, accurate to ≪ 1e-34 relative.
 
-    Returns mpmath numbers (U, U̇, order) at 60 digits. Raises ValueError if the series does not
-    converge fast enough there (the caller then lowers ``y_start``).
+    y is the largest of ``y_start``, ``y_start``/10, … (``tries`` values) where the series tail is
+    below 1e-40 of its first term; the coefficients do not depend on y and are computed once.
+    Returns mpmath numbers (U, U̇) at 60 digits, or raises ValueError if no y converges.
     """
     with mpmath.workdps(_DPS):
         alpha = 1 / (2 * mpmath.mpf(nu_f))
@@ -72,12 +66,14 @@ def fast_manifold_start(law, nu_f, *, y_start: float = 1e-3, order: int = 12) ->
             raise ValueError("the fast manifold exists for ν_f ≤ 1/2 only")
         coeffs = law.drop_taylor(order + 1, dps=_DPS)
         u, lam = manifold_coefficients(coeffs, alpha, order)
-        # s0 such that the linear term alone gives y = y_start: y ≈ 2α λ s.
-        s0 = mpmath.mpf(y_start) / (2 * alpha * lam)
-        terms = [u[n] * s0**n for n in range(1, order + 1)]
-        tail = max(abs(terms[-1]), abs(terms[-2]))
-        if not tail < mpmath.mpf("1e-40") * abs(terms[0]):
-            raise ValueError(f"manifold series not converged at y = {y_start}")
-        U = mpmath.fsum(terms)
-        Ud = mpmath.fsum(n * lam * u[n] * s0**n for n in range(1, order + 1))
-        return U, Ud, order
+        y = mpmath.mpf(y_start)
+        for _ in range(tries):
+            # s0 such that the linear term alone gives y: y ≈ 2α λ s.
+            s0 = y / (2 * alpha * lam)
+            terms = [u[n] * s0**n for n in range(1, order + 1)]
+            if max(abs(terms[-1]), abs(terms[-2])) < mpmath.mpf("1e-40") * abs(terms[0]):
+                U = mpmath.fsum(terms)
+                Ud = mpmath.fsum(n * lam * u[n] * s0**n for n in range(1, order + 1))
+                return U, Ud
+            y /= 10
+        raise ValueError(f"manifold series not converged for U̇/ν_f down to {mpmath.nstr(y * 10, 3)}")
