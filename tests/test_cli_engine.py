@@ -44,7 +44,8 @@ def test_limit_json():
     result = run("limit", "--law", "piecewise-linear", "--nu-f", "0.5", "--json")
     assert result.exit_code == 0
     record = json.loads(result.stdout)
-    # Eq. (18) at ν_f = 1/2 (α = 1): the limit (1 + ω/α)^{(1 + α/ω)/2} → sqrt(e).
+    # Eq. (18) at ν_f = 1/2 (α = 1): the limit (1 + ω/α)^{(1 + α/ω)/2} → sqrt(e) = 1.6487212707001282
+    # (float of mpmath.sqrt(mpmath.e)); 1e-15 is 4 ulps: JSON printing must not lose digits.
     assert abs(record["delta0"] - 1.6487212707001282) < 1e-15
 
 
