@@ -16,15 +16,9 @@ import numpy as np
 from ..laws import FrictionLaw, resolve_law
 from ._integrator import Compiled, EventKind, compiled
 from ._validate import check_batch, check_nu, check_nu_f, check_precision
-from .result import SlipResult, Status
+from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult, Status
 
 __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "run_cycle", "slip"]
-
-#: Bound on the time of one cycle. The longest legitimate cycles are the creep oscillations just above
-#: ν_f = 1/2 (t0 ~ 2π/ω of Eq. 9) and the creep time t1 ~ (α − ω) ln(1/ν) ≤ 40; both are far below this.
-DEFAULT_T_MAX = 1.0e5
-#: Bound on the Taylor steps of one cycle (a few hundred are typical).
-DEFAULT_MAX_STEPS = 200_000
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
 _STOP, _MAX_VELOCITY, _REACH_NU_F = EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F

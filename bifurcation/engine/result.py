@@ -10,7 +10,14 @@ from enum import IntEnum
 
 import numpy as np
 
-__all__ = ["FIELDS", "FIELD_ATTRS", "SlipResult", "Status", "records", "status_names"]
+__all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "FIELDS", "FIELD_ATTRS", "SlipResult", "Status", "records",
+           "status_names"]
+
+#: Bound on the time of one cycle. The longest legitimate cycles are the creep oscillations just above
+#: ν_f = 1/2 (t0 ~ 2π/ω of Eq. 9) and the creep time t1 ~ (α − ω) ln(1/ν) ≤ 40; both are far below this.
+DEFAULT_T_MAX = 1.0e5
+#: Bound on the Taylor steps of one cycle (a few hundred are typical).
+DEFAULT_MAX_STEPS = 200_000
 
 
 class Status(IntEnum):
