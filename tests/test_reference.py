@@ -8,18 +8,12 @@ paper's formulas. Tolerances say where they come from.
 import math
 
 import mpmath
-import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
 from bifurcation import theory
 from bifurcation.errors import InputError
-from bifurcation.reference import (
-    carlson_langer_mp,
-    delta0_piecewise_linear,
-    limit_orbit_exact,
-    piecewise_linear_exact,
-)
+from bifurcation.reference import limit_orbit_exact, piecewise_linear_exact
 
 DPS = 40
 #: At dps 40 (computed with 20 guard digits) the reference and the mpmath closed forms agree to
@@ -77,8 +71,9 @@ def test_creep_time_tends_to_eq_13(stick_slip_runs, nu_f):
 
 @pytest.mark.parametrize("nu_f", STICK_SLIP_NU_F)
 def test_delta_tends_to_eq_18(stick_slip_runs, nu_f):
-    delta0 = delta0_piecewise_linear(nu_f, dps=DPS)
-    gaps = [abs(r["delta"] - delta0) for nu, r in sorted(stick_slip_runs[nu_f].items(), reverse=True)]
+    with mpmath.workdps(DPS):
+        delta0 = theory.delta0_piecewise_linear(mpmath.mpf(nu_f))
+        gaps = [abs(r["delta"] - delta0) for nu, r in sorted(stick_slip_runs[nu_f].items(), reverse=True)]
     assert all(g1 < g0 for g0, g1 in zip(gaps, gaps[1:])), [mpmath.nstr(g, 3) for g in gaps]
     # Same slow-mode argument: the gap ∝ ν^{1 − (α − ω)²}; at ν = 1e-15 it is 2.8e-14 (ν_f = 0.2)
     # up to 9.8e-10 (ν_f = 0.45).
@@ -94,7 +89,6 @@ def test_limit_orbit_is_eqs_16_to_18(nu_f):
         assert abs(orbit["tau1"] - theory.tau1(n)) < EXACT
         assert abs(orbit["tau2"] - theory.tau2(n)) < EXACT
         assert abs(orbit["delta0"] - theory.delta0_piecewise_linear(n)) < EXACT
-        assert abs(orbit["delta0"] - delta0_piecewise_linear(nu_f, dps=DPS)) < EXACT
 
 
 # -- α = 1 exactly (the double root) --------------------------------------------------------------------
@@ -164,10 +158,10 @@ def test_reference_matches_scipy(nu_f):
     assert abs(float(ref["stop_time"]) / stop_time - 1) < 1e-11
 
 
-def test_carlson_langer_matches_scipy():
+def test_carlson_langer_matches_scipy(carlson_langer_reference):
     # ν = 1e-3, ν_f = 0.4: odefun at dps 30 vs DOP853 at rtol 3e-14 (scipy's floor; measured 1.5e-15).
-    ref = carlson_langer_mp(1e-3, 0.4)
     nu, nu_f = 1e-3, 0.4
+    ref = carlson_langer_reference(nu)
 
     def stop(t, y):
         return y[1] if t > 1 else 1.0
@@ -197,6 +191,10 @@ def test_no_stop_is_bounded():
 
 def test_float_and_string_inputs():
     # A float is its exact binary value (what the engine sees); a string is the decimal number.
-    assert piecewise_linear_exact(1e-3, 0.7)["delta"] != piecewise_linear_exact("1e-3", "0.7")["delta"]
-    assert np.isclose(float(piecewise_linear_exact(1e-3, 0.7)["delta"]),
-                      float(piecewise_linear_exact("1e-3", "0.7")["delta"]), rtol=1e-15)
+    binary = piecewise_linear_exact(1e-3, 0.7)["delta"]
+    decimal = piecewise_linear_exact("1e-3", "0.7")["delta"]
+    assert binary != decimal
+    # The inputs differ by 6.3e-17 relative (0.7 as a double; 1e-3 by 2e-20) and Δ moves κ ≈ 7 times
+    # as much: measured 4.4e-16 (2 ulp); 1e-15 is 4.5 ulp, relative only (an absolute term, like
+    # np.isclose's default atol = 1e-8, would allow 2e-7 of Δ = 0.06).
+    assert _rel(binary, decimal) < 1e-15

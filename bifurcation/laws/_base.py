@@ -20,10 +20,12 @@ import mpmath
 
 from ..errors import InputError
 
-__all__ = ["FrictionLaw", "Piece", "Number"]
+__all__ = ["CONTINUITY_RTOL", "FrictionLaw", "Piece"]
 
-#: Turns a decimal string or mpmath number into a heyoka constant of the integrator's precision.
-Number = Callable[[object], object]
+#: Two pieces meet at a breakpoint when their drops agree to this, relative to max(1, |g|). The checks
+#: work at dps 40 (here) and 60 (the formula parser), so the pieces of a continuous law agree to ~1e-38
+#: or better, and any jump someone means is far larger.
+CONTINUITY_RTOL = mpmath.mpf("1e-25")
 
 
 @dataclass(frozen=True)
@@ -68,13 +70,13 @@ class FrictionLaw:
 
     def __post_init__(self) -> None:
         if not self.pieces:
-            raise InputError("law", self.name, "has no pieces", "give at least one piece")
+            raise InputError("law", self.formula, "has no pieces", "give at least one piece")
         if self.pieces[0].lower != 0.0:
-            raise InputError("law", self.name, "first piece does not start at x = 0",
+            raise InputError("law", self.formula, "first piece does not start at x = 0",
                              "start the first piece at x = 0")
         lowers = [p.lower for p in self.pieces]
         if any(b <= a for a, b in zip(lowers, lowers[1:])) or not all(map(math.isfinite, lowers)):
-            raise InputError("law", self.name, f"breakpoints {lowers[1:]} are not finite and increasing",
+            raise InputError("law", self.formula, f"breakpoints {lowers[1:]} are not finite and increasing",
                              "give increasing finite breakpoints")
         _check_eq3(self)
 
@@ -134,7 +136,7 @@ def _check_eq3(law: FrictionLaw) -> None:
         for left, right in zip(law.pieces, law.pieces[1:]):
             b = mpmath.mpf(right.lower)
             gl, gr = left.drop_mp(b), right.drop_mp(b)
-            if not abs(gl - gr) <= mpmath.mpf("1e-25") * max(1, abs(gl)):
+            if not abs(gl - gr) <= CONTINUITY_RTOL * max(1, abs(gl)):
                 raise InputError("law", law.formula,
                                  f"is discontinuous at x = {right.lower} (Φ jumps from "
                                  f"{mpmath.nstr(1 - gl, 8)} to {mpmath.nstr(1 - gr, 8)})",

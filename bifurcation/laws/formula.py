@@ -40,7 +40,7 @@ from typing import Callable
 import mpmath
 
 from ..errors import InputError
-from ._base import FrictionLaw, Piece
+from ._base import CONTINUITY_RTOL, FrictionLaw, Piece
 
 __all__ = ["parse_formula"]
 
@@ -131,7 +131,7 @@ def _has_x(node) -> bool:
 
 
 # -- text → tree (the whitelist) --------------------------------------------------------------------
-def _refuse(text: str, problem: str, fix: str = _FIX) -> InputError:
+def _refuse(text: object, problem: str, fix: str = _FIX) -> InputError:
     return InputError("law", text, problem, fix)
 
 
@@ -139,9 +139,9 @@ def _syntax_tree(text: str) -> tuple[ast.expr, str]:
     """Parse ``text`` into a Python expression tree (nothing is run), after the size checks."""
     if len(text) > _MAX_CHARS:
         raise _refuse(text[:40] + "...", f"is {len(text)} characters long; the limit is {_MAX_CHARS}")
-    if not text.strip():
-        raise _refuse(text, "is empty")
     stripped = text.strip()  # a leading space would be an "unexpected indent"
+    if not stripped:
+        raise _refuse(text, "is empty")
     source = stripped.replace("\u2212", "-").replace("^", "**")
     try:
         tree = ast.parse(source, mode="eval")
@@ -326,9 +326,12 @@ def _mp_pow(base, power):
     exponent = power * mpmath.log(abs(base))
     if _too_big_for_exp(exponent) and exponent > 0:
         raise OverflowError("power overflows")
-    if base > 0 or power != int(power):
-        return base ** power if base < 0 else _MP["exp"](exponent)
-    return (-1) ** int(power % 2) * _MP["exp"](exponent)
+    if base > 0:
+        return _MP["exp"](exponent)
+    if power != int(power):
+        return base ** power  # complex: refused by the caller as not real
+    sign = -1 if power % 2 else 1  # a negative base to a large integer power
+    return sign * _MP["exp"](exponent)
 
 
 _MP = {name: getattr(mpmath, name) for name in _FUNCTIONS}
@@ -542,10 +545,6 @@ class _Defect:
             horner = whole + coefficient if horner is None else horner * whole + coefficient
         return delta if horner is None else delta * horner
 
-    def _half_angle(self, arg, delta):
-        half = delta * self.kf(lambda: mpmath.mpf(1) / 2)
-        return half, (half if self.hp(arg) == 0 else self.k(arg) + half)
-
     def _exp(self, node, arg, delta):
         expm1 = self.ops.fn("expm1")(delta)
         return expm1 if self.hp(arg) == 0 else self.kf(lambda: mpmath.exp(_at(arg, self.base))) * expm1
@@ -571,25 +570,17 @@ class _Defect:
                         f"its argument '{_show(arg)}' is {sign} there")
         return delta / (self.k(node) + self.ops.fn("sqrt")(self.value(arg)))
 
-    def _sin(self, node, arg, delta):
-        if self.hp(arg) == 0:
-            return self.ops.fn("sin")(delta)
-        half, middle = self._half_angle(arg, delta)
-        return self.kf(lambda: mpmath.mpf(2)) * self.ops.fn("cos")(middle) * self.ops.fn("sin")(half)
+    def _sum_to_product(self, node, arg, delta):
+        """δ of sin, cos, sinh, cosh as a product (``_SUM_TO_PRODUCT``); sin, sinh of δa when a0 = 0."""
+        if node.func in ("sin", "sinh") and self.hp(arg) == 0:
+            return self.ops.fn(node.func)(delta)
+        factor, of_middle, of_half = _SUM_TO_PRODUCT[node.func]
+        half = delta * self.kf(lambda: mpmath.mpf(1) / 2)
+        middle = half if self.hp(arg) == 0 else self.k(arg) + half
+        scaled = self.kf(lambda: mpmath.mpf(factor)) * self.ops.fn(of_middle)(middle)
+        return scaled * self.ops.fn(of_half)(half)  # (k·a)·b: rounding depends on the order
 
-    def _cos(self, node, arg, delta):
-        half, middle = self._half_angle(arg, delta)
-        return self.kf(lambda: mpmath.mpf(-2)) * self.ops.fn("sin")(middle) * self.ops.fn("sin")(half)
-
-    def _sinh(self, node, arg, delta):
-        if self.hp(arg) == 0:
-            return self.ops.fn("sinh")(delta)
-        half, middle = self._half_angle(arg, delta)
-        return self.kf(lambda: mpmath.mpf(2)) * self.ops.fn("cosh")(middle) * self.ops.fn("sinh")(half)
-
-    def _cosh(self, node, arg, delta):
-        half, middle = self._half_angle(arg, delta)
-        return self.kf(lambda: mpmath.mpf(2)) * self.ops.fn("sinh")(middle) * self.ops.fn("sinh")(half)
+    _sin = _cos = _sinh = _cosh = _sum_to_product
 
     def _tan(self, node, arg, delta):
         # tan a − tan a0 = sin(δa)/(cos a cos a0)
@@ -612,6 +603,12 @@ class _Defect:
             return self.ops.fn("atan")(delta)
         cosine = self.kf(lambda: mpmath.mpf(1)) + self.k(arg) * self.value(arg)
         return self.ops.fn("atan2")(delta, cosine)
+
+
+#: f(a) − f(a0) = factor · of_middle(a0 + δa/2) · of_half(δa/2) for these f (sums to products),
+#: e.g. sin a − sin a0 = 2 cos(a0 + δa/2) sin(δa/2): no cancellation at small δa.
+_SUM_TO_PRODUCT = {"sin": (2, "cos", "sin"), "cos": (-2, "sin", "sin"),
+                   "sinh": (2, "cosh", "sinh"), "cosh": (2, "sinh", "sinh")}
 
 
 def _sum(terms: list):
@@ -644,8 +641,9 @@ def _drop_builder(phi, base, offset: Callable, text: str) -> Callable:
     breakpoint where the law is continuous (see ``_offset``).
     """
     with mpmath.workdps(_DPS):
+        # Refuses a piece not real and finite at its left end (the dry build in _make_piece catches the
+        # rest, but does not evaluate a piece without x).
         _value_at_base(phi, base, text)
-        _Defect(_MpmathOps(base), base, text).d(phi)  # refuses what the rules cannot handle
         keep_offset = abs(offset()) > _ZERO
 
     def build(ops):
@@ -667,7 +665,7 @@ def _offset(phi, previous, exact, rounded, text: str) -> Callable:
     really jumps keeps its own value and is refused by ``FrictionLaw``.
     """
     left, right = _value_at_base(previous[0], exact, text), _value_at_base(phi, exact, text)
-    if abs(left - right) <= mpmath.mpf("1e-25") * max(1, abs(right)):
+    if abs(left - right) <= CONTINUITY_RTOL * max(1, abs(right)):
         build = previous[1]
         return lambda: build(_MpmathOps(rounded))
     return lambda: 1 - _at(phi, rounded)
@@ -745,15 +743,15 @@ def parse_formula(text: str) -> FrictionLaw:
         (Φ(0) = 1, Φ'(0) = −1) or continuity.
     """
     if not isinstance(text, str):
-        raise _refuse(repr(text), "is not a formula text")
+        raise _refuse(text, "is not a formula text")
     pieces, breaks, piece_texts = _parse(text)
     bases = [(exact, mpmath.mpf(float(exact))) for exact in breaks]
     lowers = [0.0] + [float(rounded) for _, rounded in bases]
     if any(b <= a for a, b in zip(lowers, lowers[1:])):
         raise _refuse(text, "breakpoints coincide in double precision", _FIX_PIECEWISE)
     built = [_make_piece(pieces[0], mpmath.mpf(0), lambda: 1 - _at(pieces[0], 0), text, piece_texts[0])]
-    for phi, (exact, rounded), piece_text in zip(pieces[1:], bases, piece_texts[1:]):
-        offset = _offset(phi, (pieces[len(built) - 1], built[-1][1]), exact, rounded, text)
+    for previous, phi, (exact, rounded), piece_text in zip(pieces, pieces[1:], bases, piece_texts[1:]):
+        offset = _offset(phi, (previous, built[-1][1]), exact, rounded, text)
         built.append(_make_piece(phi, rounded, offset, text, piece_text))
     law = FrictionLaw(
         name="".join(text.replace("\u2212", "-").split()),

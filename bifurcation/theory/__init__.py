@@ -4,6 +4,7 @@
 formula we found wrong, with the numbers that show it.
 """
 
+from . import errata, linear
 from .errata import ERRATA, Erratum
 from .linear import (
     alpha,
@@ -23,9 +24,4 @@ from .linear import (
     velocity_linear,
 )
 
-__all__ = sorted([
-    "ERRATA", "Erratum", "alpha", "creep_coefficient", "creep_time_asymptotic", "delta0_piecewise_linear",
-    "delta_creep", "displacement_creep", "displacement_limit_linear", "displacement_limit_piecewise_linear",
-    "displacement_linear", "max_velocity_creep", "omega", "stop_time_creep", "tau1", "tau2",
-    "velocity_linear",
-])
+__all__ = sorted([*errata.__all__, *linear.__all__])

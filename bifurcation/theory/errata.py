@@ -2,7 +2,12 @@
 form against the exact piecewise solution (``bifurcation.reference``, dps 40).
 
 ``cause`` says whether the printed paper is wrong ("paper") or only the OCR text ("OCR"); where we cannot
-tell from the OCR alone it says so. The numbers in ``evidence`` are reproduced by tests/test_theory.py.
+tell from the OCR alone it says so. tests/test_theory.py reproduces these numbers of ``evidence``: the
+misses of the printed Eq. (10) at ν_f = 0.7, 0.9, 0.99 (2.32%, 5.09%, 5.79% at ν = 1e-9) and the jump
+of the printed Eq. (15) middle piece at τ = 0 (ν_f − 1, −0.6 at ν_f = 0.4). The others were measured
+once against the reference; the tests bound them more loosely (the dps-40 agreements to 1e-30 or
+1e-35, the Eq. (13) differences through their rate of decay in ν, in tests/test_reference.py) or not
+at all (the 0.075% at ν_f = 0.55).
 """
 
 from __future__ import annotations

@@ -264,6 +264,28 @@ def creep_time_asymptotic(nu, nu_f):
     return xp.out((a - w) * xp.log(w * (a + w) / (a * nu)))
 
 
+def _fast_mode(xp, tau, nu_f, a, w):
+    """Eq. (14), ν_f(α − ω) e^{(α+ω)τ}."""
+    with np.errstate(over="ignore"):
+        return nu_f * (a - w) * xp.exp((a + w) * tau)
+
+
+def _tau1(xp, a, w):
+    """Eq. (16), 2 arctan(α + ω)."""
+    return 2 * xp.atan(a + w)
+
+
+def _log1p_ratio(xp, x):
+    """log(1 + x)/x with its limit 1 at x = 0."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return xp.where(x == 0, 1 + 0 * x, xp.log1p(x) / xp.where(x == 0, 1 + 0 * x, x))
+
+
+def _tau2(xp, a, w):
+    """Eq. (17), τ1 + ln(1 + ω/α)/(2ω), written as τ1 + [ln(1 + x)/x]/(2α), x = ω/α (finite at ω = 0)."""
+    return _tau1(xp, a, w) + _log1p_ratio(xp, w / a) / (2 * a)
+
+
 def displacement_limit_linear(tau, nu_f):
     r"""Eq. (14): the ν → 0 motion before the slip, τ = t − t1 ≤ 0, for ν_f ≤ 1/2,
 
@@ -274,8 +296,7 @@ def displacement_limit_linear(tau, nu_f):
     xp, (tau, nu_f) = _ops(tau, nu_f)
     _check_nu_f(nu_f, "stick-slip")
     a, w = _alpha_omega(xp, nu_f)
-    with np.errstate(over="ignore"):
-        return xp.out(nu_f * (a - w) * xp.exp((a + w) * tau))
+    return xp.out(_fast_mode(xp, tau, nu_f, a, w))
 
 
 def tau1(nu_f):
@@ -286,13 +307,7 @@ def tau1(nu_f):
     xp, (nu_f,) = _ops(nu_f)
     _check_nu_f(nu_f, "stick-slip")
     a, w = _alpha_omega(xp, nu_f)
-    return xp.out(2 * xp.atan(a + w))
-
-
-def _log1p_ratio(xp, x):
-    """log(1 + x)/x with its limit 1 at x = 0."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return xp.where(x == 0, 1 + 0 * x, xp.log1p(x) / xp.where(x == 0, 1 + 0 * x, x))
+    return xp.out(_tau1(xp, a, w))
 
 
 def tau2(nu_f):
@@ -303,7 +318,7 @@ def tau2(nu_f):
     xp, (nu_f,) = _ops(nu_f)
     _check_nu_f(nu_f, "stick-slip")
     a, w = _alpha_omega(xp, nu_f)
-    return xp.out(2 * xp.atan(a + w) + _log1p_ratio(xp, w / a) / (2 * a))
+    return xp.out(_tau2(xp, a, w))
 
 
 def displacement_limit_piecewise_linear(tau, nu_f):
@@ -324,12 +339,10 @@ def displacement_limit_piecewise_linear(tau, nu_f):
     xp, (tau, nu_f) = _ops(tau, nu_f)
     _check_nu_f(nu_f, "stick-slip")
     a, w = _alpha_omega(xp, nu_f)
-    t1 = 2 * xp.atan(a + w)
-    t2 = t1 + _log1p_ratio(xp, w / a) / (2 * a)
+    t1, t2 = _tau1(xp, a, w), _tau2(xp, a, w)
     s = xp.where(tau < t2, tau, t2) - t1
     c, sn = _cos_sin(xp, nu_f, s, w)
-    with np.errstate(over="ignore"):
-        before = nu_f * (a - w) * xp.exp((a + w) * xp.where(tau < 0, tau, 0 * tau))
+    before = _fast_mode(xp, xp.where(tau < 0, tau, 0 * tau), nu_f, a, w)
     swing = nu_f * (xp.sin(tau) - (a + w) * xp.cos(tau) + 2 * a)
     last = nu_f * xp.exp(a * s) * ((3 * a + w) * c - (a * w + 3 * w * w + 2) * sn)
     return xp.out(xp.where(tau <= 0, before, xp.where(tau <= t1, swing, last)))
