@@ -13,8 +13,10 @@ import math
 
 import numpy as np
 
-from .engine.result import FIELDS, Status
+from .engine._validate import check_nu, check_nu_f
+from .engine.result import FIELDS, status_names
 from .errors import InputError
+from .store.layout import VARIABLES
 
 __all__ = ["COLUMNS", "FORMATS", "format_records", "query"]
 
@@ -31,27 +33,23 @@ def _as_list(value) -> list | None:
     return list(value)
 
 
+_CHECKS = {"nu": check_nu, "nu_f": check_nu_f}
+
+
 def _labels(axis: np.ndarray, wanted, argument: str) -> list[int] | None:
     """Indices of ``axis`` selected by ``wanted`` (exact label, else nearest; log distance for ν)."""
     wanted = _as_list(wanted)
     if wanted is None:
         return None
-    out = []
+    out = set()
     for value in wanted:
-        try:
-            x = float(value)
-        except (TypeError, ValueError):
-            raise InputError(argument, value, "is not a number", "give a number such as 1e-9") from None
-        if not math.isfinite(x) or x <= 0:
-            raise InputError(argument, value, "must be finite and > 0", "give a number such as 1e-9")
+        x = float(_CHECKS[argument](value))   # one value at a time: an error shows that value
         exact = np.flatnonzero(axis == x)
         if exact.size:
-            index = int(exact[0])
+            out.add(int(exact[0]))
         else:   # ν spans decades: nearest in log; ν_f is linear
             distance = np.abs(np.log(axis) - np.log(x)) if argument == "nu" else np.abs(axis - x)
-            index = int(np.argmin(distance))
-        if index not in out:
-            out.append(index)
+            out.add(int(np.argmin(distance)))
     return sorted(out)
 
 
@@ -78,7 +76,8 @@ def query(store, *, law=None, nu=None, nu_f=None, computed_only: bool = False) -
         if selected is not None:
             indexers[name] = selected
     sub = ds.isel(indexers)
-    values = {name: np.asarray(sub[name].values) for name in (*FIELDS, "steps", "status", "done")}
+    values = {name: np.asarray(sub[name].values) for name in VARIABLES}
+    statuses = status_names(values["status"])
     sub_laws = [str(x) for x in sub["law"].values]
     sub_nu_f = np.asarray(sub["nu_f"].values, dtype=float)
     sub_nu = np.asarray(sub["nu"].values, dtype=float)
@@ -88,7 +87,7 @@ def query(store, *, law=None, nu=None, nu_f=None, computed_only: bool = False) -
             continue
         l, i, j = index
         record = {"law": sub_laws[l], "nu": float(sub_nu[j]), "nu_f": float(sub_nu_f[i]),
-                  "status": str(Status(int(values["status"][index])))}
+                  "status": statuses[index]}
         for name in FIELDS:
             x = float(values[name][index])
             record[name] = x if math.isfinite(x) else None

@@ -13,12 +13,14 @@ from typing import Iterator
 
 import numpy as np
 
-from .engine.result import FIELDS
+from .store.layout import FILL, VARIABLES
 
 __all__ = ["OUTPUTS", "Tile", "compute_serial", "compute_tile", "iter_tiles", "tile_count"]
 
-#: Arrays of a computed tile, in write order: the data first, ``done`` last.
-OUTPUTS = (*FIELDS, "steps", "status", "done")
+#: Arrays of a computed tile, in write order: the data first, ``done`` last (the store's variables).
+OUTPUTS = tuple(VARIABLES)
+#: The arrays ``slip`` returns per point: every output but ``done``.
+_RESULTS = tuple(name for name in OUTPUTS if name != "done")
 
 
 @dataclass(frozen=True, eq=False)
@@ -33,10 +35,10 @@ class Tile:
     index: tuple[int, int, int]
     nu_f: tuple[float, ...]
     nu: tuple[float, ...]
-    precision: str = "double"
-    t_max: float = 1e5
-    max_steps: int = 200_000
-    batch: int = 1
+    precision: str
+    t_max: float
+    max_steps: int
+    batch: int
     todo: np.ndarray | None = None
 
     @property
@@ -102,14 +104,12 @@ def compute_tile(tile: Tile) -> dict[str, np.ndarray]:
     nu_f_grid, nu_grid = np.meshgrid(np.asarray(tile.nu_f, dtype=float), np.asarray(tile.nu, dtype=float),
                                      indexing="ij")
     mask = np.ones(shape, dtype=bool) if tile.todo is None else np.asarray(tile.todo, dtype=bool)
-    out = {name: np.full(shape, np.nan) for name in FIELDS}
-    out["steps"] = np.zeros(shape, dtype=np.int64)
-    out["status"] = np.zeros(shape, dtype=np.int8)
+    out = {name: np.full(shape, FILL[name], dtype=VARIABLES[name]) for name in _RESULTS}
     out["done"] = mask.copy()
     if mask.any():
         result = slip(tile.law, nu=nu_grid[mask], nu_f=nu_f_grid[mask], precision=tile.precision,
                       t_max=tile.t_max, max_steps=tile.max_steps, batch=tile.batch)
-        for name in (*FIELDS, "steps", "status"):
+        for name in _RESULTS:
             out[name][mask] = result[name]
     return out
 
@@ -125,6 +125,6 @@ def compute_serial(workflow) -> dict[str, np.ndarray]:
                            indexing="ij")
     results = [slip(law, nu=nu, nu_f=nu_f, precision=workflow.precision, t_max=workflow.t_max,
                     max_steps=workflow.max_steps, batch=workflow.batch) for law in workflow.laws]
-    out = {name: np.stack([r[name] for r in results]) for name in (*FIELDS, "steps", "status")}
+    out = {name: np.stack([r[name] for r in results]) for name in _RESULTS}
     out["done"] = np.ones(workflow.shape, dtype=bool)
     return out

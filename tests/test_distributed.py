@@ -19,8 +19,10 @@ import numpy as np
 import pytest
 
 from bifurcation.run import submit
-from bifurcation.store import open_store, read_done
+from bifurcation.store import read_done
 from bifurcation.tiles import OUTPUTS, compute_serial
+
+from _store_helpers import assert_store_equals
 
 pytestmark = pytest.mark.distributed
 
@@ -120,15 +122,6 @@ def dask_cluster(tmp_path_factory):
             _stop(proc)
 
 
-def assert_store_equals(path, reference) -> None:
-    ds = open_store(path)
-    for name in OUTPUTS:
-        stored, expected = np.asarray(ds[name].values), reference[name]
-        if stored.dtype.kind == "f":
-            stored, expected = stored.view(np.int64), expected.view(np.int64)
-        np.testing.assert_array_equal(stored, expected, err_msg=name)
-
-
 def test_real_scheduler_and_workers_equal_serial(dask_cluster, workflow_file, reference, tmp_path):
     address, _ = dask_cluster
     w, expected = reference
@@ -148,31 +141,54 @@ def test_worker_killed_mid_run_still_completes(dask_cluster, reference, workflow
 
     _, scheduler_file = dask_cluster
     w, expected = reference
+
+    def tile_transitions(dask_scheduler) -> list[tuple]:   # runs in the scheduler (local: pickled by value)
+        return [(t.key, t.start, t.finish, t.timestamp) for t in dask_scheduler.transition_log
+                if str(t.key).startswith("bifurcation-tile-")]
+
     with Client(scheduler_file=str(scheduler_file), set_as_default=False) as client:
-        pids = client.run(os.getpid)
-    victim = sorted(pids.values())[0]
-    killed = []
+        address, victim = min(client.run(os.getpid).items(), key=lambda item: item[1])
+        killed = []   # the time of the kill
 
-    def kill_after_first_tile(done, total):
-        if not killed:   # both workers are busy with their next tiles: kill one of them mid-task
-            os.kill(victim, signal.SIGKILL)
-            killed.append(done)
+        def kill_while_it_holds_a_tile(done, total):
+            # after the first tile both workers hold tiles; kill the victim while the scheduler says so
+            if not killed and client.processing(workers=[address])[address]:
+                killed.append(time.time())
+                os.kill(victim, signal.SIGKILL)
 
-    summary = submit(workflow_file, store=tmp_path / "kill.zarr", scheduler=str(scheduler_file),
-                     progress=kill_after_first_tile)
-    assert killed and killed[0] < w.n_points
+        summary = submit(workflow_file, store=tmp_path / "kill.zarr", scheduler=str(scheduler_file),
+                         progress=kill_while_it_holds_a_tile)
+        transitions = client.run_on_scheduler(tile_transitions)
+        workers = client.scheduler_info()["workers"]
+    (kill_time,) = killed
     with pytest.raises(ProcessLookupError):
         os.kill(victim, 0)
+    assert address not in workers   # the scheduler removed the dead worker (its nanny starts a new one)
+    # tasks lost with the worker: processing → released after the kill (nothing else releases a tile
+    # task before its result); each was then run again to the end (→ memory)
+    lost = {key: when for key, start, finish, when in transitions
+            if when >= kill_time and (start, finish) == ("processing", "released")}
+    rerun = {key for key, _, finish, when in transitions if key in lost and finish == "memory" and when > lost[key]}
+    assert lost and rerun == set(lost)
     assert (summary.computed, summary.failed) == (w.n_points, 0) and summary.complete
     assert_store_equals(tmp_path / "kill.zarr", expected)
 
 
-def test_submitting_process_killed_mid_run_then_resumed(dask_cluster, reference, workflow_file, tmp_path):
+def test_submitting_process_killed_mid_run_then_resumed(dask_cluster, reference, tmp_path):
+    from bifurcation.workflow import load_workflow
+
     address, _ = dask_cluster
-    w, expected = reference
+    grid, expected = reference
+    # The grid of the other tests (so the same serial reference) in 96 tiles of 8 × 32, computed by one
+    # worker: the submit then needs ~2.5 s after its first two tiles (measured; ~1 s with 24 tiles and
+    # two workers), so the 10 ms poll below kills it mid-run even on a loaded machine.
+    workflow_file = tmp_path / "small-tiles.toml"
+    workflow_file.write_text(TOML.replace("nu_f = 16\nnu = 64", "nu_f = 8\nnu = 32"))
+    w = load_workflow(workflow_file)
+    assert (w.laws, w.nu_f, w.nu, w.tiles) == (grid.laws, grid.nu_f, grid.nu, (8, 32))
     store = tmp_path / "client.zarr"
     # the embedded default: no --scheduler, no DASK_SCHEDULER_ADDRESS → a local cluster in that process
-    proc = _start([str(BIN / "bifurcation"), "submit", str(workflow_file), "--store", str(store), "--workers", "2"],
+    proc = _start([str(BIN / "bifurcation"), "submit", str(workflow_file), "--store", str(store), "--workers", "1"],
                   tmp_path, "submit")
     try:
         deadline = time.monotonic() + 90
@@ -189,12 +205,14 @@ def test_submitting_process_killed_mid_run_then_resumed(dask_cluster, reference,
     done = read_done(store)
     n_done = int(done.sum())
     assert 0 < n_done < w.n_points
-    assert n_done % (16 * 64) == 0   # whole tiles: nothing half written claims to be done
+    # whole tiles: nothing half written claims to be done
+    assert all(_tile_done(done, w.tiles, tile) or not done[_tile_region(w.tiles, tile)].any()
+               for tile in np.ndindex(_tile_grid(done.shape, w.tiles)))
     finished = {}   # chunk files of the finished tiles, with their modification times
     for name in OUTPUTS:
         root = store / name / "c"
         for p in root.rglob("*"):
-            if p.is_file() and _tile_done(done, p.relative_to(root).parts):
+            if p.is_file() and _tile_done(done, w.tiles, p.relative_to(root).parts):
                 finished[p] = p.stat().st_mtime_ns
     assert finished
 
@@ -204,6 +222,17 @@ def test_submitting_process_killed_mid_run_then_resumed(dask_cluster, reference,
     assert_store_equals(store, expected)
 
 
-def _tile_done(done: np.ndarray, parts) -> bool:
-    law, i, j = (int(k) for k in parts)
-    return bool(done[law, i * 16:(i + 1) * 16, j * 64:(j + 1) * 64].all())
+def _tile_grid(shape, tiles) -> tuple[int, int, int]:
+    """Tiles along (law, ν_f, ν)."""
+    law, nu_f, nu = shape
+    return (law, -(-nu_f // tiles[0]), -(-nu // tiles[1]))
+
+
+def _tile_region(tiles, tile) -> tuple[int, slice, slice]:
+    """The points of chunk ``tile`` (its (law, ν_f, ν) chunk indices) in the (law, ν_f, ν) arrays."""
+    law, i, j = (int(k) for k in tile)
+    return (law, slice(i * tiles[0], (i + 1) * tiles[0]), slice(j * tiles[1], (j + 1) * tiles[1]))
+
+
+def _tile_done(done: np.ndarray, tiles, tile) -> bool:
+    return bool(done[_tile_region(tiles, tile)].all())

@@ -13,7 +13,7 @@ from click.testing import CliRunner
 import bifurcation as bf
 from bifurcation.cli import cli
 from bifurcation.errors import InputError
-from bifurcation.query import COLUMNS, format_records, query
+from bifurcation.query import COLUMNS, FORMATS, format_records, query
 from bifurcation.store import create_store, open_store, write_tile
 from bifurcation.tiles import compute_tile, iter_tiles
 from bifurcation.workflow import Workflow
@@ -94,4 +94,13 @@ def test_cli_query_formats(store):
     assert result.exit_code == 2 and result.stderr.startswith("bifurcation: error: --law='nope'")
     result = CliRunner().invoke(cli, ["query", "--store", str(store), "--nu", "1e-9", "--nu-f", "0.5"])
     assert result.exit_code == 0 and len(result.stdout.strip().splitlines()) == 3
-    assert np.isfinite(float(result.stdout.splitlines()[1].split()[4]))
+    assert np.isfinite(float(result.stdout.splitlines()[1].split()[COLUMNS.index("delta")]))
+    result = CliRunner().invoke(cli, ["query", "--store", str(store), "--nu", "1e-12", "--format", "json"])
+    assert result.exit_code == 0, result.output
+    assert result.stdout == format_records(query(store, nu=1e-12), "json") + "\n"
+
+
+def test_cli_format_choices_are_the_formats():
+    # hard-coded in the CLI so that --help does not import bifurcation.query; kept equal here
+    (option,) = [p for p in cli.get_command(None, "query").params if p.name == "fmt"]
+    assert tuple(option.type.choices) == FORMATS

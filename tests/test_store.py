@@ -12,8 +12,10 @@ import pytest
 from bifurcation.engine.result import FIELD_ATTRS, FIELDS
 from bifurcation.errors import InputError
 from bifurcation.store import check_store, create_store, open_store, read_done, store_kind, write_tile
-from bifurcation.tiles import OUTPUTS, compute_serial, compute_tile, iter_tiles, tile_count
+from bifurcation.tiles import compute_serial, compute_tile, iter_tiles, tile_count
 from bifurcation.workflow import Workflow
+
+from _store_helpers import assert_bitwise_equal
 
 
 def small_workflow(**changes) -> Workflow:
@@ -23,15 +25,6 @@ def small_workflow(**changes) -> Workflow:
                    nu_f=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.9), tiles=(3, 4))
     options.update(changes)
     return Workflow(**options)
-
-
-def assert_bitwise_equal(ds, reference: dict) -> None:
-    for name in OUTPUTS:
-        stored, expected = np.asarray(ds[name].values), reference[name]
-        assert stored.dtype == expected.dtype, name
-        if stored.dtype.kind == "f":   # bit for bit, NaN included
-            stored, expected = stored.view(np.int64), expected.view(np.int64)
-        np.testing.assert_array_equal(stored, expected, err_msg=name)
 
 
 @pytest.fixture

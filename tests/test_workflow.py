@@ -39,6 +39,7 @@ MALFORMED = [
     (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nmax_steps = 1.5'), "engine.max_steps"),
     (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = 0'), "engine.batch"),
     (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = "8"'), "engine.batch"),
+    (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = 65'), "engine.batch"),
     (VALID.replace('laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = 8\nprecision = "quad"'),
      "engine.batch"),
     (VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 0 }"), "grid.nu.log.per_decade"),
@@ -113,7 +114,6 @@ def test_log_axis_has_both_ends_exact_powers_and_per_decade():
     w = parse_workflow(VALID.replace("values = [1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 4 }"))
     assert len(w.nu) == 49 and w.nu[0] == 1e-15 and w.nu[-1] == 1e-3
     for k in range(3, 16):
-        assert 10.0 ** -k in w.nu or float(f"1e-{k}") in w.nu
         assert float(f"1e-{k}") in w.nu
     ratios = [math.log10(b / a) for a, b in zip(w.nu, w.nu[1:])]
     assert max(ratios) == pytest.approx(0.25, rel=1e-12)

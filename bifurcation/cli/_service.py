@@ -6,20 +6,17 @@ import sys
 
 import click
 
-from ._common import echo_json, fail
+from ._common import echo_json, fail, number
 
 __all__ = ["COMMANDS"]
 
 
 def _numbers(name: str):
+    """``_common.number`` for a repeatable option: each value parsed, the same message for a bad one."""
+    one = number(name, "1e-9")
+
     def convert(ctx, param, values):
-        out = []
-        for value in values:
-            try:
-                out.append(float(value))
-            except ValueError:
-                raise click.BadParameter(f"{value!r} is not a number; give e.g. 1e-9", param_hint=name) from None
-        return tuple(out)
+        return tuple(one(ctx, param, value) for value in values)
 
     return convert
 
@@ -75,10 +72,7 @@ def query_cmd(store: str, law, nu, nu_f, fmt: str, done_only: bool) -> None:
         if name is None:
             raise
         fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
-    if fmt == "json":
-        echo_json(records)
-    else:
-        click.echo(format_records(records, fmt))
+    click.echo(format_records(records, fmt))
 
 
 COMMANDS = [submit_cmd, query_cmd]

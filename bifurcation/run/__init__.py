@@ -2,4 +2,4 @@
 
 from .submission import WRITERS, Summary, submit
 
-__all__ = sorted(["Summary", "WRITERS", "submit"])
+__all__ = ["Summary", "WRITERS", "submit"]

@@ -34,13 +34,6 @@ def bench_workflow(points: int, *, law: str = "carlson-langer", tiles=(128, 64))
                     description="bifurcation.run.bench grid")
 
 
-def _cpu_seconds() -> float:
-    import resource
-
-    usage = resource.getrusage(resource.RUSAGE_SELF)
-    return usage.ru_utime + usage.ru_stime
-
-
 def _peak_rss() -> int:
     import resource
 
@@ -55,6 +48,7 @@ def bench_pipeline(points: int = 100_000, workers: int = 2, *, law: str = "carls
     temporary directory, removed afterwards. Tiles of 128 × 64 = 8192 points (~0.3 s a task): writing a
     tile costs ~10–20 ms of zarr overhead whatever its size, so big grids want big tiles.
     """
+    import importlib
     import logging
 
     from distributed import Client, LocalCluster
@@ -62,9 +56,8 @@ def bench_pipeline(points: int = 100_000, workers: int = 2, *, law: str = "carls
     from ..engine.cycle import slip
     from .submission import submit
 
-    import dask.array  # noqa: F401 — process start-up (imports), like the cluster start, is not timed
-    import xarray  # noqa: F401
-    import zarr  # noqa: F401
+    for module in ("dask.array", "xarray", "zarr"):   # process start-up, like the cluster start, is not timed
+        importlib.import_module(module)
 
     workflow = bench_workflow(points, law=law, tiles=tiles)
     out = {"points": workflow.n_points, "workers": workers, "law": law, "tiles": list(workflow.tiles),
@@ -89,11 +82,11 @@ def bench_pipeline(points: int = 100_000, workers: int = 2, *, law: str = "carls
             # warm the workers (first zarr writes, first tasks) on a small grid of the same law, untimed
             warm = bench_workflow(workers * 2 * tiles[0] * tiles[1], law=law, tiles=tiles)
             submit(warm, store=Path(tmp) / "warm.zarr", scheduler=client, progress=False)
-            workers_cpu0, cpu0 = client.run(_cpu_seconds), _cpu_seconds()
+            workers_cpu0, cpu0 = client.run(time.process_time), time.process_time()
             summary = submit(workflow, store=path, scheduler=client, progress=False,
                              new_store=True, writer=writer)
-            coordinator_cpu = _cpu_seconds() - cpu0
-            workers_cpu = sum(client.run(_cpu_seconds).values()) - sum(workers_cpu0.values())
+            coordinator_cpu = time.process_time() - cpu0
+            workers_cpu = sum(client.run(time.process_time).values()) - sum(workers_cpu0.values())
             rss = client.run(_peak_rss)
         finally:
             client.close()

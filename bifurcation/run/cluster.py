@@ -18,13 +18,14 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_scheduler", "connect", "describe"]
+__all__ = ["check_scheduler", "check_workers", "connect", "describe"]
 
 _CONNECT_TIMEOUT = "10s"
 
 
 def check_scheduler(scheduler) -> tuple[str, object, str] | None:
-    """``(kind, where, source)`` with kind "address" or "file", or None (embedded).
+    """``(kind, where, source)`` with kind "address", "file" or "client" (``where`` is then the
+    ``distributed.Client`` itself), or None (embedded).
 
     Checked before anything is written; ``source`` names where it came from, for error messages.
     """
@@ -49,6 +50,7 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
 
 
 def check_workers(workers) -> int | None:
+    """``workers`` if it is None or a positive integer; ``InputError`` otherwise."""
     if workers is None:
         return None
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:

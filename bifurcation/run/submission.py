@@ -12,8 +12,6 @@ next submit of the same workflow to the same store computes only the rest.
 
 from __future__ import annotations
 
-import shlex
-import sys
 import time
 import uuid
 from dataclasses import asdict, dataclass, field
@@ -131,20 +129,22 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
         raise InputError("writer", writer, "is not a writer", f"use one of {', '.join(WRITERS)}")
     path = Path(store) if store is not None else workflow.default_store
     from ..store import check_store, create_store, read_done, record_submit, store_kind
+    from ..store.layout import command_line
 
     kind = store_kind(path)
     if kind == "other":
         raise InputError("--store", str(path), "exists and is not a bifurcation store",
                          "choose another --store path (it is never overwritten)")
     fresh = kind == "missing" or new_store
+    attrs = None
     if not fresh:
-        check_store(path, workflow)   # refuses another workflow: nothing is written
+        attrs = check_store(path, workflow)   # refuses another workflow: nothing is written
         done = read_done(path)
     else:
         done = np.zeros(workflow.shape, dtype=bool)
     skipped = int(np.count_nonzero(done))
     todo = workflow.n_points - skipped
-    command = command if command is not None else shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]])
+    command = command if command is not None else command_line()
     statuses = np.zeros(len(Status), dtype=np.int64)
     computed = failed = n_tiles = 0
     errors: list[str] = []
@@ -153,9 +153,9 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     if todo:   # fresh stores always have work; the cluster comes first so a bad one writes nothing
         with connect(target, workers) as client:
             if fresh:
-                create_store(path, workflow, command=command, overwrite=new_store)
+                attrs = create_store(path, workflow, command=command, overwrite=new_store)
             cluster_name = describe(target)
-            run_id = str(check_store(path, workflow)["run_id"])
+            run_id = str(attrs["run_id"])
             t0 = time.perf_counter()
             computed, failed, n_tiles = _run(client, workflow, path, run_id, done, statuses, errors,
                                              Progress(progress, todo), writer, retries)

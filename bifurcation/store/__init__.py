@@ -4,5 +4,5 @@ from .layout import DIMS, STORE_FORMAT, VARIABLES
 from .zarr_store import (check_store, create_store, open_store, read_attrs, read_done, record_submit,
                          store_kind, write_tile)
 
-__all__ = sorted(["DIMS", "STORE_FORMAT", "VARIABLES", "check_store", "create_store", "open_store",
-                  "read_attrs", "read_done", "record_submit", "store_kind", "write_tile"])
+__all__ = ["DIMS", "STORE_FORMAT", "VARIABLES", "check_store", "create_store", "open_store",
+           "read_attrs", "read_done", "record_submit", "store_kind", "write_tile"]

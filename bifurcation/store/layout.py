@@ -25,16 +25,19 @@ import shlex
 import sys
 import uuid
 from datetime import datetime, timezone
+from pathlib import Path
 
 import numpy as np
 
 from ..engine.result import FIELD_ATTRS, FIELDS, Status
 
-__all__ = ["DIMS", "FILL", "STORE_FORMAT", "VARIABLES", "coordinate_attrs", "provenance", "variable_attrs"]
+__all__ = ["DIMS", "FILL", "STORE_FORMAT", "VARIABLES", "command_line", "coordinate_attrs", "provenance",
+           "variable_attrs"]
 
 DIMS = ("law", "nu_f", "nu")
 #: Bumped when the layout changes; a store of another format is refused.
 STORE_FORMAT = 1
+#: Data variables in write order: the data first, ``done`` last.
 VARIABLES = {**{name: np.dtype("float64") for name in FIELDS}, "steps": np.dtype("int64"),
              "status": np.dtype("int8"), "done": np.dtype("bool")}
 FILL = {**{name: np.nan for name in FIELDS}, "steps": 0, "status": int(Status.NOT_COMPUTED), "done": False}
@@ -83,11 +86,16 @@ def provenance(workflow, command: str | None = None) -> dict:
         "tiles": list(workflow.tiles),
         **{f"version_{p}": _version(p) for p in _PACKAGES},
         "python": sys.version.split()[0],
-        "command": command if command is not None else shlex.join(sys.argv),
+        "command": command if command is not None else command_line(),
         "created_utc": utc_now(),
         "run_id": uuid.uuid4().hex,
         "submits": [],
     }
+
+
+def command_line() -> str:
+    """This process's command line as a shell would take it, the program by its name only."""
+    return shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]])
 
 
 def utc_now() -> str:

@@ -15,8 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..tiles import OUTPUTS
-from .layout import DIMS, STORE_FORMAT, VARIABLES, coordinate_attrs, provenance, utc_now, variable_attrs
+from .layout import DIMS, FILL, STORE_FORMAT, VARIABLES, coordinate_attrs, provenance, utc_now, variable_attrs
 
 __all__ = ["check_store", "create_store", "open_store", "read_attrs", "read_done", "record_submit",
            "store_kind", "write_tile"]
@@ -35,16 +34,21 @@ def _quiet():
         yield
 
 
-def store_kind(path) -> str:
-    """``"missing"``, ``"store"`` (a bifurcation store) or ``"other"`` (anything else at ``path``)."""
+def _inspect(path) -> tuple[str, dict | None]:
+    """``(store_kind, attrs)`` from one read of the attributes (attrs None unless a store)."""
     path = Path(path)
     if not path.exists():
-        return "missing"
+        return "missing", None
     try:
         attrs = read_attrs(path)
     except Exception:
-        return "other"
-    return "store" if attrs.get("bifurcation_store") == STORE_FORMAT else "other"
+        return "other", None
+    return ("store", attrs) if attrs.get("bifurcation_store") == STORE_FORMAT else ("other", None)
+
+
+def store_kind(path) -> str:
+    """``"missing"``, ``"store"`` (a bifurcation store) or ``"other"`` (anything else at ``path``)."""
+    return _inspect(path)[0]
 
 
 def read_attrs(path) -> dict:
@@ -57,14 +61,13 @@ def read_attrs(path) -> dict:
 
 def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
     """Attributes of the store at ``path``; ``InputError`` if it is not one, or holds another study."""
-    kind = store_kind(path)
+    kind, attrs = _inspect(path)
     if kind == "missing":
         raise InputError(argument, str(path), "no such store",
                          "give the path of a store written by `bifurcation submit`")
     if kind == "other":
         raise InputError(argument, str(path), "is not a bifurcation store (or of another format)",
                          "give the path of a store written by `bifurcation submit`, or another path")
-    attrs = read_attrs(path)
     if workflow is not None and attrs.get("workflow_fingerprint") != workflow.fingerprint:
         raise InputError(argument, str(path),
                          f"holds another workflow (study {attrs.get('title')!r}, fingerprint "
@@ -96,8 +99,7 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     data_vars, encoding = {}, {}
     for name, dtype in VARIABLES.items():
         # one lazy dask chunk: nothing is computed (compute=False), only the metadata is written
-        fill = np.nan if dtype.kind == "f" else 0
-        data_vars[name] = (DIMS, da.full(shape, fill, dtype=dtype, chunks=shape), variable_attrs(name))
+        data_vars[name] = (DIMS, da.full(shape, FILL[name], dtype=dtype, chunks=shape), variable_attrs(name))
         encoding[name] = {"chunks": chunks}
     coords_attrs = coordinate_attrs()
     coords = {"law": ("law", np.array(workflow.laws, dtype=object), coords_attrs["law"]),
@@ -141,7 +143,7 @@ def _arrays(path: str, run_id: str) -> dict:
             group = zarr.open_group(path, mode="r+", use_consolidated=False)
             if group.attrs.get("run_id") != run_id:   # the store was replaced under this path
                 raise RuntimeError(f"store {path} is not the one this run created (run_id changed)")
-            arrays = {name: group[name] for name in OUTPUTS}
+            arrays = {name: group[name] for name in VARIABLES}
         _WRITERS[key] = arrays
         while len(_WRITERS) > _WRITERS_MAX:
             _WRITERS.popitem(last=False)
@@ -158,9 +160,9 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
     region = tile.region
     if tile.todo is not None:
         keep = ~np.asarray(tile.todo, dtype=bool)
-        values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in OUTPUTS}
+        values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in VARIABLES}
     with _quiet():
-        for name in OUTPUTS:   # OUTPUTS ends with "done"
+        for name in VARIABLES:   # VARIABLES ends with "done"
             arrays[name][region] = np.asarray(values[name], dtype=VARIABLES[name])[None]
 
 

@@ -2,4 +2,4 @@
 
 from .spec import NU_BOUNDS, NU_F_BOUNDS, Workflow, load_workflow, parse_workflow
 
-__all__ = sorted(["NU_BOUNDS", "NU_F_BOUNDS", "Workflow", "load_workflow", "parse_workflow"])
+__all__ = ["NU_BOUNDS", "NU_F_BOUNDS", "Workflow", "load_workflow", "parse_workflow"]

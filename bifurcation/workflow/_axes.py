@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from decimal import Decimal, localcontext
 
-__all__ = ["linear_points", "log_points", "union"]
+__all__ = ["linear_points", "log_count", "log_points", "union"]
 
 _DIGITS = 50
 

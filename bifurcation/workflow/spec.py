@@ -50,7 +50,8 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..engine.cycle import DEFAULT_MAX_STEPS, DEFAULT_T_MAX
+from ..engine._validate import PRECISIONS, check_batch, check_precision
+from ..engine.result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX
 from ..errors import InputError
 from ..laws import resolve_law
 from ._axes import linear_points, log_count, log_points, union
@@ -61,13 +62,15 @@ __all__ = ["MAX_POINTS", "NU_BOUNDS", "NU_F_BOUNDS", "PRECISIONS", "TILE_MAX", "
 
 NU_BOUNDS = (1e-20, 1.0)
 NU_F_BOUNDS = (1e-4, 10.0)
-PRECISIONS = ("double", "quad")
 TILE_MAX = 4096
 TILE_MAX_POINTS = 1 << 16
 MAX_POINTS = 10**9
 DEFAULT_TILES = (64, 64)
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
-_LOG_COUNT_MAX = 100_000
+#: Most points of one log or linear range (``num``): a typo such as 1e9 is refused, not allocated.
+_RANGE_POINTS_MAX = 100_000
+#: Most SIMD lanes: far above any vector unit's width (AVX-512 holds 8 doubles); more is a typo.
+_BATCH_MAX = 64
 
 
 def _set(obj, name, value) -> None:
@@ -101,21 +104,17 @@ class Workflow:
         if not isinstance(self.description, str):
             raise InputError("study.description", self.description, "is not a string", "write it in quotes")
         _set(self, "laws", _check_laws(self.laws))
-        if self.precision not in PRECISIONS:
-            raise InputError("engine.precision", self.precision, "is not a precision",
-                             "use \"double\" or \"quad\"")
+        _engine_check("engine.precision", check_precision, self.precision)
         _set(self, "t_max", as_number("engine.t_max", self.t_max))
         if self.t_max <= 0:
             raise InputError("engine.t_max", self.t_max, "must be > 0", "give a positive time such as 1e5")
         if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) or self.max_steps < 1:
             raise InputError("engine.max_steps", self.max_steps, "is not a positive integer",
                              "give a whole number of steps such as 200000")
-        if isinstance(self.batch, bool) or not isinstance(self.batch, int) or not 1 <= self.batch <= 64:
-            raise InputError("engine.batch", self.batch, "is not a lane count from 1 to 64",
+        _set(self, "batch", _engine_check("engine.batch", check_batch, self.batch, self.precision))
+        if self.batch > _BATCH_MAX:
+            raise InputError("engine.batch", self.batch, f"is more than {_BATCH_MAX} lanes",
                              "give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
-        if self.batch > 1 and self.precision != "double":
-            raise InputError("engine.batch", self.batch, f"is not available with precision = {self.precision!r}",
-                             "remove batch, or use precision = \"double\"")
         _set(self, "nu", _check_axis("grid.nu", self.nu, NU_BOUNDS))
         _set(self, "nu_f", _check_axis("grid.nu_f", self.nu_f, NU_F_BOUNDS))
         tiles = tuple(self.tiles)
@@ -198,6 +197,14 @@ class Workflow:
         ])
 
 
+def _engine_check(key: str, check, value, *args):
+    """``check(value, *args)`` (a ``bifurcation.engine`` check), its error naming the workflow ``key``."""
+    try:
+        return check(value, *args)
+    except InputError as exc:
+        raise InputError(key, value, exc.problem, exc.fix) from None
+
+
 def _check_laws(laws) -> tuple[str, ...]:
     if isinstance(laws, str) or not laws:
         raise InputError("engine.laws", laws, "is not a non-empty list of laws",
@@ -250,18 +257,10 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
     tiles = root.table("tiles", ("nu_f", "nu"), required=False)
 
     laws = engine.array("laws", fix="write laws = [\"carlson-langer\"] (names or formulas in x)")
-    options = {}
-    if engine.has("precision"):
-        options["precision"] = engine.string("precision", fix="use \"double\" or \"quad\"")
-    if engine.has("t_max"):
-        options["t_max"] = engine.number("t_max")
-    if engine.has("max_steps"):
-        options["max_steps"] = engine.integer("max_steps")
-    if engine.has("batch"):
-        options["batch"] = engine.integer("batch", high=64, fix="give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
+    # Workflow checks the engine options and tiles (with the same dotted keys) on construction
+    options = {name: engine.raw(name) for name in ("precision", "t_max", "max_steps", "batch") if engine.has(name)}
     if tiles is not None:
-        options["tiles"] = (tiles.integer("nu_f", DEFAULT_TILES[0], high=TILE_MAX),
-                            tiles.integer("nu", DEFAULT_TILES[1], high=TILE_MAX))
+        options["tiles"] = (tiles.raw("nu_f", DEFAULT_TILES[0]), tiles.raw("nu", DEFAULT_TILES[1]))
     return Workflow(
         name=study.string("name", fix="add name = \"my-study\" to [study]"),
         description=study.string("description", ""),
@@ -314,7 +313,7 @@ def _nu_axis(table: Table) -> tuple[float, ...]:
             raise InputError(log.path("per_decade"), log.data.get("per_decade"),
                              "must be given, or num instead, but not both", "give per_decade = 4 or num = 49")
         if log.has("num"):
-            num = log.integer("num", low=2, high=_LOG_COUNT_MAX)
+            num = log.integer("num", low=2, high=_RANGE_POINTS_MAX)
         else:
             num = log_count(start, stop, log.integer("per_decade", high=1000))
         groups.append(log_points(start, stop, num))
@@ -335,5 +334,5 @@ def _nu_f_axis(table: Table) -> tuple[float, ...]:
             if not start < stop:
                 raise InputError(r.path("stop"), stop, f"is not above start = {start!r}",
                                  "give start < stop")
-            groups.append(linear_points(start, stop, r.integer("num", low=2, high=_LOG_COUNT_MAX)))
+            groups.append(linear_points(start, stop, r.integer("num", low=2, high=_RANGE_POINTS_MAX)))
     return union(*groups)

@@ -1,0 +1,29 @@
+"""Shared by the store tests: a store equals a reference bit for bit (imported as ``_store_helpers``).
+
+pytest's default ``prepend`` import mode puts this directory (no ``__init__.py``) on ``sys.path``
+before it imports the test modules, so ``from _store_helpers import ...`` works from any rootdir.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bifurcation.store import open_store
+from bifurcation.tiles import OUTPUTS
+
+__all__ = ["assert_bitwise_equal", "assert_store_equals"]
+
+
+def assert_bitwise_equal(ds, reference: dict) -> None:
+    """Every output of ``ds`` has the dtype and the bits of ``reference`` (NaN payloads included)."""
+    for name in OUTPUTS:
+        stored, expected = np.asarray(ds[name].values), reference[name]
+        assert stored.dtype == expected.dtype, name
+        if stored.dtype.kind == "f":   # bit for bit, NaN included
+            stored, expected = stored.view(np.int64), expected.view(np.int64)
+        np.testing.assert_array_equal(stored, expected, err_msg=name)
+
+
+def assert_store_equals(path, reference: dict) -> None:
+    """The store at ``path`` equals ``reference`` (e.g. ``compute_serial``) bit for bit."""
+    assert_bitwise_equal(open_store(path), reference)
