@@ -6,7 +6,6 @@ Adding a law means adding one function here and one line to ``BUILTIN``.
 
 from __future__ import annotations
 
-import heyoka as hy
 import mpmath
 
 from ._base import FrictionLaw, Piece
@@ -49,6 +48,13 @@ def carlson_langer() -> FrictionLaw:
     )
 
 
+def _neg_expm1_neg(x, num):
+    """−expm1(−x) as a heyoka expression (heyoka imported here: naming a law must not load it)."""
+    import heyoka
+
+    return -heyoka.expm1(-x)
+
+
 def exponential() -> FrictionLaw:
     r"""Exponential velocity weakening (our addition; not in the paper).
 
@@ -58,7 +64,7 @@ def exponential() -> FrictionLaw:
     """
     return FrictionLaw(
         name="exponential",
-        pieces=(Piece(0.0, lambda x, num: -hy.expm1(-x), lambda x: -mpmath.expm1(-x), "exp(-x)"),),
+        pieces=(Piece(0.0, _neg_expm1_neg, lambda x: -mpmath.expm1(-x), "exp(-x)"),),
         formula="exp(-x)",
         equation="Φ(x) = exp(−x)",
         source="this project (smooth law between Eqs. (12) and (19))",
