@@ -1,7 +1,9 @@
 """The engine: slip cycles at finite ν and the direct ν → 0 limit.
 
 Names are imported on first use (PEP 562): the store, queries and workflows import the light
-``engine.result`` without loading heyoka.
+``engine.result`` without loading heyoka. No submodule may share a name with a public function
+(importing a submodule binds its name on the package, so ``engine.limit`` would become a module):
+the ν → 0 limit lives in ``direct``.
 """
 
 from __future__ import annotations
@@ -10,11 +12,11 @@ import importlib
 
 _LAZY = {
     "FIELDS": "result",
-    "LIMIT_FIELDS": "limit",
-    "LimitResult": "limit",
+    "LIMIT_FIELDS": "direct",
+    "LimitResult": "direct",
     "SlipResult": "result",
     "Status": "result",
-    "limit": "limit",
+    "limit": "direct",
     "slip": "cycle",
 }
 
