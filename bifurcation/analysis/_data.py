@@ -1,4 +1,4 @@
-"""Getting one-dimensional series out of stores (xarray Datasets) or plain arrays.
+"""Getting one-dimensional series out of stores (xarray Datasets).
 
 A store (issue 3, ``bifurcation.open_store``) is an xarray Dataset with dimensions (law, nu_f, nu),
 coordinates ``law`` (str), ``nu_f``, ``nu`` and the engine's fields as data variables, plus ``status``
@@ -8,7 +8,8 @@ coordinates ``law`` (str), ``nu_f``, ``nu`` and the engine's fields as data vari
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import functools
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -17,27 +18,28 @@ import numpy as np
 from ..engine import Status
 from ..errors import InputError
 
-__all__ = ["Series", "coordinate_values", "find_stores", "load_stores", "series_along_nu", "series_along_nu_f",
-           "slip_dataset"]
+__all__ = ["FALLBACK_GRID", "Series", "coordinate_values", "cycles_along_nu", "fallback_grid", "find_stores",
+           "load_stores", "series_along_nu", "series_along_nu_f", "slip_dataset"]
 
 #: Relative tolerance for matching a requested ν_f or ν to a coordinate label: labels written as
 #: decimal text in different workflows may differ in the last bits.
 _LABEL_RTOL = 1e-9
 _GOOD = (int(Status.STICK_SLIP), int(Status.CREEP))
 
+#: What ``fallback_grid`` computes (the critical-point workflow's ν and ν_f), for provenance lines.
+FALLBACK_GRID = "Δ, T along ν = 1e-3 … 1e-15 (4/decade) at ν_f = 0.2, 0.3, 0.4, 0.5, both laws"
+
 
 @dataclass(frozen=True)
 class Series:
     """Points of one law along one axis, sorted by the axis, only finished good points.
 
-    ``x`` is ν (``series_along_nu``) or ν_f (``series_along_nu_f``); ``fixed`` the other coordinate;
-    ``fields`` maps a field name to its values; ``status`` the status codes.
+    ``x`` is ν (``series_along_nu``) or ν_f (``series_along_nu_f``); ``fields`` maps a field name to
+    its values; ``status`` the status codes.
     """
 
     law: str
-    axis: str
     x: np.ndarray
-    fixed: float
     status: np.ndarray
     fields: dict = field(default_factory=dict)
 
@@ -47,11 +49,6 @@ class Series:
     def __len__(self) -> int:
         return int(self.x.size)
 
-    def where(self, mask) -> "Series":
-        mask = np.asarray(mask, dtype=bool)
-        return Series(self.law, self.axis, self.x[mask], self.fixed, self.status[mask],
-                      {k: v[mask] for k, v in self.fields.items()})
-
 
 def _is_dataset(obj) -> bool:
     return hasattr(obj, "data_vars") and hasattr(obj, "coords")
@@ -60,15 +57,16 @@ def _is_dataset(obj) -> bool:
 def _sources(source) -> list:
     if source is None:
         return []
-    if _is_dataset(source) or isinstance(source, Mapping) or hasattr(source, "keys"):
+    if _is_dataset(source):
         return [source]
     if isinstance(source, Sequence) and not isinstance(source, (str, bytes)):
         out = []
         for s in source:
             out.extend(_sources(s))
         return out
-    raise InputError("store", source, "is not a Dataset, a mapping of arrays or a list of them",
-                     "pass bifurcation.open_store(path), or a dict with 'nu', 'nu_f' and field arrays")
+    raise InputError("store", source, "is not a Dataset or a list of them",
+                     "pass bifurcation.open_store(path), or analysis.slip_dataset(...) for points computed "
+                     "in process")
 
 
 def _match(labels: np.ndarray, value: float) -> np.ndarray:
@@ -90,61 +88,28 @@ def _dataset_series(ds, law: str, axis: str, fixed: float, fields) -> Series | N
         return None
     sub = ds.sel(law=law).isel({other: int(np.flatnonzero(hit)[0])})
     x = np.asarray(sub[axis].values, dtype=float)
-    status = np.asarray(sub["status"].values, dtype=float) if "status" in sub else np.full(x.shape, 1.0)
-    status = np.where(np.isfinite(status), status, 0).astype(np.int64)
-    good = np.isin(status, _GOOD)
-    if "done" in sub:
-        done = np.asarray(sub["done"].values)
-        good &= np.where(np.isnan(done.astype(float)), False, done.astype(float) > 0)
-    values = {}
-    for f in fields:
-        v = np.asarray(sub[f].values, dtype=float) if f in sub else np.full(x.shape, np.nan)
-        values[f] = v
+    status = np.asarray(sub["status"].values)
+    good = np.isin(status, _GOOD) & np.asarray(sub["done"].values, dtype=bool)
+    values = {f: np.asarray(sub[f].values, dtype=float) if f in sub else np.full(x.shape, np.nan)
+              for f in fields}
     order = np.argsort(x)
     keep = good[order]
-    return Series(law, axis, x[order][keep], float(fixed), status[order][keep],
-                  {k: v[order][keep] for k, v in values.items()})
-
-
-def _mapping_series(m, law: str, axis: str, fixed: float, fields) -> Series | None:
-    """The same from a mapping of equal-shape (or broadcastable) arrays, e.g. a ``SlipResult``."""
-    m_law = getattr(m, "law", None) if not isinstance(m, Mapping) else m.get("law")
-    if m_law is not None and str(m_law) != law:
-        return None
-    other = "nu_f" if axis == "nu" else "nu"
-    arrays = {k: np.asarray(m[k]) for k in ("nu", "nu_f")}
-    shape = np.broadcast_shapes(*(a.shape for a in arrays.values()),
-                                *(np.asarray(m[f]).shape for f in fields if f in m.keys()))
-    flat = {k: np.broadcast_to(a, shape).ravel().astype(float) for k, a in arrays.items()}
-    sel = _match(flat[other], fixed)
-    if not sel.any():
-        return None
-    keys = set(m.keys())
-    status = (np.broadcast_to(np.asarray(m["status"]), shape).ravel().astype(np.int64)
-              if "status" in keys else np.ones(flat["nu"].size, dtype=np.int64))
-    good = sel & np.isin(status, _GOOD)
-    x = flat[axis][good]
-    order = np.argsort(x)
-    values = {f: (np.broadcast_to(np.asarray(m[f], dtype=float), shape).ravel()[good][order]
-                  if f in keys else np.full(x.size, np.nan)) for f in fields}
-    return Series(law, axis, x[order], float(fixed), status[good][order], values)
+    return Series(law, x[order][keep], status[order][keep], {k: v[order][keep] for k, v in values.items()})
 
 
 def _series(source, law: str, axis: str, fixed: float, fields, *, what: str) -> Series:
+    stores = _sources(source)
     best = None
-    seen = []
-    for s in _sources(source):
-        found = (_dataset_series if _is_dataset(s) else _mapping_series)(s, law, axis, fixed, fields)
-        if _is_dataset(s):
-            seen.append(s)
+    for ds in stores:
+        found = _dataset_series(ds, law, axis, fixed, fields)
         if found is not None and (best is None or len(found) > len(best)):
             best = found
     if best is None or len(best) == 0:
         hint = ""
-        if seen:
+        if stores:
             other = "nu_f" if axis == "nu" else "nu"
-            labels = sorted({float(v) for ds in seen if law in _laws_of(ds) for v in ds[other].values})
-            laws = sorted({l for ds in seen for l in _laws_of(ds)})
+            labels = sorted({float(v) for ds in stores if law in _laws_of(ds) for v in ds[other].values})
+            laws = sorted({l for ds in stores for l in _laws_of(ds)})
             hint = f" (stores hold laws {laws}" + (f", {other} from {labels[0]:g} to {labels[-1]:g}, "
                                                   f"{len(labels)} values)" if labels else ")")
         raise InputError(what, fixed, f"has no finished points for law {law!r}{hint}",
@@ -155,12 +120,8 @@ def _series(source, law: str, axis: str, fixed: float, fields, *, what: str) -> 
 def coordinate_values(source, law: str, name: str) -> list[float]:
     """Sorted distinct values of coordinate ``name`` ("nu" or "nu_f") over the stores holding ``law``."""
     out: list[float] = []
-    for s in _sources(source):
-        if _is_dataset(s):
-            values = s[name].values if law in _laws_of(s) else []
-        else:
-            m_law = s.get("law") if isinstance(s, Mapping) else getattr(s, "law", None)
-            values = np.asarray(s[name]).ravel() if m_law in (None, law) else []
+    for ds in _sources(source):
+        values = ds[name].values if law in _laws_of(ds) else []
         for v in np.asarray(values, dtype=float):
             if not any(abs(v - u) <= _LABEL_RTOL * abs(v) for u in out):
                 out.append(float(v))
@@ -175,6 +136,18 @@ def series_along_nu(source, law: str, nu_f: float, fields=("delta", "period")) -
 def series_along_nu_f(source, law: str, nu: float, fields=("delta",)) -> Series:
     """Δ, … against ν_f at fixed (law, ν): the longest such series among the sources."""
     return _series(source, law, "nu_f", float(nu), fields, what="nu")
+
+
+def cycles_along_nu(source, law: str, nu_f: float):
+    """ν, Δ, T and status along ν at (law, ν_f): finished good points with finite Δ and T.
+
+    T falls back to Δ/ν (exact: the stuck phase reloads the spring by Δ) where a store lacks it.
+    """
+    s = series_along_nu(source, law, nu_f, fields=("delta", "period"))
+    delta = s["delta"]
+    period = np.where(np.isfinite(s["period"]), s["period"], delta / s.x)
+    ok = np.isfinite(delta) & np.isfinite(period)
+    return s.x[ok], delta[ok], period[ok], s.status[ok]
 
 
 def find_stores(paths) -> list[Path]:
@@ -200,17 +173,16 @@ def _looks_like_store(p: Path) -> bool:
 
 
 def load_stores(paths) -> list:
-    """Open every store named by ``paths`` (see ``find_stores``) as an xarray Dataset."""
-    try:
-        from ..store import open_store
-    except ImportError:  # the store package is not there: read the Zarr store with xarray directly
-        import xarray as xr
+    """Every store named by ``paths`` (see ``find_stores``) as an xarray Dataset, read into memory.
 
-        def open_store(path):
-            return xr.open_zarr(path)
+    Loaded, not lazy: the analysis takes hundreds of slices, and decoding the Zarr chunks for each one
+    cost half of the report's time; the paper's stores are a few MB.
+    """
+    from ..store import open_store
+
     out = []
     for p in find_stores(paths):
-        ds = open_store(p)
+        ds = open_store(p).load()
         ds.attrs.setdefault("store_path", str(p))
         out.append(ds)
     return out
@@ -239,3 +211,13 @@ def slip_dataset(laws, nu_f, nu, *, precision: str = "double"):
     variables["done"] = (dims, np.ones((len(laws), nu_f.size, nu.size), dtype=bool))
     return xr.Dataset(variables, coords={"law": np.array(laws, dtype=str), "nu_f": nu_f, "nu": nu},
                       attrs={"source": f"bifurcation.slip in process ({precision})"})
+
+
+@functools.cache
+def fallback_grid():
+    """The series the report and the claims need along ν (``FALLBACK_GRID``), computed in process once.
+
+    Used only when no store holds them; callers record that in their provenance. Do not modify the
+    returned Dataset: it is shared.
+    """
+    return slip_dataset(["piecewise-linear", "carlson-langer"], [0.2, 0.3, 0.4, 0.5], np.logspace(-3, -15, 49))

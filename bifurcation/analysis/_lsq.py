@@ -1,7 +1,7 @@
 """Weighted linear least squares with column scaling, covariance and residuals, and Lambert W.
 
 The asymptotic models mix columns from ν^{-1} to ν^3 (ν down to 1e-15), so columns are scaled to unit
-size before the solve; the covariance comes from the SVD of the scaled matrix.
+size before the solve; the standard errors come from the covariance, by the SVD of the scaled matrix.
 """
 
 from __future__ import annotations
@@ -16,18 +16,12 @@ __all__ = ["LinearFit", "lambert_w", "linear_fit"]
 @dataclass(frozen=True)
 class LinearFit:
     """``coef`` of the columns, their ``stderr``, ``residuals`` (data − model, data units) and
-    ``chi`` (residuals / errors); ``rms_chi`` and ``max_chi`` summarise them."""
+    ``chi`` (residuals / errors); ``max_chi`` and ``reduced_chi2`` summarise them."""
 
     coef: np.ndarray
     stderr: np.ndarray
-    covariance: np.ndarray
     residuals: np.ndarray
     chi: np.ndarray
-    rank: int
-
-    @property
-    def rms_chi(self) -> float:
-        return float(np.sqrt(np.mean(self.chi ** 2)))
 
     @property
     def max_chi(self) -> float:
@@ -67,8 +61,7 @@ def linear_fit(columns, y, errors=None) -> LinearFit:
     reduced = float(np.sum(chi ** 2) / dof)
     factor = reduced if errors is None else max(1.0, reduced)
     cov = cov * factor
-    return LinearFit(coef=coef, stderr=np.sqrt(np.abs(np.diag(cov))), covariance=cov,
-                     residuals=residuals, chi=chi, rank=int(cut.sum()))
+    return LinearFit(coef=coef, stderr=np.sqrt(np.abs(np.diag(cov))), residuals=residuals, chi=chi)
 
 
 def lambert_w(z) -> np.ndarray:

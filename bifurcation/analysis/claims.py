@@ -10,9 +10,12 @@ claim behind it holds, "incomplete" (right as far as it goes, but misses a term 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
+
+from ..errors import InputError
+from .extrapolate import PAPER_CL_HALF
 
 __all__ = ["CLAIM_KEYS", "Claim", "claims_table"]
 
@@ -27,7 +30,10 @@ _FIG_NU = 1e-9   # the paper's ν for Fig. 3 (and our Fig. 2 comparison)
 
 @dataclass(frozen=True)
 class Claim:
-    """One row: where in the paper, what it says, what we measure, and the verdict."""
+    """One row: where in the paper, what it says, what we measure, and the verdict.
+
+    ``fallback`` says what data of the row no store held, computed in process instead ("" if none).
+    """
 
     key: str
     where: str
@@ -38,11 +44,7 @@ class Claim:
     verdict: str
     errata: tuple = ()
     numbers: dict = field(default_factory=dict)
-
-    def as_dict(self) -> dict:
-        return {k: getattr(self, k) for k in ("key", "where", "statement", "paper", "measured",
-                                              "agreement", "verdict")} | {"errata": list(self.errata),
-                                                                         "numbers": self.numbers}
+    fallback: str = ""
 
 
 def _errata_for(*prefixes: str) -> tuple:
@@ -64,7 +66,7 @@ def _g(x: float, digits: int = 3) -> str:
 # -- the creep side, Eqs. (8)-(10) --------------------------------------------------------------------
 def _creep_claims(nu=_FIG_NU):
     from ..engine import slip
-    from ..theory import creep_coefficient, max_velocity_creep, omega, alpha, stop_time_creep
+    from ..theory import alpha, creep_coefficient, max_velocity_creep, stop_time_creep
 
     nf = _CREEP_NU_F
     pl = slip("piecewise-linear", nu=nu, nu_f=nf)
@@ -78,15 +80,15 @@ def _creep_claims(nu=_FIG_NU):
         f"engine U̇_max at ν = {nu:g}, ν_f ∈ {{{grid}}}", f"max rel. deviation {d8p:.1e} (piecewise-linear, "
         f"exact linear), {d8c:.1e} (Carlson–Langer, O(ν) nonlinearity)",
         "confirmed" if d8p < 1e-13 and d8c < 1e-3 else "refuted", numbers={"pl": d8p, "cl": d8c}))
-    d9p, d9c = _rel(pl.stop_time, stop_time_creep(nf)), _rel(cl.stop_time, stop_time_creep(nf))
+    t0 = stop_time_creep(nf)
+    d9p, d9c = _rel(pl.stop_time, t0), _rel(cl.stop_time, t0)
     out.append(Claim(
         "eq9", "Eq. (9)", "stop time t0 of a creep cycle, independent of ν",
         "(α/ω) sin ωt0 − cos ωt0 + e^{−αt0} = 0", f"engine stop time at ν = {nu:g}, same ν_f",
         f"max rel. deviation {d9p:.1e} (piecewise-linear), {d9c:.1e} (Carlson–Langer)",
         "confirmed" if d9p < 1e-13 and d9c < 1e-3 else "refuted", _errata_for("Eq. (9)"),
         numbers={"pl": d9p, "cl": d9c}))
-    a, w, t0 = alpha(nf), omega(nf), stop_time_creep(nf)
-    printed = np.sqrt(np.exp(2 * a * t0) - w ** 2) + t0 - a
+    printed = creep_coefficient(nf) - 2 * alpha(nf)   # the paper's −α where the corrected form has +α
     d10c, d10p = _rel(pl.delta / nu, creep_coefficient(nf)), _rel(pl.delta / nu, printed)
     out.append(Claim(
         "eq10", "Eq. (10)", "creep slip Δ ∝ ν, so Δ → 0 as ν → 0 for ν_f > 1/2",
@@ -99,8 +101,9 @@ def _creep_claims(nu=_FIG_NU):
 
 
 # -- the stick-slip side, Eqs. (13)-(18) -------------------------------------------------------------
-def _stick_claims():
-    from ..engine import limit, slip
+def _stick_claims(lim):
+    """``lim``: the engine's direct limit (quad) of the piecewise-linear law at ``_STICK_NU_F``."""
+    from ..engine import slip
     from ..theory import (alpha, creep_time_asymptotic, delta0_piecewise_linear, displacement_limit_linear,
                           displacement_limit_piecewise_linear, omega, tau1, tau2)
 
@@ -115,7 +118,6 @@ def _stick_claims():
         "confirmed" if np.all(np.diff(diffs) < 0) and diffs[-1] < 1e-9 else "refuted",
         _errata_for("Eq. (13)"), numbers={"nu": nus.tolist(), "abs_diff": diffs.tolist()}))
     nf = _STICK_NU_F
-    lim = limit("piecewise-linear", nu_f=nf, precision="quad")
     grid = ", ".join(f"{x:g}" for x in nf)
     d0 = delta0_piecewise_linear(nf)
     s = tau2(nf) - tau1(nf)
@@ -153,21 +155,24 @@ def _stick_claims():
 
 
 # -- the figures, the transition, the 0.17 and T ---------------------------------------------------------
-def _figure_claims(source):
-    from ..engine import limit, slip
+def _figure_claims(source, half):
+    """``half``: law → the direct limit Δ0 at ν_f = 1/2 (quad)."""
+    from ..engine import slip
     from ..theory import creep_coefficient, delta0_piecewise_linear
-    from ._data import series_along_nu_f
+    from ._data import _GOOD, series_along_nu_f
 
     out = []
     try:
         s = series_along_nu_f(source, "piecewise-linear", _FIG_NU) if source is not None else None
-    except ValueError:
+    except InputError:   # no store holds this ν: computed below
         s = None
+    fallback = ""
     if s is None or len(s) < 10:
         nf = np.linspace(0.02, 1.0, 50)
         r = slip("piecewise-linear", nu=_FIG_NU, nu_f=nf)
-        ok = np.isin(r.status, (1, 2))
+        ok = np.isin(r.status, _GOOD)
         x, d = nf[ok], r.delta[ok]
+        fallback = f"Δ along ν_f ({nf.size} in {nf[0]:g} … {nf[-1]:g}) at ν = {_FIG_NU:g}, piecewise-linear"
     else:
         x, d = s.x, s["delta"]
     below = x <= 0.45
@@ -179,7 +184,7 @@ def _figure_claims(source):
         "curve of Eq. (18)", f"engine Δ at ν = {_FIG_NU:g} over {x.size} ν_f in [{x.min():.2g}, {x.max():.2g}]",
         f"max |Δ(ν = 1e-9) − Eq. 18| = {dev:.1e} for ν_f ≤ 0.45; Δ ≤ {big_above:.1e} for ν_f ≥ 0.55",
         "confirmed" if dev < 1e-2 and big_above < 1e-3 else "refuted",
-        numbers={"max_dev_below_0.45": dev, "max_above_0.55": big_above}))
+        numbers={"max_dev_below_0.45": dev, "max_above_0.55": big_above}, fallback=fallback))
 
     steps = []
     for h in (0.004, 0.002, 0.001):
@@ -188,7 +193,7 @@ def _figure_claims(source):
         steps.append(float(np.nanmax(np.abs(np.diff(d)))))
         if h == 0.004:
             at_half = float(d[np.argmin(np.abs(grid - 0.5))])
-    d0_half = float(limit("carlson-langer", nu_f=0.5, precision="quad").delta0)
+    d0_half = half["carlson-langer"]
     continuous = steps[1] < 0.6 * steps[0] and steps[2] < 0.6 * steps[1]
     out.append(Claim(
         "fig3", "Fig. 3", "Carlson–Langer at ν = 1e-9: the transition looks continuous at finite ν",
@@ -199,8 +204,6 @@ def _figure_claims(source):
         f"by {d0_half:.4f} at 1/2", "consistent" if continuous else "refuted",
         numbers={"max_steps": steps, "delta_half_1e-9": at_half, "jump_limit": d0_half}))
 
-    lims = {law: float(limit(law, nu_f=0.5, precision="quad").delta0)
-            for law in ("piecewise-linear", "carlson-langer", "exponential")}
     creep_nu = np.array([1e-6, 1e-9, 1e-12, 1e-15])
     creep = slip("carlson-langer", nu=creep_nu, nu_f=0.55)
     ratio = creep.delta / creep.nu
@@ -209,27 +212,27 @@ def _figure_claims(source):
         "transition", "abstract, text after Eq. (18)",
         "first-order transition at ν_f = 1/2 for any law with Φ(0) = 1, Φ'(0) = −1",
         "Δ0 jumps from a finite value (ν_f ≤ 1/2) to 0 (ν_f > 1/2)",
-        "direct ν → 0 limit at ν_f = 1/2: " + ", ".join(f"{k} {v:.6f}" for k, v in lims.items())
+        "direct ν → 0 limit at ν_f = 1/2: " + ", ".join(f"{k} {v:.6f}" for k, v in half.items())
         + "; Carlson–Langer at ν_f = 0.55: Δ/ν = " + ", ".join(f"{v:.2f}" for v in ratio)
         + " at ν = 1e-6 … 1e-15",
         f"Δ0(1/2) > 0 for every law tried; above 1/2 Δ/ν → {coefficient:.2f} (corrected Eq. 10), "
         f"i.e. Δ ∝ ν → 0 (rel. deviation {abs(ratio[-1] / coefficient - 1):.1e} at ν = 1e-15)",
-        "confirmed" if min(lims.values()) > 0.05 and abs(ratio[-1] / coefficient - 1) < 1e-6 else "refuted",
-        numbers={"delta0_half": lims, "creep_ratio": ratio.tolist(), "creep_coefficient": coefficient}))
+        "confirmed" if min(half.values()) > 0.05 and abs(ratio[-1] / coefficient - 1) < 1e-6 else "refuted",
+        numbers={"delta0_half": dict(half), "creep_ratio": ratio.tolist(), "creep_coefficient": coefficient}))
     return out
 
 
 def _half_claim(ex) -> Claim:
-    paper = 0.17
+    paper = PAPER_CL_HALF
     nsig = abs(paper - ex.delta0_extrapolated) / ex.uncertainty
     naive = "; ".join(f"{k}: {v:.3g}" for k, v in ex.naive.items())
     return Claim(
         "cl_half_0.17", "text under Fig. 3", "Carlson–Langer: extrapolated ν → 0 slip at ν_f = 1/2",
-        "Δ = 0.17",
+        f"Δ = {paper:g}",
         f"extrapolated {ex.delta0_extrapolated:.5f} ± {ex.uncertainty:.1e} (ε-polynomials, "
         f"{ex.nu.size} ν from {ex.nu.max():.0e} to {ex.nu.min():.0e}); direct limit "
         f"{ex.delta0_direct:.13f}",
-        f"0.17 is {paper - ex.delta0_direct:+.4f} ({(paper / ex.delta0_direct - 1):+.0%}, {nsig:.0f}σ) off. "
+        f"{paper:g} is {paper - ex.delta0_direct:+.4f} ({(paper / ex.delta0_direct - 1):+.0%}, {nsig:.0f}σ) off. "
         f"Likely cause: convergence in ν is logarithmic (ε ≈ 1/ln(1/ν)); extrapolations that assume "
         f"otherwise land anywhere nearby — {naive}",
         "refuted" if nsig > 3 else "confirmed",
@@ -256,44 +259,56 @@ def _recurrence_claim(fits) -> Claim:
         numbers={"max_rel_dev_log": worst, "K": {f"{x.law} {x.nu_f:g}": x.K for x in fits}})
 
 
+def _direct_half(ex, stick_limit) -> dict:
+    """law → Δ0 at ν_f = 1/2 (engine, quad), reusing the limits already computed for other rows."""
+    from ..engine import limit
+
+    def quad(law):
+        return float(limit(law, nu_f=0.5, precision="quad").delta0)
+
+    cl_done = ex.law == "carlson-langer" and ex.nu_f == 0.5 and math.isfinite(ex.delta0_direct)
+    return {"piecewise-linear": float(stick_limit.delta0[list(_STICK_NU_F).index(0.5)]),
+            "carlson-langer": ex.delta0_direct if cl_done else quad("carlson-langer"),
+            "exponential": quad("exponential")}
+
+
 def claims_table(source=None, *, extrapolations=None, period_fits=None) -> tuple:
     """Compute the claims table.
 
     Parameters
     ----------
     source : Dataset(s), optional
-        Stores with the paper workflows; series missing from them are computed in process.
+        Stores with the paper workflows; series missing from them are computed in process (each row's
+        ``fallback`` says which).
     extrapolations : ExtrapolationResult, optional
         The Carlson–Langer extrapolation at ν_f = 1/2 (computed if not given).
     period_fits : sequence of PeriodFit, optional
         Fits of T − Δ0/ν (computed for both laws at ν_f ∈ {0.2, 0.3, 0.4} if not given).
     """
-    from ._data import slip_dataset
+    from ..engine import limit
+    from ._data import FALLBACK_GRID, fallback_grid
     from .extrapolate import extrapolate_delta
     from .period_fit import fit_period
 
-    fallback = None
+    in_process = set()   # keys of the rows whose series no store held
 
-    def data():
-        nonlocal fallback
-        if fallback is None:
-            fallback = slip_dataset(["carlson-langer", "piecewise-linear"], [0.2, 0.3, 0.4, 0.5],
-                                    np.logspace(-3, -15, 49))
-        return fallback
-
-    def with_data(fn, *args):
+    def from_stores(key, fn, law, nu_f):
         if source is not None:
             try:
-                return fn(source, *args)
-            except ValueError:
+                return fn(source, law, nu_f)
+            except InputError:   # the stores lack this series
                 pass
-        return fn(data(), *args)
+        in_process.add(key)
+        return fn(fallback_grid(), law, nu_f)
 
-    ex = extrapolations if extrapolations is not None else with_data(extrapolate_delta, "carlson-langer", 0.5)
-    fits = list(period_fits) if period_fits else [with_data(fit_period, law, nf)
+    ex = (extrapolations if extrapolations is not None
+          else from_stores("cl_half_0.17", extrapolate_delta, "carlson-langer", 0.5))
+    fits = list(period_fits) if period_fits else [from_stores("recurrence_time", fit_period, law, nf)
                                                   for law in ("carlson-langer", "piecewise-linear")
                                                   for nf in (0.2, 0.3, 0.4)]
-    rows = [*_creep_claims(), *_stick_claims(), *_figure_claims(source), _half_claim(ex),
+    stick_limit = limit("piecewise-linear", nu_f=_STICK_NU_F, precision="quad")
+    half = _direct_half(ex, stick_limit)
+    rows = [*_creep_claims(), *_stick_claims(stick_limit), *_figure_claims(source, half), _half_claim(ex),
             _recurrence_claim(fits)]
-    order = {k: i for i, k in enumerate(CLAIM_KEYS)}
-    return tuple(sorted(rows, key=lambda c: order[c.key]))
+    assert tuple(c.key for c in rows) == CLAIM_KEYS   # built in the paper's order
+    return tuple(replace(c, fallback=FALLBACK_GRID) if c.key in in_process else c for c in rows)

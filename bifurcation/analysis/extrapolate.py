@@ -7,12 +7,12 @@ Three regimes, each with the correction model its asymptotics give (PHYSICS.md):
     the linear solution U = ν[(t − 2)e^t + t + 2] has U − U̇ ≈ −U̇/(t − 1) at velocity U̇. The ν = 0 flow
     has no resonances at eigenvalues (1, 1), so it is analytically linearisable, and
     Δ(ν) = Δ0 + a1 ε + a2 ε² + … + O(ν ln ν), with ε = 1/(τ − 1) and (τ − 1)e^τ = 1/(2ν), i.e.
-    τ − 1 = W(1/(2eν)) (another reference velocity only reparametrises ε at O(ε²)). ε ≈ 0.034 at
-    ν = 1e-15: convergence is logarithmic. The O(ν) terms come from Δ = V_stop + ν t_stop with
-    t_stop ≈ τ, so the model carries ν/ε and ν columns too. Polynomials of order 2…5 in ε over windows
-    of the smallest ν; the estimate is the median of the ensemble, the uncertainty the largest
-    deviation from it combined with the largest covariance error — model and window variation, not the
-    covariance alone.
+    τ − 1 = W(1/(2eν)) (another reference velocity only reparametrises ε at O(ε²)). At ν = 1e-15,
+    ε = 1/W(1/(2e·1e-15)) = 0.0339 (``critical_epsilon``): convergence is logarithmic. The O(ν) terms
+    come from Δ = V_stop + ν t_stop with t_stop ≈ τ, so the model carries ν/ε and ν columns too.
+    Polynomials of order 2…5 in ε over windows of the smallest ν; the estimate is the median of the
+    ensemble, the uncertainty the largest deviation from it combined with the largest covariance
+    error — model and window variation, not the covariance alone.
 ν_f < 1/2.
     Δ = Δ0 + ν[(α − ω) ln(1/ν) + C0 + Kν^{−r} + …] (``period_fit``): the same ladder with Δ0 free.
 ν_f > 1/2.
@@ -29,8 +29,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..engine import Status
 from ..errors import InputError
-from ._data import series_along_nu
+from ._data import cycles_along_nu
 from ._lsq import lambert_w, linear_fit
 from .period_fit import DEFAULT_RELATIVE_ERROR, DEFAULT_WINDOWS, direct_delta0, fit_ladder
 
@@ -80,7 +81,9 @@ class ExtrapolationResult:
 
     ``deviation`` = extrapolated − direct; ``consistent`` is |deviation| ≤ uncertainty (+ the direct
     value's own error). ``models`` is the ensemble; ``naive`` holds extrapolations the way one might
-    have done them from ν ≥ 1e-9 (to show where a value like the paper's 0.17 comes from).
+    have done them from ν ≥ 1e-9 (to show where a value like the paper's 0.17 comes from);
+    ``nu_reaching_paper`` the ν at which the fitted model of Δ(ν) comes down to the paper's value (at
+    ν_f = 1/2; None where it does not, or elsewhere).
     """
 
     law: str
@@ -98,6 +101,7 @@ class ExtrapolationResult:
     delta: np.ndarray = field(repr=False)
     curve: tuple = field(repr=False, default=())   # (x, Δ) of the model closest to the estimate
     naive: dict = field(default_factory=dict)
+    nu_reaching_paper: float | None = None
 
     @property
     def deviation(self) -> float:
@@ -193,9 +197,9 @@ def _naive(nu, delta):
 
 
 def _stick_slip(nu, delta, period, nu_f, relative_error, windows):
-    alpha = 1 / (2 * nu_f)
-    omega = math.sqrt((1 - 2 * nu_f) * (1 + 2 * nu_f)) / (2 * nu_f)
-    r = (alpha - omega) ** 2
+    from ..theory import alpha, omega
+
+    r = (float(alpha(nu_f)) - float(omega(nu_f))) ** 2
     ref = float(delta[np.argmin(nu)])
     excess = period - ref / nu
     _best, candidates = fit_ladder(nu, excess, relative_error * period, r, windows=windows)
@@ -235,7 +239,7 @@ def extrapolate_delta(source, law: str, nu_f: float, *, relative_error: float = 
 
     Parameters
     ----------
-    source : xarray.Dataset, mapping of arrays, or a list of them
+    source : xarray.Dataset, or a list of them
         Store(s) (dims law, nu_f, nu) holding ``delta`` (and ``period``) along ν at this ν_f.
     law, nu_f : str, float
         Which series. ν_f = 1/2 uses the ε-polynomial ensemble; ν_f < 1/2 the power/log expansion of
@@ -248,12 +252,8 @@ def extrapolate_delta(source, law: str, nu_f: float, *, relative_error: float = 
         Also compute the direct limit (engine, quad) to compare with.
     """
     nu_f = float(nu_f)
-    s = series_along_nu(source, law, nu_f, fields=("delta", "period"))
-    nu, delta = s.x, s["delta"]
-    period = np.where(np.isfinite(s["period"]), s["period"], delta / nu)
-    ok = np.isfinite(delta)
-    nu, delta, period, status = nu[ok], delta[ok], period[ok], s.status[ok]
-    naive = {}
+    nu, delta, period, status = cycles_along_nu(source, law, nu_f)
+    naive, reach = {}, None
     pv, psrc = paper_value(law, nu_f)
     if abs(nu_f - 0.5) < _HALF_TOL:
         regime, variable = "critical", "ε = 1/W(1/(2eν))"
@@ -264,13 +264,13 @@ def extrapolate_delta(source, law: str, nu_f: float, *, relative_error: float = 
             naive[f"ν at which Δ(ν) comes down to {pv:g} (fitted model)"] = reach
     elif nu_f < 0.5:
         regime, variable = "stick-slip", "ν (powers ν^(j(1−r)+k), ln ν)"
-        keep = status == 1
+        keep = status == Status.STICK_SLIP
         value, unc, rows = _stick_slip(nu[keep], delta[keep], period[keep], nu_f, relative_error,
                                        windows or DEFAULT_WINDOWS)
         curve = ()
     else:
         regime, variable = "creep", "ν"
-        keep = status == 2
+        keep = status == Status.CREEP
         value, unc, rows = _creep(nu[keep], delta[keep])
         curve = ()
     d_direct, d_err = direct_delta0(law, nu_f) if direct else (math.nan, math.nan)
@@ -278,4 +278,4 @@ def extrapolate_delta(source, law: str, nu_f: float, *, relative_error: float = 
                                delta0_extrapolated=float(value), uncertainty=float(unc),
                                delta0_direct=float(d_direct), delta0_direct_error=float(d_err),
                                paper_value=pv, paper_source=psrc, models=rows, nu=nu, delta=delta,
-                               curve=curve, naive=naive)
+                               curve=curve, naive=naive, nu_reaching_paper=reach)

@@ -34,8 +34,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..engine import Status
 from ..errors import InputError
-from ._data import series_along_nu
+from ._data import cycles_along_nu
 from ._lsq import linear_fit
 
 __all__ = ["PeriodFit", "Term", "expansion_terms", "fit_period"]
@@ -110,7 +111,7 @@ class _Candidate:
     terms: tuple
     coef: np.ndarray
     stderr: np.ndarray
-    rms_chi: float
+    sqrt_reduced_chi2: float
     max_chi: float
     n_points: int
     accepted: bool = False
@@ -147,8 +148,8 @@ def fit_ladder(nu, y, err, r, *, windows=DEFAULT_WINDOWS, power_term=True, free_
                                    f.max_chi, n))
         if not fits:
             continue
-        floor = min(c.rms_chi for c in fits)
-        pick = next(i for i, c in enumerate(fits) if c.rms_chi <= _ACCEPT * floor)
+        floor = min(c.sqrt_reduced_chi2 for c in fits)
+        pick = next(i for i, c in enumerate(fits) if c.sqrt_reduced_chi2 <= _ACCEPT * floor)
         fits[pick] = _Candidate(**{**fits[pick].__dict__, "accepted": True})
         accepted.append(fits[pick])
         candidates.extend(fits)
@@ -166,7 +167,8 @@ class PeriodFit:
     ``C0``, ``K`` (of ν^{−r}), ``K2`` (ν^{1−2r}), ``C1`` (ν ln(1/ν)), ``C2`` (ν) — NaN when the data did
     not need the term; ``terms``/``term_errors`` hold every fitted coefficient by label;
     ``delta0_shift`` the fitted correction to Δ0 (coefficient of 1/ν). ``residual_max`` is the largest
-    |data − model| of T in the chosen window (units √(m/k)), ``chi_max`` the same over the data error.
+    |data − model| of T in the chosen window (units √(m/k)), ``chi_max`` the same over the data error,
+    ``sqrt_reduced_chi2`` = √(χ²/(points − terms)) there (≈ 1 when the residuals are at the data error).
     """
 
     law: str
@@ -186,7 +188,7 @@ class PeriodFit:
     delta0_shift: float
     residual_max: float
     chi_max: float
-    rms_chi: float
+    sqrt_reduced_chi2: float
     nu_max: float
     n_points: int
     model: tuple
@@ -207,12 +209,7 @@ class PeriodFit:
 
     def predict(self, nu) -> np.ndarray:
         """The fitted model of T − Δ0/ν (without the 1/ν shift) at ν."""
-        nu = np.asarray(nu, dtype=float)
-        out = np.zeros_like(nu)
-        for t in self.model:
-            if t.label != "1/nu":
-                out = out + self.terms[t.label] * t(nu)
-        return out
+        return _expansion(self.model, self.terms, nu, shift=False)
 
     def summary(self) -> dict:
         """JSON-ready numbers (what `bifurcation fit-period --json` prints)."""
@@ -223,11 +220,25 @@ class PeriodFit:
             "relative_deviation": self.relative_deviation, "exponent_r": self.exponent_r,
             "C0": self.C0, "K": self.K, "K2": self.K2, "C1": self.C1, "C2": self.C2,
             "delta0_used": self.delta0_used, "delta0_shift": self.delta0_shift,
-            "residual_max": self.residual_max, "chi_max": self.chi_max, "rms_chi": self.rms_chi,
+            "residual_max": self.residual_max, "chi_max": self.chi_max,
+            "sqrt_reduced_chi2": self.sqrt_reduced_chi2,
             "nu_max": self.nu_max, "n_points": self.n_points, "model": [t.label for t in self.model],
             "terms": dict(self.terms), "term_errors": dict(self.term_errors),
             "resonance_note": self.resonance_note,
         }
+
+
+def _expansion(model, terms: dict, nu, *, shift: bool) -> np.ndarray:
+    """Σ coefficient · term over ``model`` at ν; the 1/ν column (the Δ0 shift) only if ``shift``.
+
+    Summed in the model's order either way, so the residuals are those of the fit to the last bit.
+    """
+    nu = np.asarray(nu, dtype=float)
+    out = np.zeros_like(nu)
+    for t in model:
+        if shift or t.label != "1/nu":
+            out = out + terms[t.label] * t(nu)
+    return out
 
 
 def _resonance_note(alpha: float, omega: float) -> str:
@@ -256,8 +267,8 @@ def fit_period(source, law: str, nu_f: float, *, delta0: float | None = None,
 
     Parameters
     ----------
-    source : xarray.Dataset, mapping of arrays, or a list of them
-        Store(s) with dims (law, nu_f, nu) and fields ``period``/``delta``, or e.g. a ``SlipResult``.
+    source : xarray.Dataset, or a list of them
+        Store(s) with dims (law, nu_f, nu) and fields ``period``/``delta`` (or ``slip_dataset``).
     law, nu_f : str, float
         Which series (ν_f < 1/2; matched to the store's labels to 1e-9 relative).
     delta0 : float, optional
@@ -276,16 +287,15 @@ def fit_period(source, law: str, nu_f: float, *, delta0: float | None = None,
         raise InputError("nu_f", nu_f, "is not below 1/2: the expansion of T is for the stick-slip side "
                          "(at 1/2 the exponents merge)", "use 0 < nu_f < 0.5, or `bifurcation extrapolate` "
                          "at nu_f = 0.5")
-    s = series_along_nu(source, law, nu_f, fields=("delta", "period"))
-    nu = s.x
-    period = np.where(np.isfinite(s["period"]), s["period"], s["delta"] / nu)
-    ok = np.isfinite(period) & (s.status == 1)
-    nu, period = nu[ok], period[ok]
+    from ..theory import alpha, omega
+
+    nu, _, period, status = cycles_along_nu(source, law, nu_f)
+    stick = status == Status.STICK_SLIP
+    nu, period = nu[stick], period[stick]
     if delta0 is None:
         delta0 = direct_delta0(law, nu_f)[0]
-    alpha = 1 / (2 * nu_f)
-    omega = math.sqrt((1 - 2 * nu_f) * (1 + 2 * nu_f)) / (2 * nu_f)
-    r = (alpha - omega) ** 2
+    a, w = float(alpha(nu_f)), float(omega(nu_f))
+    r = (a - w) ** 2
     excess = period - delta0 / nu
     errors = relative_error * period
     best, candidates = fit_ladder(nu, excess, errors, r, windows=windows, power_term=power_term,
@@ -295,21 +305,19 @@ def fit_period(source, law: str, nu_f: float, *, delta0: float | None = None,
     spread = max(abs(v - best.value("ln(1/nu)")) for v in log_values)
     terms = {t.label: float(c) for t, c in zip(best.terms, best.coef)}
     model = best.terms
-    full = np.zeros_like(nu)
-    for t in model:
-        full = full + terms[t.label] * t(nu)
-    residuals = excess - full
+    residuals = excess - _expansion(model, terms, nu, shift=True)
     inside = nu <= best.nu_max * (1 + 1e-9)
     return PeriodFit(
-        law=law, nu_f=nu_f, alpha=alpha, omega=omega, exponent_r=r,
-        log_coefficient=best.value("ln(1/nu)"), log_coefficient_expected=alpha - omega,
+        law=law, nu_f=nu_f, alpha=a, omega=w, exponent_r=r,
+        log_coefficient=best.value("ln(1/nu)"), log_coefficient_expected=a - w,
         log_coefficient_uncertainty=math.hypot(best.error("ln(1/nu)"), spread),
         C0=best.value("1"), K=best.value("nu^-r"), K2=best.value("nu^(1-2r)"),
         C1=best.value("nu*ln(1/nu)"), C2=best.value("nu"),
         delta0_used=float(delta0), delta0_shift=best.value("1/nu") if free_delta0 else 0.0,
-        residual_max=float(np.max(np.abs(residuals[inside]))), chi_max=best.max_chi, rms_chi=best.rms_chi,
+        residual_max=float(np.max(np.abs(residuals[inside]))), chi_max=best.max_chi,
+        sqrt_reduced_chi2=best.sqrt_reduced_chi2,
         nu_max=best.nu_max, n_points=best.n_points, model=model, terms=terms,
         term_errors={t.label: float(e) for t, e in zip(best.terms, best.stderr)},
         nu=nu, excess=excess, errors=errors, residuals=residuals, candidates=tuple(candidates),
-        power_term=power_term, resonance_note=_resonance_note(alpha, omega),
+        power_term=power_term, resonance_note=_resonance_note(a, w),
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 from pathlib import Path
@@ -16,31 +17,15 @@ __all__ = ["COMMANDS", "PAPER_WORKFLOWS"]
 PAPER_WORKFLOWS = ("paper-fig2.toml", "paper-fig3.toml", "critical-point.toml")
 
 
-def _stores(paths):
-    from ..analysis import load_stores
+@contextlib.contextmanager
+def _with_options(message_names: dict):
+    """Report an analysis InputError as one line, with the option names the user typed."""
     from ..errors import InputError
 
     try:
-        return load_stores(list(paths))
+        yield
     except InputError as exc:
-        fail(f"--store={exc.value!r}: {exc.problem}; {exc.fix}")
-
-
-def _with_options(message_names: dict):
-    """Re-raise an analysis InputError with the option names the user typed."""
-    from ..errors import InputError
-
-    class _Ctx:
-        def __enter__(self):
-            return self
-
-        def __exit__(self, kind, exc, tb):
-            if isinstance(exc, InputError):
-                name = message_names.get(exc.argument, exc.argument)
-                fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
-            return False
-
-    return _Ctx()
+        fail(f"{message_names.get(exc.argument, exc.argument)}={exc.value!r}: {exc.problem}; {exc.fix}")
 
 
 _STORE = click.option("--store", "stores", metavar="PATH", multiple=True, required=True,
@@ -49,6 +34,25 @@ _LAW = click.option("--law", required=True, help="Law label in the store, e.g. c
 _NU_F = click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f"), help="Friction velocity ν_f.")
 _JSON = click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 _NAMES = {"nu_f": "--nu-f", "law": "--law", "store": "--store", "nu": "--store (ν values)"}
+
+
+def _stores(paths):
+    from ..analysis import load_stores
+
+    with _with_options(_NAMES):
+        return load_stores(list(paths))
+
+
+def _analyse(fn, stores, law: str, nu_f: float, as_json: bool):
+    """``fn(stores, law, nu_f)`` with option-named errors; with ``--json`` print its summary and return
+    None, else return the result for the command to print."""
+    sources = _stores(stores)
+    with _with_options(_NAMES):
+        result = fn(sources, law, nu_f)
+    if as_json:
+        echo_json(result.summary())
+        return None
+    return result
 
 
 @click.command("extrapolate")
@@ -60,11 +64,8 @@ def extrapolate(stores, law: str, nu_f: float, as_json: bool) -> None:
     """Δ(ν → 0) at ν_f extrapolated from the store's finite-ν points, vs the direct limit and the paper."""
     from ..analysis import extrapolate_delta
 
-    sources = _stores(stores)
-    with _with_options(_NAMES):
-        ex = extrapolate_delta(sources, law, nu_f)
-    if as_json:
-        echo_json(ex.summary())
+    ex = _analyse(extrapolate_delta, stores, law, nu_f, as_json)
+    if ex is None:
         return
     paper = "—" if ex.paper_value is None else f"{ex.paper_value:.10g}  ({ex.paper_source})"
     click.echo(f"{law} at ν_f = {nu_f:g} ({ex.regime}; variable {ex.variable}; {ex.nu.size} points)")
@@ -84,11 +85,8 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool) -> None:
     """Fit T − Δ0/ν = (α−ω) ln(1/ν) + C0 + K ν^−r + … (ν_f < 1/2) and compare the log coefficient with α − ω."""
     from ..analysis import fit_period as fit
 
-    sources = _stores(stores)
-    with _with_options(_NAMES):
-        f = fit(sources, law, nu_f)
-    if as_json:
-        echo_json(f.summary())
+    f = _analyse(fit, stores, law, nu_f, as_json)
+    if f is None:
         return
     click.echo(f"{law} at ν_f = {nu_f:g}: r = (α−ω)² = {f.exponent_r:.6f}, window ν ≤ {f.nu_max:g}, "
                f"{f.n_points} points, {len(f.model)} terms")
@@ -139,12 +137,13 @@ def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:
     from ..run.cluster import check_scheduler, check_workers, connect
 
     started = time.perf_counter()
+    workflows = _workflow_dir()
     stores = []
     # One cluster for the three workflows (starting an embedded one costs ~1 s and compiles per worker).
     with connect(check_scheduler(scheduler), check_workers(workers)) as client:
         for name in PAPER_WORKFLOWS:
             try:
-                summary = submit(_workflow_dir() / name, scheduler=client, new_store=new_stores)
+                summary = submit(workflows / name, scheduler=client, new_store=new_stores)
             except InputError as exc:
                 fail(f"{name}: {exc.argument}={exc.value!r}: {exc.problem}; {exc.fix} (or run "
                      "`bifurcation reproduce --new-stores` to recompute the paper's stores)")

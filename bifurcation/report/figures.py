@@ -14,6 +14,8 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from ..analysis.extrapolate import PAPER_CL_HALF
+
 __all__ = ["DPI", "figure_critical", "figure_fig2", "figure_fig3", "figure_period", "figure_rounding",
            "save"]
 
@@ -56,12 +58,28 @@ def _delta_vs_nu_f(ax, curves, colors):
         ax.plot(x, d, "-", lw=1.2, color=colors[nu], label=_nu_label(nu))
 
 
-def _limit_line(ax, x, d, label, **kw):
-    """The ν → 0 curve: finite up to 1/2, 0 above, with the jump drawn as a dotted vertical."""
-    below = x <= 0.5
-    ax.plot(x[below], d[below], color="k", lw=1.6, label=label, **kw)
-    ax.plot([0.5, 1.0], [0, 0], color="k", lw=1.6, **kw)
-    ax.plot([0.5, 0.5], [0, d[below][-1]], color="k", lw=0.8, ls=":")
+def _limit_line(ax, x, d, label=None, *, lo=-math.inf, hi=1.0, lw=1.6, jump=True, **kw) -> float:
+    """The ν → 0 curve over [lo, hi]: Δ0 up to 1/2, 0 above, the jump a dotted vertical (if ``jump``).
+
+    Returns the largest Δ0 drawn.
+    """
+    x, d = np.asarray(x), np.asarray(d)
+    shown = (x >= lo) & (x <= 0.5)
+    ax.plot(x[shown], d[shown], color="k", lw=lw, label=label, **kw)
+    ax.plot([0.5, hi], [0, 0], color="k", lw=lw, **kw)
+    if jump:
+        ax.plot([0.5, 0.5], [0, d[shown][-1]], color="k", lw=0.8, ls=":")
+    return float(np.max(d[shown]))
+
+
+def _delta_axes(ax, title: str, legend_loc: str) -> None:
+    """Labels, title, the ν_f = 1/2 line, legend and grid of a Δ-vs-ν_f panel."""
+    ax.set_xlabel("friction velocity ν_f  [V0]")
+    ax.set_ylabel("slip per cycle Δ  [F0/k]")
+    ax.set_title(title)
+    ax.axvline(0.5, color="0.7", lw=0.6, zorder=0)
+    ax.legend(loc=legend_loc, frameon=False)
+    ax.grid(alpha=0.25, lw=0.5)
 
 
 def figure_fig2(curves: dict, limit_nu_f, limit_delta, eq18_nu_f, eq18_delta) -> Figure:
@@ -70,21 +88,16 @@ def figure_fig2(curves: dict, limit_nu_f, limit_delta, eq18_nu_f, eq18_delta) ->
     ax = axes[0, 0]
     colors = _nu_colors(curves)
     _delta_vs_nu_f(ax, curves, colors)
-    _limit_line(ax, np.asarray(eq18_nu_f), np.asarray(eq18_delta), "Eq. (18), ν → 0", ls="--")
+    _limit_line(ax, eq18_nu_f, eq18_delta, "Eq. (18), ν → 0", ls="--")
     ax.plot(limit_nu_f, limit_delta, "o", ms=4.5, mfc="none", mec="crimson", mew=1.1,
             label="direct ν → 0 limit (engine)")
     ax.set_xlim(0, 1)
     ax.set_ylim(-0.05, 2.1)
-    ax.set_xlabel("friction velocity ν_f  [V0]")
-    ax.set_ylabel("slip per cycle Δ  [F0/k]")
-    ax.set_title("Fig. 2: " + _LAW_TITLE["piecewise-linear"])
-    ax.axvline(0.5, color="0.7", lw=0.6, zorder=0)
-    ax.legend(loc="lower left", frameon=False)
-    ax.grid(alpha=0.25, lw=0.5)
+    _delta_axes(ax, "Fig. 2: " + _LAW_TITLE["piecewise-linear"], "lower left")
     return fig
 
 
-def figure_fig3(curves: dict, limit_nu_f, limit_delta, extrapolation=None, paper=0.17) -> Figure:
+def figure_fig3(curves: dict, limit_nu_f, limit_delta, extrapolation=None, paper=PAPER_CL_HALF) -> Figure:
     """The paper's Fig. 3: Carlson–Langer at ν = 1e-9 (and other ν), the direct limit, the 0.17."""
     fig, axes = _figure(6.0, 4.0)
     ax = axes[0, 0]
@@ -93,7 +106,7 @@ def figure_fig3(curves: dict, limit_nu_f, limit_delta, extrapolation=None, paper
         main = abs(math.log10(nu) + 9) < 1e-6
         ax.plot(x, d, "-", lw=2.0 if main else 0.9, color=colors[nu], alpha=1 if main else 0.7,
                 label=_nu_label(nu) + (" (the paper's ν)" if main else ""))
-    _limit_line(ax, np.asarray(limit_nu_f), np.asarray(limit_delta), "direct ν → 0 limit (engine)")
+    _limit_line(ax, limit_nu_f, limit_delta, "direct ν → 0 limit (engine)")
     ax.plot([0.5], [paper], "X", ms=8, color="crimson", label=f"paper: Δ = {paper} at ν_f = 1/2 (extrapolated)")
     if extrapolation is not None:
         ax.errorbar([0.5], [extrapolation.delta0_extrapolated], yerr=[extrapolation.uncertainty], fmt="s",
@@ -103,20 +116,12 @@ def figure_fig3(curves: dict, limit_nu_f, limit_delta, extrapolation=None, paper
     ax.set_xlim(0, 1)
     top = max([float(np.nanmax(d)) for _, d in curves.values()] + [float(np.nanmax(limit_delta))])
     ax.set_ylim(-0.03 * top, 1.05 * top)
-    ax.set_xlabel("friction velocity ν_f  [V0]")
-    ax.set_ylabel("slip per cycle Δ  [F0/k]")
-    ax.set_title("Fig. 3: " + _LAW_TITLE["carlson-langer"])
-    ax.axvline(0.5, color="0.7", lw=0.6, zorder=0)
-    ax.legend(loc="upper right", frameon=False)
-    ax.grid(alpha=0.25, lw=0.5)
+    _delta_axes(ax, "Fig. 3: " + _LAW_TITLE["carlson-langer"], "upper right")
     inset = ax.inset_axes([0.62, 0.12, 0.35, 0.34])
     for nu, (x, d) in sorted(curves.items(), reverse=True):
         m = (x >= 0.46) & (x <= 0.54)
         inset.plot(x[m], d[m], "-", lw=1.0, color=colors[nu])
-    lx, ld = np.asarray(limit_nu_f), np.asarray(limit_delta)
-    m = (lx >= 0.46) & (lx <= 0.5)
-    inset.plot(lx[m], ld[m], "k-", lw=1.4)
-    inset.plot([0.5, 0.54], [0, 0], "k-", lw=1.4)
+    _limit_line(inset, limit_nu_f, limit_delta, lo=0.46, hi=0.54, lw=1.4, jump=False)
     inset.plot([0.5], [paper], "X", ms=6, color="crimson")
     inset.set_xlim(0.46, 0.54)
     inset.set_ylim(-0.02, 0.5)
@@ -208,18 +213,10 @@ def figure_rounding(curves_by_law: dict, limits_by_law: dict, band=(0.44, 0.56))
             ax.plot(x, d, "-", lw=1.1, color=colors[nu], label=_nu_label(nu))
         top = max([float(np.nanmax(d)) for _, d in curves.values()] + [0.1])
         if law in limits_by_law:
-            lx, ld = (np.asarray(a) for a in limits_by_law[law])
-            keep = (lx <= 0.5) & (lx >= band[0] - 0.01)
-            ax.plot(lx[keep], ld[keep], "k-", lw=1.8, label="ν → 0 (direct limit)")
-            ax.plot([0.5, band[1]], [0, 0], "k-", lw=1.8)
-            ax.plot([0.5, 0.5], [0, ld[keep][-1]], "k:", lw=0.8)
-            top = max(top, float(np.max(ld[keep])))
+            lx, ld = limits_by_law[law]
+            drawn = _limit_line(ax, lx, ld, "ν → 0 (direct limit)", lo=band[0] - 0.01, hi=band[1], lw=1.8)
+            top = max(top, drawn)
         ax.set_xlim(*band)
         ax.set_ylim(-0.03 * top, 1.05 * top)
-        ax.set_xlabel("friction velocity ν_f  [V0]")
-        ax.set_ylabel("slip per cycle Δ  [F0/k]")
-        ax.set_title(_LAW_TITLE[law])
-        ax.axvline(0.5, color="0.7", lw=0.6, zorder=0)
-        ax.grid(alpha=0.25, lw=0.5)
-        ax.legend(loc="lower left", frameon=False)
+        _delta_axes(ax, _LAW_TITLE[law], "lower left")
     return fig

@@ -26,6 +26,8 @@ EXTRAPOLATE_NU_F = (0.2, 0.3, 0.4, 0.5)
 _FIG_NU = 1e-9
 _BAND = (0.44, 0.56)
 _MIN_SERIES = 20   # points along ν for a fit; along ν_f for a curve
+#: ν_f of the Fig. 2 circles: the engine's direct limit, drawn over the line of Eq. (18).
+_FIG2_LIMIT_NU_F = np.round(np.linspace(0.05, 0.5, 10), 8)
 
 
 @dataclass
@@ -39,7 +41,8 @@ class ReportData:
     claims: tuple = ()
     curves: dict = field(default_factory=dict)           # law → {ν: (ν_f, Δ)} over (0, 1)
     band_curves: dict = field(default_factory=dict)      # law → {ν: (ν_f, Δ)} near 1/2
-    limit_curves: dict = field(default_factory=dict)     # law → (ν_f, Δ0)
+    limit_curves: dict = field(default_factory=dict)     # law → (ν_f, Δ0) over (0, 1/2]
+    limit_points: dict = field(default_factory=dict)     # law → (ν_f, Δ0): engine limit, Fig. 2 circles
     computed_in_process: list = field(default_factory=list)
 
 
@@ -72,6 +75,7 @@ def _decades(curves, wanted=(1e-3, 1e-6, 1e-9, 1e-12, 1e-15)):
 
 
 def _fallback_curves(law, nus):
+    from ..analysis._data import _GOOD
     from ..engine import slip
 
     nu_f = np.round(np.concatenate([np.arange(0.01, 1.0, 0.01), np.arange(0.481, 0.52, 0.002)]), 6)
@@ -79,45 +83,57 @@ def _fallback_curves(law, nus):
     r = slip(law, nu=np.asarray(nus)[:, None], nu_f=nu_f[None, :])
     out = {}
     for i, nu in enumerate(nus):
-        ok = np.isin(r.status[i], (1, 2))
+        ok = np.isin(r.status[i], _GOOD)
         out[float(nu)] = (nu_f[ok], r.delta[i][ok])
     return out
 
 
-def _limit_curve(law):
+def _engine_limit(law, nu_f):
+    """The engine's direct ν → 0 limit Δ0 at ``nu_f`` (double), where it is finite."""
     from ..engine import limit
 
-    # finer towards 1/2, where Δ0(ν_f) turns steeply down before the jump
-    nu_f = np.unique(np.round(np.concatenate([np.linspace(0.01, 0.5, 50), np.linspace(0.44, 0.5, 25),
-                                              0.5 - np.geomspace(1e-4, 1e-2, 9)]), 8))
     r = limit(law, nu_f=nu_f)
     ok = np.isfinite(r.delta0)
     return nu_f[ok], r.delta0[ok]
 
 
+def _limit_curve(law):
+    """Δ0(ν_f) over (0, 1/2]: Eq. (18) for the piecewise-linear law (the engine's limit matches it: the
+    Fig. 2 circles), the engine's direct limit for any other law."""
+    from ..theory import delta0_piecewise_linear
+
+    # finer towards 1/2, where Δ0(ν_f) turns steeply down before the jump
+    nu_f = np.unique(np.round(np.concatenate([np.linspace(0.01, 0.5, 50), np.linspace(0.44, 0.5, 25),
+                                              0.5 - np.geomspace(1e-4, 1e-2, 9)]), 8))
+    if law == "piecewise-linear":
+        return nu_f, delta0_piecewise_linear(nu_f)
+    return _engine_limit(law, nu_f)
+
+
 def analyse(sources) -> ReportData:
     """Run every analysis the report shows; what the stores lack is computed in process."""
-    from ..analysis import claims_table, extrapolate_delta, fit_period, slip_dataset
+    from ..analysis import FALLBACK_GRID, claims_table, extrapolate_delta, fallback_grid, fit_period
+    from ..errors import InputError
 
     data = ReportData(sources=list(sources))
-    fallback = None
 
-    def along_nu(fn, law, nu_f):
-        nonlocal fallback
+    def in_process(what):
+        if what not in data.computed_in_process:
+            data.computed_in_process.append(what)
+
+    def along_nu(fn, law, nu_f, **options):
         try:
-            return fn(data.sources, law, nu_f)
-        except ValueError:
-            if fallback is None:
-                fallback = slip_dataset(list(LAWS), list(EXTRAPOLATE_NU_F), np.logspace(-3, -15, 49))
-                data.computed_in_process.append("Δ, T along ν = 1e-3 … 1e-15 (4/decade) at ν_f = 0.2, 0.3, "
-                                                "0.4, 0.5, both laws")
-            return fn(fallback, law, nu_f)
+            return fn(data.sources, law, nu_f, **options)
+        except InputError:   # no store holds this series
+            in_process(FALLBACK_GRID)
+            return fn(fallback_grid(), law, nu_f, **options)
 
     for law in LAWS:
         for nu_f in EXTRAPOLATE_NU_F:
             data.extrapolations[(law, nu_f)] = along_nu(extrapolate_delta, law, nu_f)
-        for nu_f in FIT_NU_F:
-            data.period_fits.append(along_nu(fit_period, law, nu_f))
+        for nu_f in FIT_NU_F:   # Δ0 of T − Δ0/ν: the direct limit the extrapolation already computed
+            data.period_fits.append(along_nu(fit_period, law, nu_f,
+                                             delta0=data.extrapolations[(law, nu_f)].delta0_direct))
         curves = _decades(_curves(data.sources, law))
         if not any(abs(math.log10(nu / _FIG_NU)) < 1e-6 for nu in curves):
             curves.update(_fallback_curves(law, [1e-3, 1e-6, 1e-9, 1e-12]))
@@ -129,43 +145,50 @@ def analyse(sources) -> ReportData:
             band = {nu: (x[inside[nu]], d[inside[nu]]) for nu, (x, d) in curves.items()}
         data.band_curves[law] = band
         data.limit_curves[law] = _limit_curve(law)
+    data.limit_points["piecewise-linear"] = _engine_limit("piecewise-linear", _FIG2_LIMIT_NU_F)
     data.claims = claims_table(data.sources, extrapolations=data.extrapolations[("carlson-langer", 0.5)],
                                period_fits=data.period_fits)
+    for claim in data.claims:
+        if claim.fallback:
+            in_process(claim.fallback)
     return data
 
 
 # -- the document ---------------------------------------------------------------------------------------
 def _make_figures(data: ReportData, out: Path) -> list[tuple[str, str]]:
+    from ..analysis.extrapolate import PAPER_CL_HALF
+    from ..analysis.period_fit import DEFAULT_RELATIVE_ERROR
     from ..theory import delta0_piecewise_linear
 
     made = []
     pl, cl = data.curves.get("piecewise-linear", {}), data.curves.get("carlson-langer", {})
     x18 = np.linspace(0.0025, 0.5, 400)
-    lx, ld = data.limit_curves["piecewise-linear"]
-    pick = lx[np.isclose((lx * 100) % 5, 0) | np.isclose((lx * 100) % 5, 5)]
-    mask = np.isin(lx, pick)
-    fig = F.figure_fig2(pl, lx[mask], ld[mask], x18, delta0_piecewise_linear(x18))
+    lx, ld = data.limit_points["piecewise-linear"]
+    eq18_dev = float(np.max(np.abs(ld / delta0_piecewise_linear(lx) - 1)))
+    fig = F.figure_fig2(pl, lx, ld, x18, delta0_piecewise_linear(x18))
     made.append(("fig2_piecewise_linear.png", fig,
                  "Fig. 2 reproduced: slip Δ vs ν_f for the piecewise-linear law at several ν (lines), the "
                  "paper's Eq. (18) (dashed, with the jump at ν_f = 1/2) and the engine's direct ν → 0 limit "
-                 "(circles). Finite ν rounds the jump; the limit is Eq. (18) to 1e-16."))
+                 f"(circles). Finite ν rounds the jump; the limit is Eq. (18) to {eq18_dev:.0e} (relative)."))
     cx, cd = data.limit_curves["carlson-langer"]
-    fig = F.figure_fig3(cl, cx, cd, data.extrapolations.get(("carlson-langer", 0.5)))
+    ex_cl = data.extrapolations.get(("carlson-langer", 0.5))
+    fig = F.figure_fig3(cl, cx, cd, ex_cl)
     made.append(("fig3_carlson_langer.png", fig,
                  "Fig. 3 reproduced: Carlson–Langer law at ν = 1e-9 (thick, the paper's ν) and other ν, the "
-                 "direct ν → 0 limit (black) with its jump at 1/2, the paper's extrapolated 0.17 (red cross) "
-                 "and our extrapolation from finite ν (blue)."))
+                 f"direct ν → 0 limit (black) with its jump at 1/2, the paper's extrapolated {PAPER_CL_HALF:g} "
+                 "(red cross) and our extrapolation from finite ν (blue)."))
     crit = {law: data.extrapolations[(law, 0.5)] for law in LAWS if (law, 0.5) in data.extrapolations}
     made.append(("critical_extrapolation.png", F.figure_critical(crit),
                  "Δ at ν_f = 1/2 against ε = 1/W(1/(2eν)) (top axis: ν). Convergence is logarithmic in ν; "
-                 "polynomials in ε extrapolate to the direct limit (star). The paper's 0.17 (red cross) is "
-                 "where finite-ν Δ would be at ν ≈ "
-                 + _fmt(_reach(data.extrapolations.get(("carlson-langer", 0.5))), ".0e")
+                 f"polynomials in ε extrapolate to the direct limit (star). The paper's {PAPER_CL_HALF:g} (red "
+                 "cross) is where finite-ν Δ would be at ν ≈ "
+                 + _fmt(ex_cl.nu_reaching_paper if ex_cl is not None else None, ".0e")
                  + " (the fitted model), not at ν → 0."))
     made.append(("period_expansion.png", F.figure_period(data.period_fits),
                  "Recurrence time: T − Δ0/ν (Δ0 the direct limit) against ν at ν_f = 0.2, 0.3, 0.4, with the "
                  "fitted expansion (solid) and the paper's logarithm (α − ω) ln(1/ν) alone (dashed). The "
-                 "power K ν^−(α−ω)² dominates. Bottom: residuals in units of the data error (≈ 2e-16 T)."))
+                 "power K ν^−(α−ω)² dominates. Bottom: residuals in units of the data error "
+                 f"(≈ {DEFAULT_RELATIVE_ERROR:.0e} T)."))
     made.append(("transition_rounding.png",
                  F.figure_rounding(data.band_curves, data.limit_curves),
                  "Finite-ν rounding of the transition near ν_f = 1/2: Δ vs ν_f at several ν, and the ν → 0 "
@@ -176,13 +199,6 @@ def _make_figures(data: ReportData, out: Path) -> list[tuple[str, str]]:
         F.save(fig, out / name)
         files.append((name, caption))
     return files
-
-
-def _reach(ex):
-    """ν at which the Carlson–Langer Δ(ν) at 1/2 comes down to the paper's value (NaN if not known)."""
-    if ex is None:
-        return float("nan")
-    return next((v for k, v in ex.naive.items() if k.startswith("ν at which")), float("nan"))
 
 
 def _at(ex, nu: float) -> float:
@@ -196,8 +212,17 @@ def _fmt(x, spec=".6g") -> str:
     return format(x, spec)
 
 
+def _sci(x: float) -> str:
+    """Scientific notation as the text writes it: 1e-3, 2.2e-16."""
+    mantissa, exponent = f"{x:e}".split("e")
+    return f"{mantissa.rstrip('0').rstrip('.')}e{int(exponent)}"
+
+
 def _findings(data: ReportData, ex_cl, ex_pl, errata) -> list[str]:
     """The summary bullets, each worded from a computed verdict."""
+    from ..analysis.extrapolate import PAPER_CL_HALF
+
+    paper = f"{PAPER_CL_HALF:g}"
     verdict = {c.key: c.verdict for c in data.claims}
     counts: dict = {}
     for c in data.claims:
@@ -212,12 +237,13 @@ def _findings(data: ReportData, ex_cl, ex_pl, errata) -> list[str]:
     if ex_cl is not None:
         agree = "agrees with" if ex_cl.consistent else "DISAGREES with"
         judged = "is wrong" if verdict.get("cl_half_0.17") == "refuted" else "holds"
-        out.append(f"The paper's Δ = 0.17 at ν_f = 1/2 (Carlson–Langer) {judged}: from finite ν we extrapolate "
-                   f"{ex_cl.delta0_extrapolated:.5f} ± {ex_cl.uncertainty:.1e}, which {agree} the direct limit "
-                   f"{ex_cl.delta0_direct:.10f}; 0.17 is {0.17 / ex_cl.delta0_direct - 1:+.0%} off. "
+        out.append(f"The paper's Δ = {paper} at ν_f = 1/2 (Carlson–Langer) {judged}: from finite ν we "
+                   f"extrapolate {ex_cl.delta0_extrapolated:.5f} ± {ex_cl.uncertainty:.1e}, which {agree} the "
+                   f"direct limit {ex_cl.delta0_direct:.10f}; {paper} is "
+                   f"{PAPER_CL_HALF / ex_cl.delta0_direct - 1:+.0%} off. "
                    f"Convergence in ν is logarithmic: Δ(1e-9) = {_at(ex_cl, 1e-9):.4f}, "
                    f"Δ(1e-15) = {_at(ex_cl, 1e-15):.4f}, "
-                   f"and Δ(ν) comes down to 0.17 only near ν ≈ {_reach(ex_cl):.0e}.")
+                   f"and Δ(ν) comes down to {paper} only near ν ≈ {_fmt(ex_cl.nu_reaching_paper, '.0e')}.")
     if data.period_fits:
         worst = max(abs(f.relative_deviation) for f in data.period_fits)
         ks = min(f.K for f in data.period_fits), max(f.K for f in data.period_fits)
@@ -234,6 +260,8 @@ def _findings(data: ReportData, ex_cl, ex_pl, errata) -> list[str]:
 
 def _blocks(data: ReportData, files) -> list:
     from .. import __version__
+    from ..analysis.extrapolate import CRITICAL_ORDERS, CRITICAL_WINDOWS, PAPER_CL_HALF
+    from ..analysis.period_fit import DEFAULT_RELATIVE_ERROR, DEFAULT_WINDOWS
     from ..theory import ERRATA
 
     ex_cl = data.extrapolations.get(("carlson-langer", 0.5))
@@ -243,8 +271,7 @@ def _blocks(data: ReportData, files) -> list:
                    "The paper claims a first-order (discontinuous) transition from stick-slip to creep at ν_f = 1/2 as "
                    "ν → 0. Each number below is computed by this package (engine, direct ν → 0 limit, fits); "
                    "units: Δ in F0/k, ν and ν_f in V0 = F0/√(mk), times in √(m/k)."))
-    findings = _findings(data, ex_cl, ex_pl, ERRATA)
-    b.append(("ul", [f for f in findings if f]))
+    b.append(("ul", _findings(data, ex_cl, ex_pl, ERRATA)))
     b.append(("h2", "Claims"))
     b.append(("table", ["where", "the paper says", "we measure", "agreement", "verdict"],
               [[c.where, f"{c.statement}: {c.paper}", c.measured, c.agreement, c.verdict]
@@ -253,8 +280,10 @@ def _blocks(data: ReportData, files) -> list:
     b.append(("table", ["equation", "printed", "corrected", "cause", "evidence"],
               [[e.equation, e.printed, e.corrected, e.cause, e.evidence] for e in ERRATA]))
     b.append(("h2", "Δ(ν → 0): extrapolated from finite ν vs the direct limit"))
-    b.append(("p", "At ν_f = 1/2: polynomials of order 2–5 in ε = 1/W(1/(2eν)) (+ ν/ε, ν) over the windows "
-                   "ν ≤ 1e-5, 1e-7, 1e-9; the estimate is the median, the uncertainty the largest deviation "
+    b.append(("p", f"At ν_f = 1/2: polynomials of order {min(CRITICAL_ORDERS)}–{max(CRITICAL_ORDERS)} in "
+                   "ε = 1/W(1/(2eν)) (+ ν/ε, ν) over the windows ν ≤ "
+                   + ", ".join(_sci(w) for w in CRITICAL_WINDOWS)
+                   + "; the estimate is the median, the uncertainty the largest deviation "
                    "from it combined with the largest covariance error. Below 1/2: the expansion of the "
                    "recurrence-time section with Δ0 free. The direct limit is the engine's ν = 0 orbit (quad; "
                    "its error is |quad − double|)."))
@@ -272,16 +301,18 @@ def _blocks(data: ReportData, files) -> list:
                   [[m.model, f"{m.nu_max:g}", str(m.n_points), f"{m.delta0:.8f}", f"{m.stderr:.1e}",
                     f"{m.residual_max:.1e}"] for m in ex_cl.models]))
         naive = "; ".join(f"{k}: {v:.4g}" for k, v in ex_cl.naive.items())
-        b.append(("p", "How a value like 0.17 arises — extrapolations that assume faster than logarithmic "
+        b.append(("p", f"How a value like {PAPER_CL_HALF:g} arises — extrapolations that assume faster than "
+                       "logarithmic "
                        f"convergence, or no extrapolation: {naive}."))
     b.append(("h2", "Recurrence time: T − Δ0/ν = (α − ω) ln(1/ν) + C0 + K ν^−r + …"))
     b.append(("p", "r = (α − ω)² = λ−/λ+. The slow mode of the start grows to ~ν^(1−r) by the time the fast "
                    "mode has carried the block out, so the expansion holds the powers ν^(j(1−r)+k−1) (with ln(1/ν) "
                    "companions where the eigenvalues depend on ν, and at the resonances λ+ = 9λ− (ν_f = 0.3) "
                    "and 4λ− (ν_f = 0.4), which add ν^(m−1) ln(1/ν), below the data precision for ν ≤ 1e-5). "
-                   "Linear least squares, r fixed, weights 1/(2.2e-16 T); the higher terms are chosen by the "
-                   "data (smallest model whose residuals are at the data precision) in each window ν ≤ 1e-3, "
-                   "1e-5, 1e-7; the uncertainty includes the spread over windows."))
+                   f"Linear least squares, r fixed, weights 1/({_sci(DEFAULT_RELATIVE_ERROR)} T); the higher terms "
+                   "are chosen by the data (smallest model whose residuals are at the data precision) in each "
+                   "window ν ≤ " + ", ".join(_sci(w) for w in DEFAULT_WINDOWS)
+                   + "; the uncertainty includes the spread over windows."))
     b.append(("table", ["law", "ν_f", "r", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "K2",
                         "terms", "ν ≤", "max |residual|", "max residual/error"],
               [[f.law, f"{f.nu_f:g}", f"{f.exponent_r:.5f}",
@@ -386,7 +417,7 @@ def write_report(sources, out, *, data: ReportData | None = None) -> dict:
     """
     from ..analysis import load_stores
 
-    sources = [s for s in (sources if isinstance(sources, (list, tuple)) else [sources])]
+    sources = list(sources) if isinstance(sources, (list, tuple)) else [sources]
     opened = []
     for s in sources:
         opened.extend(load_stores(s) if isinstance(s, (str, Path)) else [s])
