@@ -18,9 +18,11 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_scheduler", "check_workers", "connect", "describe"]
+__all__ = ["WORKERS_TIMEOUT", "check_scheduler", "check_workers", "connect", "describe", "wait_for_workers"]
 
 _CONNECT_TIMEOUT = "10s"
+#: Seconds ``--workers N`` waits for N workers to connect to an existing scheduler before giving up.
+WORKERS_TIMEOUT = 120.0
 
 
 def check_scheduler(scheduler) -> tuple[str, object, str] | None:
@@ -66,8 +68,29 @@ def describe(target) -> str:
     return f"{target[0]} {target[1]}"
 
 
+def wait_for_workers(client, workers: int, where: str, timeout: float | None = None, stream=None) -> None:
+    """Wait until ``workers`` workers are connected, saying so on stderr; ``InputError`` after ``timeout``."""
+    import sys
+
+    timeout = WORKERS_TIMEOUT if timeout is None else timeout
+    connected = len(client.nthreads())
+    if connected >= workers:
+        return
+    stream = stream or sys.stderr
+    stream.write(f"bifurcation: waiting for {workers} workers at {where} ({connected} connected), "
+                 f"up to {timeout:g} s\n")
+    stream.flush()
+    try:
+        client.wait_for_workers(workers, timeout=timeout)
+    except (TimeoutError, OSError):
+        connected = len(client.nthreads())
+        raise InputError("--workers", workers, f"only {connected} workers connected to {where} within "
+                         f"{timeout:g} s", f"start more `dask worker {where}` processes, or pass --workers "
+                         f"{max(connected, 1)} (or --workers-timeout longer)") from None
+
+
 @contextmanager
-def connect(target, workers: int | None = None):
+def connect(target, workers: int | None = None, timeout: float | None = None):
     """A ``distributed.Client`` for ``target`` (from ``check_scheduler``); closes what it started."""
     from distributed import Client, LocalCluster
 
@@ -84,7 +107,7 @@ def connect(target, workers: int | None = None):
     kind, where, source = target
     if kind == "client":
         if workers:
-            where.wait_for_workers(workers)
+            wait_for_workers(where, workers, where.scheduler.address, timeout)
         yield where
         return
     try:
@@ -97,7 +120,7 @@ def connect(target, workers: int | None = None):
                          "start `dask scheduler` there or check the address / scheduler file") from None
     try:
         if workers:
-            client.wait_for_workers(workers)
+            wait_for_workers(client, workers, where, timeout)
         yield client
     finally:
         client.close()

@@ -95,7 +95,8 @@ def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
 
 
 def submit(workflow, store=None, scheduler=None, workers=None, progress=None, new_store: bool = False, *,
-           writer: str = "workers", retries: int = 3, command: str | None = None, only=None) -> Summary:
+           writer: str = "workers", retries: int = 3, command: str | None = None, only=None,
+           workers_timeout: float | None = None) -> Summary:
     """Compute the missing points of ``workflow`` into ``store``; returns a ``Summary``.
 
     Parameters
@@ -110,7 +111,8 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
         one cluster); default ``DASK_SCHEDULER_ADDRESS`` or else an embedded local cluster of
         ``workers`` processes (default: the number of cores).
     workers : int, optional
-        Embedded: the number of worker processes. With a scheduler: wait for that many workers.
+        Embedded: the number of worker processes. With a scheduler: wait for that many workers, at
+        most ``workers_timeout`` seconds (default ``cluster.WORKERS_TIMEOUT``), saying so on stderr.
     progress : None, bool or callable
         See ``bifurcation.run.progress.Progress`` (default: a counter on stderr if it is a terminal).
     writer : {"workers", "client"}
@@ -145,7 +147,7 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     lock = StoreLock(path).acquire(command=command)   # one writer per store (store.lock)
     try:
         return _submit_locked(workflow, path, target, workers, progress, new_store, writer, retries, command,
-                              started, only)
+                              started, only, workers_timeout)
     finally:
         lock.release()
         if not existed:
@@ -161,7 +163,7 @@ def _remove_if_empty(path: Path) -> None:
 
 
 def _submit_locked(workflow, path, target, workers, progress, new_store, writer, retries, command, started,
-                   only) -> Summary:
+                   only, workers_timeout) -> Summary:
     from ..store import check_store, create_store, record_submit, store_kind
 
     kind = store_kind(path)   # again, under the lock
@@ -188,7 +190,7 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
     compute_time = 0.0
     cluster_name = "nothing to compute"
     if todo:   # fresh stores always have work; the cluster comes first so a bad one writes nothing
-        with connect(target, workers) as client:
+        with connect(target, workers, workers_timeout) as client:
             if fresh:
                 attrs = create_store(path, workflow, command=command, overwrite=new_store)
             cluster_name = describe(target)
