@@ -237,8 +237,8 @@ def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: 
     if fmt == "csv":
         writer = csv.writer(out, lineterminator="\n")
         writer.writerow(COLUMNS)
-        for record in records:
-            writer.writerow([_cell(record.get(c)) for c in COLUMNS])
+        for record in records:   # csv writes floats with repr (exact) and None as an empty cell
+            writer.writerow([record[c] for c in COLUMNS])
             n += 1
         return n
     if law_width is None:
