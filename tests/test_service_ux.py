@@ -125,3 +125,47 @@ def test_dashboard_link_serves_the_page(tmp_path, monkeypatch):
     assert status == 200
     assert "needs bokeh" not in body.lower()   # what the page says when bokeh is missing
     assert "bokeh" in body.lower()             # the dashboard's own page loads bokeh's scripts
+
+
+def test_an_option_given_twice_is_refused_in_one_line():
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    for args in (["slip", "--law", "carlson-langer", "--nu", "1e-9", "--nu", "1e-12", "--nu-f", "0.4"],
+                 ["slip", "--law=carlson-langer", "--nu=1e-9", "--nu-f", "0.4", "--nu-f=0.3"]):
+        result = CliRunner().invoke(cli, args)
+        assert result.exit_code == 2, result.output
+        [line] = result.output.splitlines()
+        assert "is given twice" in line and "give it once" in line
+    # repeatable options stay repeatable
+    assert "--nu" in {p.opts[0] for p in cli.commands["query"].params if getattr(p, "multiple", False)}
+
+
+def test_ctrl_c_exits_130_and_says_how_to_resume(monkeypatch):
+    from click.testing import CliRunner
+
+    import bifurcation.engine
+    from bifurcation.cli import cli
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(bifurcation.engine, "slip", interrupted)
+    result = CliRunner().invoke(cli, ["slip", "--law", "carlson-langer", "--nu", "1e-9", "--nu-f", "0.4"])
+    assert result.exit_code == 130
+    assert "submit the same workflow again to resume" in result.output
+
+
+def test_text_output_prints_shortest_exact_numbers_and_no_none():
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    result = CliRunner().invoke(cli, ["slip", "--law", "carlson-langer", "--nu", "1e-12", "--nu-f", "0.6"])
+    assert result.exit_code == 0, result.output
+    rows = dict(line.split(None, 1) for line in result.output.splitlines())
+    assert rows["nu"] == "1e-12" and rows["nu_f"] == "0.6"
+    assert rows["creep_time"] == "—"            # undefined in creep: a dash, not None or nan
+    assert float(rows["delta"]) == bf.slip("carlson-langer", nu=1e-12, nu_f=0.6).delta   # exact
+    assert "None" not in result.output

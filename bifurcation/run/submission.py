@@ -71,8 +71,9 @@ class Summary:
             f"points: {self.points} in the grid, {self.computed} computed, {self.skipped} skipped "
             f"(already done), {self.failed} failed",
             f"statuses of computed points: {statuses}",
-            f"wall time {self.wall_time:.2f} s ({self.compute_time:.2f} s computing), "
-            f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}",
+            (f"wall time {self.wall_time:.2f} s ({self.compute_time:.2f} s computing), "
+             f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}")
+            if self.tiles else "nothing to compute: every point of the grid is already done",
         ]
         lines += [f"error: {e}" for e in self.errors]
         if self.failed:
