@@ -122,10 +122,10 @@ class _Plan:
     def __init__(self, path, law, nu, nu_f) -> None:
         from .store import check_store
         from .store.integrity import TileReader
-        from .store.lock import holder
 
         check_store(path, None, argument="store")
-        self.reader = reader = TileReader(path, in_progress=holder(path) is not None)
+        # a tile being written (or left half written by a killed run) reads as not computed
+        self.reader = reader = TileReader(path, in_progress=True)
         self.dims = tuple(reader.done.metadata.dimension_names or ("law", "nu_f", "nu"))
         labels = {name: self._coordinate(name) for name in self.dims}
         self.labels = {"law": [str(x) for x in labels["law"]],

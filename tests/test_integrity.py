@@ -113,12 +113,29 @@ def test_faults_are_detected_never_shown_and_repaired_bit_for_bit(tmp_path, refe
 def test_done_directory_deleted(tmp_path, reference, scheduler):
     path = write_store(tmp_path / "s.zarr")
     shutil.rmtree(path / "done")
-    with pytest.raises(InputError, match=r"damaged done mask.*verify --store .* --repair"):
-        submit(W, store=path, scheduler=scheduler, progress=False)
     with pytest.raises(StoreDamagedError, match=r"done/zarr.json"):
         query(path)
     report = verify(path, repair=True, scheduler=scheduler, progress=False)
-    assert report.restored == ("done",) and report.ok
+    assert report.restored == ("done",) and report.ok and report.repaired_tiles == 8
+    assert_store_equals(path, reference)
+
+
+def test_a_resume_finds_and_recomputes_damaged_tiles(tmp_path, reference, scheduler):
+    path = write_store(tmp_path / "s.zarr")
+    shutil.rmtree(path / "done")                         # was: a KeyError traceback
+    summary = submit(W, store=path, scheduler=scheduler, progress=False)
+    # the done array's metadata is restored; no point is vouched for, so every tile is computed again
+    assert (summary.repaired, summary.computed, summary.skipped) == (0, W.n_points, 0)
+    assert_store_equals(path, reference)
+    (path / "delta" / "c" / "1" / "0" / "0").unlink()    # was: never repaired by a resume
+    summary = submit(W, store=path, scheduler=scheduler, progress=False)
+    assert (summary.repaired, summary.computed) == (1, 4 * 3)
+    assert "recomputed: 1" in str(summary)
+    assert_store_equals(path, reference)
+    chunk = path / "steps" / "c" / "0" / "1" / "1"
+    chunk.write_bytes(chunk.read_bytes()[:-3])           # truncated: was "0 computed"
+    summary = submit(W, store=path, scheduler=scheduler, progress=False)
+    assert (summary.repaired, summary.computed) == (1, 4 * 3)
     assert_store_equals(path, reference)
 
 

@@ -49,6 +49,7 @@ class Summary:
     statuses: dict = field(default_factory=dict)   # status name → computed points
     cluster: str = ""
     errors: tuple = ()
+    repaired: int = 0           # damaged or half-written tiles found on resume, cleared and recomputed
 
     @property
     def points_per_second(self) -> float:
@@ -75,6 +76,8 @@ class Summary:
              f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}")
             if self.tiles else "nothing to compute: every point of the grid is already done",
         ]
+        if self.repaired:
+            lines.append(f"damaged or half-written tiles found in the store and recomputed: {self.repaired}")
         lines += [f"error: {e}" for e in self.errors]
         if self.failed:
             lines.append("some tiles failed: submit the same workflow again to compute the rest")
@@ -187,8 +190,13 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
                          "choose another --store path (it is never overwritten)")
     fresh = kind == "missing" or new_store
     attrs = None
+    repaired = 0
     if not fresh:
         attrs = check_store(path, workflow)   # refuses another workflow: nothing is written
+        if only is None:   # a resume checks every chunk first and recomputes damaged tiles (verify --repair)
+            from .repair import clear_damage
+
+            repaired = clear_damage(path, workflow)
         done = _read_done(path)
         if only is not None:   # verify --repair: only these regions are to compute
             keep = np.ones_like(done)
@@ -225,7 +233,7 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
                       skipped=skipped, failed=failed, tiles=n_tiles, wall_time=wall,
                       compute_time=compute_time,
                       statuses={str(Status(i)): int(n) for i, n in enumerate(statuses) if n},
-                      cluster=cluster_name, errors=tuple(errors[:5]))
+                      cluster=cluster_name, errors=tuple(errors[:5]), repaired=repaired)
     record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,
                          "wall_time": round(wall, 3), "cluster": cluster_name})
     return summary
