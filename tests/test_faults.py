@@ -178,3 +178,16 @@ def test_workers_wait_with_a_message_and_a_timeout(here, scheduler):
     assert waiting == f"bifurcation: waiting for 5 workers at {scheduler} (1 connected), up to 1 s"
     assert error.startswith("bifurcation: error: --workers=5: only 1 workers connected") and "--workers 1" in error
     assert not (here / "s.zarr").exists()
+
+
+def test_the_python_api_refuses_the_same_bounds():
+    import bifurcation as bf
+    from bifurcation.errors import InputError
+
+    for kwargs, needle in ((dict(nu=1e-21, nu_f=0.4), "nu=1e-21: is outside [1e-20, 1]"),
+                           (dict(nu=1e-9, nu_f=0.4, max_steps=10**18), "max_steps=1000000000000000000"),
+                           (dict(nu=1e-9, nu_f=0.4, t_max=1e300), "t_max=1e+300")):
+        with pytest.raises(InputError, match=needle.replace("[", r"\[").replace("+", r"\+")):
+            bf.slip("carlson-langer", **kwargs)
+    with pytest.raises(InputError, match=r"nu_f=20.0: is outside"):
+        bf.limit("carlson-langer", nu_f=20.0)

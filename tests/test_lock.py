@@ -41,6 +41,18 @@ def test_a_second_lock_is_refused_naming_the_holder(tmp_path):
     assert not (path / LOCK_NAME).exists() and holder(path) is None
 
 
+def test_verify_and_repair_wait_for_the_writer(tmp_path):
+    from bifurcation.run.repair import verify
+
+    path = tmp_path / "s.zarr"
+    create_store(path, W)
+    with StoreLock(path).acquire():
+        for repair in (False, True):   # its tiles in progress are not damage: no verdict while it runs
+            with pytest.raises(InputError, match=r"is being written by run .*verify it when that run has ended"):
+                verify(path, repair=repair)
+    assert verify(path).ok
+
+
 def test_a_stale_lock_of_a_dead_process_is_taken_over(tmp_path):
     path = tmp_path / "s.zarr"
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
