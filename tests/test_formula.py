@@ -278,3 +278,20 @@ def test_refusal_tells_how_to_write_a_law():
 def test_refused_through_resolve_law():
     with pytest.raises(InputError, match=r"Φ'\(0\) = -2"):
         resolve_law("1/(1+x)^2")
+
+
+@pytest.mark.parametrize("pole", [0.0123456789, 0.987654321, 3.14159, 47.5, 1234.5678, 98765.4321])
+def test_a_pole_anywhere_in_range_is_found_where_it_is(pole):
+    # Φ = 1/(1+x) + 0·x/(x − c) is Carlson–Langer with a pole at x = c (a closed form): the engine would
+    # meet 0·inf = NaN there. Samples miss it unless c is one of them; interval arithmetic must corner it:
+    # its narrowest interval is 1e-12 · max(x, 1) wide, and the message prints 12 significant digits.
+    with pytest.raises(InputError, match=r"near x = ") as info:
+        parse_formula(f"1/(1+x) + 0*x/(x - {pole!r})")
+    where = float(str(info.value).split("near x = ")[1].split(":")[0])
+    assert abs(where - pole) <= 1e-12 * max(pole, 1) + 1e-11 * pole
+
+
+@pytest.mark.parametrize("text", ["1/(1+x)", "exp(-x)", "1/(1 + x + 0.1*sin(x)^2)", "1/(1+x)^0.5/(1+x)^0.5",
+                                  "1/(1 + x + x^2/(1 + x^2))", "piecewise(1 - x, 1, 0)"])
+def test_laws_finite_everywhere_pass_the_interval_check(text):
+    parse_formula(text)   # no pole, no undefined point on 0 ≤ x ≤ 1e5: must not be refused
