@@ -96,14 +96,14 @@ name = "two-writers"
 laws = ["piecewise-linear", "carlson-langer"]
 
 [grid.nu]
-log = { start = 1e-3, stop = 1e-15, num = 128 }
+log = { start = 1e-3, stop = 1e-15, num = 256 }
 
 [grid.nu_f]
-ranges = [{ start = 0.02, stop = 0.96, num = 48 }]
+ranges = [{ start = 0.02, stop = 0.96, num = 96 }]
 
 [tiles]
-nu_f = 4
-nu = 32
+nu_f = 8
+nu = 64
 """
 
 
@@ -118,20 +118,23 @@ def test_two_real_submits_on_one_store(tmp_path):
                               "--json"], cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, start_new_session=True)
     try:
+        # the lock is taken before the cluster starts; then ~50 000 points (several seconds of one
+        # core) are computed: both others start (concurrently) well inside that window
         deadline = time.monotonic() + 120
-        while not (store / "done" / "c").exists() and time.monotonic() < deadline and first.poll() is None:
-            time.sleep(0.05)
+        while not (store / LOCK_NAME).exists() and time.monotonic() < deadline and first.poll() is None:
+            time.sleep(0.01)
         assert first.poll() is None, "the first submit ended before the others could start"
-        runs = [subprocess.run([str(BIN / "bifurcation"), "submit", *args, "--store", str(store), "--workers", "1"],
-                               cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120)
-                for args in (["w.toml"], ["b.toml", "--new-store"])]
-        out, err = first.communicate(timeout=300)
+        others = [subprocess.Popen([str(BIN / "bifurcation"), "submit", *args, "--store", str(store), "--workers",
+                                    "1"], cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                   text=True) for args in (["w.toml"], ["b.toml", "--new-store"])]
+        runs = [subprocess.CompletedProcess(p.args, p.wait(120), *p.communicate()) for p in others]
+        out, err = first.communicate(timeout=600)
     finally:
         if first.poll() is None:
             os.killpg(first.pid, signal.SIGKILL)
     assert first.returncode == 0, err
     summary = json.loads(out)
-    assert (summary["computed"], summary["failed"]) == (2 * 128 * 48, 0)
+    assert (summary["computed"], summary["failed"]) == (2 * 256 * 96, 0)
     for run in runs:
         assert run.returncode == 2 and run.stdout == ""
         (line,) = run.stderr.strip().splitlines()
