@@ -103,7 +103,9 @@ def connect(target, workers: int | None = None, timeout: float | None = None, *,
         n = workers or os.cpu_count() or 1
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                dashboard_address=":8787" if dashboard else None,
-                               silence_logs=logging.ERROR)
+                               # a failed task (disk full, a bad tile) is reported once in the summary;
+                               # the workers' own "Compute Failed" tracebacks would reach the user's stderr
+                               silence_logs=logging.CRITICAL)
         try:
             with Client(cluster, set_as_default=False) as client:
                 yield client

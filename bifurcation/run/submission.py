@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import time
 import uuid
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -234,8 +234,11 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
                       compute_time=compute_time,
                       statuses={str(Status(i)): int(n) for i, n in enumerate(statuses) if n},
                       cluster=cluster_name, errors=tuple(errors[:5]), repaired=repaired)
-    record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,
-                         "wall_time": round(wall, 3), "cluster": cluster_name})
+    try:
+        record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,
+                             "wall_time": round(wall, 3), "cluster": cluster_name})
+    except OSError as exc:   # disk full at the end: the tiles written are kept; say so, do not lose the summary
+        summary = replace(summary, errors=(*summary.errors, f"store history not updated: {exc.strerror or exc}"))
     return summary
 
 
