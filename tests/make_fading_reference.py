@@ -6,6 +6,7 @@ Run once (about an hour on one core; the values do not depend on the machine):
     # or in two processes, then merged:
     python tests/make_fading_reference.py --part=0/2 & python tests/make_fading_reference.py --part=1/2
     python tests/make_fading_reference.py --merge
+    python tests/make_fading_reference.py --table    # the engine's errors against the file
 
 Each value comes from ``bifurcation.reference_taylor`` (an mpmath Taylor integrator that shares no
 code with the engine or the law parser) at dps 30 with 10 guard digits, i.e. good to ≪ 1e-25
@@ -17,6 +18,7 @@ run keeps what it has and ``--only-missing`` resumes it.
 from __future__ import annotations
 
 import json
+import math
 import pathlib
 import sys
 import time
@@ -91,9 +93,35 @@ def _merge() -> None:
     print(f"{OUT}: {len(data['points'])} points")
 
 
+def _table() -> None:
+    """Print the engine's relative errors against the stored values as a Markdown table."""
+    import bifurcation as bf
+
+    names = {"exp(-x)": "exponential", "1/(1 + x)": "carlson-langer"}
+    points = json.loads(OUT.read_text())["points"].values()
+    print("| law | ν | ν_f | double | quad | batch 4 | status |\n|---|---|---|---|---|---|---|")
+    for p in sorted(points, key=lambda p: (p["kind"], p["law"], p["nu_f"], -(p["nu"] or 0))):
+        law = names.get(p["law"], p["law"])
+        if p["kind"] == "cycle":
+            ref = mpmath.mpf(p["delta"])
+            runs = [bf.slip(law, nu=p["nu"], nu_f=p["nu_f"], precision=pr) for pr in ("double", "quad")]
+            runs.append(bf.slip(law, nu=[p["nu"]] * 2, nu_f=[p["nu_f"]] * 2, batch=4))
+            errors = [abs(float(r.delta.ravel()[0] / ref - 1)) for r in runs]
+            status, nu = runs[0].status_names().item(), f"{p['nu']:g}"
+        else:
+            ref = mpmath.mpf(p["delta0"])
+            runs = [bf.limit(law, nu_f=p["nu_f"], precision=pr) for pr in ("double", "quad")]
+            errors = [abs(float(r.delta0.item() / ref - 1)) for r in runs] + [math.nan]
+            status, nu = "limit Δ0", "→ 0"
+        print(f"| {p['law']} | {nu} | {p['nu_f']:g} | " + " | ".join(
+            "—" if e != e else f"{e:.1e}" for e in errors) + f" | {status} |", flush=True)
+
+
 def main(argv) -> None:
     if "--merge" in argv:
         return _merge()
+    if "--table" in argv:
+        return _table()
     # --part k/m: every m-th job from the k-th, into its own file (run m processes, then --merge)
     k, m = next((tuple(map(int, a.split("=")[1].split("/"))) for a in argv if a.startswith("--part=")), (0, 1))
     out = OUT.with_name(f"fading_reference.part{k}.json") if m > 1 else OUT

@@ -154,19 +154,26 @@ def test_fading_laws_get_a_ladder_with_the_promised_spacing(law):
 
 
 # -- points the engine cannot vouch for -------------------------------------------------------------------------
-def test_beyond_the_checked_range_is_unresolved_not_stick_slip():
-    # ν_f = 1e-7: U̇/ν_f reaches ~1e7 > 1e6, the end of the scan; a fading or algebraic law is then
-    # unresolved (NaN fields, a message), in scalar, batch and limit alike; a law whose last piece is
-    # constant (nothing to resolve) is not.
-    for law in ("exponential", "carlson-langer"):
-        r = bf.slip(law, nu=[1e-9, 1e-9], nu_f=[1e-7, 0.3])
-        assert r.status_names().tolist() == ["unresolved", "stick-slip"]
-        assert math.isnan(r.delta[0]) and "beyond x = 1e+06" in r.messages[0]
-        rb = bf.slip(law, nu=[1e-9, 1e-9], nu_f=[1e-7, 0.3], batch=2)
-        assert rb.status_names().tolist() == ["unresolved", "stick-slip"]
-        lim = bf.limit(law, nu_f=[1e-7, 0.3])
-        assert lim.status_names().tolist() == ["unresolved", "stick-slip"] and math.isnan(lim.delta0[0])
-    pl = bf.slip("piecewise-linear", nu=1e-9, nu_f=1e-7)
-    assert pl.status_names().item() == "stick-slip"
+def test_beyond_the_checked_range_is_unresolved_not_stick_slip(monkeypatch):
+    # The accepted ν_f ≥ 1e-4 keep U̇/ν_f ≤ 2e4 < 1e5, the end of the scan; so the range is injected:
+    # checked only up to x = 50, a point reaching x ~ 1000 (ν_f = 1e-3) is unresolved (NaN fields, a
+    # message), in scalar, batch and limit alike, and one staying below (ν_f = 0.3) is not.
+    real = _fading.ladder
+    monkeypatch.setattr(_integrator, "_CACHE", {})
+    monkeypatch.setattr(_integrator, "ladder", lambda law, precision: _fading.Ladder(real(law, precision).rungs, 50.0))
+    r = bf.slip("exponential", nu=[1e-9, 1e-9], nu_f=[1e-3, 0.3])
+    assert r.status_names().tolist() == ["unresolved", "stick-slip"]
+    assert math.isnan(r.delta[0]) and "beyond x = 50" in r.messages[0] and math.isfinite(r.delta[1])
+    rb = bf.slip("exponential", nu=[1e-9, 1e-9], nu_f=[1e-3, 0.3], batch=2)
+    assert rb.status_names().tolist() == ["unresolved", "stick-slip"]
+    lim = bf.limit("exponential", nu_f=[1e-3, 0.3])
+    assert lim.status_names().tolist() == ["unresolved", "stick-slip"] and math.isnan(lim.delta0[0])
     assert Status.parse("unresolved") is Status.UNRESOLVED and str(Status.UNRESOLVED) == "unresolved"
-    assert r.to_records()[0]["status"] == "unresolved" and r.to_records()[0]["delta"] is None
+    record = r.to_records()[0]
+    assert record["status"] == "unresolved" and record["delta"] is None and "message" in record
+
+
+def test_a_law_with_a_constant_last_piece_is_checked_to_infinity():
+    # Nothing to resolve on a constant piece: no point of Eq. (12) can be unresolved.
+    assert _fading.ladder(resolve_law("piecewise-linear"), "double").x_checked == math.inf
+    assert _fading.ladder(resolve_law("carlson-langer"), "double").x_checked == _fading.X_CHECKED

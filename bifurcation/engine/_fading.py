@@ -33,14 +33,15 @@ passes validation, built-in or formula, smooth or piecewise):
    state, so d/ℓ ≤ (p!·u/θ)^{1/p} ≈ 2.6 (double) or 3.1 (quad): the fading part grows by ≤ e^3 per
    step and its rounding error stays a few u.
 
-Algebraic laws have V ≥ θ up to x_checked (1/(1+x): V ≈ 1/x ≥ 1e-6), so they get no rungs and cost
+Algebraic laws have V ≥ θ up to x_checked (1/(1+x): V ≈ 1/x ≥ 1e-5), so they get no rungs and cost
 nothing; piecewise laws are handled piece by piece (a constant piece has V = 0 ≤ u/16 throughout:
 no rungs). For e^{−x} the ladder is x = 43 … 16.5 in steps of 2 in double (15 rungs) and x = 85 …
 16.5 in quad (36 rungs): quad's ladder is derived for its own u and does not share double's.
 
-``x_checked`` bounds the scan (1e6, or where ``drop_mp`` stops being finite); the engine reaches
-x ≈ max U̇/ν_f ≈ 1/ν_f. A point that goes beyond it is reported as ``unresolved`` by the engine,
-unless the law's last piece is constant over the whole scan (g' = 0: nothing there to resolve).
+``x_checked`` bounds the scan (1e5, or where ``drop_mp`` stops being finite); the engine reaches
+x ≈ max U̇/ν_f ≈ 1/ν_f ≤ 2e4 for the ν_f ≥ 1e-4 of ``bifurcation.bounds``. A point that goes beyond it
+is reported as ``unresolved`` by the engine, unless the law's last piece is constant over the whole
+scan (g' = 0: nothing there to resolve).
 """
 
 from __future__ import annotations
@@ -55,8 +56,9 @@ from ..laws import FrictionLaw
 
 __all__ = ["Ladder", "ladder"]
 
-#: Largest x the scan checks: the engine reaches x ≈ 1/ν_f, so ν_f ≳ 2e-6 is covered.
-X_CHECKED = 1.0e6
+#: Largest x the scan checks. The engine reaches x = max U̇/ν_f ≈ 1/ν_f ≤ 2e4 for the ν_f ≥ 1e-4 it
+#: accepts (``bifurcation.bounds``): a margin of 5.
+X_CHECKED = 1.0e5
 #: Friction is visible to heyoka's step control where V(x) = |g'(x)|·max(1, x) ≥ VISIBLE.
 VISIBLE = 1e-6
 #: |g'| may grow by at most this factor between consecutive rungs.
