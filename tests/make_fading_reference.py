@@ -84,7 +84,7 @@ def _done(path) -> dict:
 
 
 def _merge() -> None:
-    data = {"points": {}}
+    data = json.loads(OUT.read_text()) if OUT.exists() else {"points": {}}  # never lose stored points
     for part in sorted(OUT.parent.glob("fading_reference.part*.json")):
         loaded = json.loads(part.read_text())
         data["points"].update(loaded["points"])

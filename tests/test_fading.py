@@ -106,6 +106,9 @@ def test_batch_matches_reference():
     r = bf.slip("exponential", nu=nu, nu_f=nu_f, batch=4)
     errors = [abs(r.delta[i] / float(mpmath.mpf(p["delta"])) - 1) for i, p in enumerate(points)]
     assert max(errors) <= TOLERANCE["double"], errors
+    # fewer points than lanes: the idle lanes must not poison the batch (they divided 0/0 before)
+    few = bf.slip("exponential", nu=nu[:2], nu_f=nu_f[:2], batch=8)
+    assert np.array_equal(few.delta, r.delta[:2])
 
 
 # -- the failing cases, before the fix ------------------------------------------------------------

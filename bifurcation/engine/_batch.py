@@ -73,6 +73,9 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
 
     kinds, breakpoint_of, at_one = c.kinds, c.breakpoint_of, c.switch_at_one
     n_events = len(kinds)
+    # A lane that never gets a point (fewer points than lanes) must still have a finite right side:
+    # ν = ν_f = 0 gave 0/0, a NaN time step and a ValueError from heyoka for the whole batch.
+    pars[0, :] = pars[1, :] = 1.0
     for lane in range(lanes):
         load(lane)
     ta.set_dtime(hi, lo)
