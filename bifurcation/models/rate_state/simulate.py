@@ -120,18 +120,20 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
         if not (isinstance(v_start, (int, float)) and math.isfinite(v_start) and v_start > 0):
             raise InputError("v0", v_start, "must be a finite velocity > 0",
                              "give v0 > 0 (needed when the history starts with a hold)")
-        ln_v0 = math.log(v_start)
-        if theta0 is None:
-            theta0 = [law.theta_ss(v_start, d) for law, d in zip(spec.laws, spec.dc)]
+        # Logs taken in the run's precision: a double ln θ0 would cost real128 runs 1e-16 at the start.
+        ln_v0 = np.log(dtype(v_start))
+        if theta0 is None and ln_theta0 is None:
+            ln_theta0 = [np.log(dtype(law.steady_factor) * dtype(d) / dtype(v_start))
+                         for law, d in zip(spec.laws, spec.dc)]
     if ln_theta0 is None:
         theta0 = list(np.atleast_1d(theta0))
         if len(theta0) != n or not all(math.isfinite(float(v)) and float(v) > 0 for v in theta0):
             raise InputError("theta0", theta0, f"must be {n} finite state value(s) > 0", "give θ0 > 0 per variable")
-        ln_theta0 = [math.log(float(v)) for v in theta0]
+        ln_theta0 = [np.log(dtype(float(v))) for v in theta0]
 
     # State and parameters, converted to the integrator's type from their decimal/double value once.
     state = [ln_v0, *ln_theta0] + ([z0] if spec.inertial else [])
-    ta.state[:] = np.array([dtype(v) for v in state], dtype=dtype)
+    ta.state[:] = np.array([v if isinstance(v, dtype) else dtype(v) for v in state], dtype=dtype)
     ta.time = dtype(history.times[0])
     pars = [spec.a, spec.k, history.velocities[0], spec.mass or 1.0, *spec.b, *spec.dc,
             *(math.log(v) for v in thresholds)]
