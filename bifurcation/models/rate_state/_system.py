@@ -52,6 +52,7 @@ class Recorder:
         self.start = start
         self.extrema: list = []     # (t, ln V, +1 maximum / -1 minimum)
         self.crossings: list = []   # (t, threshold index, +1 up / -1 down)
+        self.crossing_states: list = []  # (t, state) in the run's precision, for return maps
 
     def __deepcopy__(self, memo) -> "Recorder":
         return self  # heyoka deep-copies callbacks; all of them must record here
@@ -66,7 +67,9 @@ class Recorder:
     def crossing(self, j: int):
         def record(ta, time, d_sgn):
             if time != self.start:
+                ta.update_d_output(time)
                 self.crossings.append((float(time), j, 1 if d_sgn > 0 else -1))
+                self.crossing_states.append((time, ta.d_output.copy()))
         return record
 
 

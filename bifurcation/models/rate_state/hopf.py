@@ -33,7 +33,7 @@ from .laws import resolve_state_law
 from .spec import SliderSpec, _finite
 from ._system import rhs_expressions
 
-__all__ = ["HopfPoint", "closed_form", "hopf_point", "jacobian", "steady_state"]
+__all__ = ["HopfPoint", "closed_form", "hopf_point", "jacobian", "lyapunov_by_simulation", "steady_state"]
 
 
 @dataclass(frozen=True)
@@ -228,3 +228,47 @@ def _null_vector(M):
             if best is None or res < best[0]:
                 best = (res, mp.matrix(v))
     return best[1]
+
+
+def lyapunov_by_simulation(spec: SliderSpec, point: HopfPoint, v_lp, eps: float, precision="double") -> float:
+    """l1 measured on the engine: the growth of a small cycle over one period at k = k_c.
+
+    In the normal form ż = iωz + c1 z|z|², l1 = Re c1/ω, |z| grows by 2π l1 |z|³ per period. Start at
+    u0 = u* + 2ε Re(e^{iφ} q) on the section x = ln V_lp (φ puts the ln V component at 0, with ẋ > 0),
+    integrate to the next upward crossings of V_lp (exact events) and return (|z1| − |z0|)/(2π|z0|³),
+    z = ⟨p, u − u*⟩. Its error is O(ε) (the centre manifold's quadratic part).
+    """
+    import cmath
+
+    import numpy as np
+
+    from .simulate import run_spec
+    from .spec import load_history
+
+    q = np.array(point.eigenvector)
+    p = np.array(point.adjoint)
+    u_star = np.array([float(v) for v in steady_state(spec, v_lp)])
+    phi = math.pi / 2 - cmath.phase(q[0])
+    spec_k = SliderSpec(a=spec.a, b=spec.b, dc=spec.dc, state_law=spec.state_law, k=point.k_c, mass=spec.mass,
+                        mu0=spec.mu0, v_ref=spec.v_ref)
+    f = _field(spec_k, point.k_c, v_lp)
+    for turn in (0.0, math.pi):
+        d = 2 * eps * (cmath.exp(1j * (phi + turn)) * q).real
+        d[0] = 0.0
+        with mp.workdps(20):
+            if float(f([mp.mpf(x) for x in u_star + d])[0]) > 0:
+                break
+    u0 = u_star + d
+    z0 = np.vdot(p, u0 - u_star)
+    period = 2 * math.pi / point.omega_c
+    # The start is on the centre eigenspace, not the centre manifold: with a stable direction (inertia)
+    # its O(ε²) offset decays over the first periods, so the growth is read between the upward
+    # crossings ``skip`` and ``skip + 1`` (same phase: the O(ε²) terms of z cancel in the difference).
+    skip = 8 if spec.inertial else 0
+    r = run_spec(spec_k, load_history(v_lp), [0.0, (skip + 1.5) * period], ln_v0=u0[0],
+                 ln_theta0=list(u0[1:1 + spec.n_states]), z0=u0[-1] if spec.inertial else 0.0,
+                 thresholds=[v_lp], precision=precision)
+    ups = [np.array([float(x) for x in s]) for (t, s), c in zip(r.crossing_states, r.crossings) if c[2] > 0]
+    z_a = abs(np.vdot(p, (ups[skip - 1] if skip else u0) - u_star))
+    z_b = abs(np.vdot(p, ups[skip] - u_star))
+    return (z_b - z_a) / (2 * math.pi * z_a ** 3)

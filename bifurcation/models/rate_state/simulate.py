@@ -46,6 +46,7 @@ class RateStateResult:
     slip: np.ndarray
     extrema: np.ndarray
     crossings: np.ndarray
+    crossing_states: tuple     # (t, state (ln V, ln θ_i[, z])) per crossing, in the run's precision
     thresholds: tuple
     status: str
     message: str
@@ -184,7 +185,7 @@ def _result(spec, history, times, out, c, thresholds, status, message, steps, pr
     ext = np.array(c.recorder.extrema, dtype=float).reshape(-1, 3)
     cro = np.array(c.recorder.crossings, dtype=float).reshape(-1, 3)
     return RateStateResult(spec, history, times, ln_v, ln_theta, z, mu, slip,
-                           ext, cro, thresholds, status, message, steps, precision)
+                           ext, cro, tuple(c.recorder.crossing_states), thresholds, status, message, steps, precision)
 
 
 def _log_for(dtype):
