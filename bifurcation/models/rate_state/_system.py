@@ -109,16 +109,21 @@ def rhs_expressions(laws, inertial: bool, variables, par, exp, log):
     return [xdot, *ydot, load - a * xdot - state_force]
 
 
-def compiled(laws: tuple[str, ...], inertial: bool, n_thresholds: int = 0, precision: str = "double") -> Compiled:
-    """The cached integrator for (laws, inertia, number of thresholds, precision)."""
-    key = (tuple(laws), bool(inertial), int(n_thresholds), precision)
+def compiled(laws: tuple[str, ...], inertial: bool, n_thresholds: int = 0, precision: str = "double",
+             section: bool = False) -> Compiled:
+    """The cached integrator for (laws, inertia, number of thresholds, precision[, section]).
+
+    ``section=True`` adds a terminal event on the upward crossing of the first threshold (x = ln V_0
+    with ẋ > 0): the Poincaré section of the cycle continuation.
+    """
+    key = (tuple(laws), bool(inertial), int(n_thresholds), precision, bool(section))
     hit = _CACHE.get(key)
     if hit is None:
         hit = _CACHE[key] = _build(*key)
     return hit
 
 
-def _build(laws, inertial, n_thresholds, precision) -> Compiled:
+def _build(laws, inertial, n_thresholds, precision, section=False) -> Compiled:
     fp_type, dtype = fp_info(precision)
     n = len(laws)
     names = ["x"] + [f"y{i}" for i in range(n)] + (["z"] if inertial else [])
@@ -132,7 +137,10 @@ def _build(laws, inertial, n_thresholds, precision) -> Compiled:
     nt = [hy.nt_event(rhs[0], recorder.extremum, **fp)]
     for j in range(n_thresholds):
         nt.append(hy.nt_event(variables[0] - par[4 + 2 * n + j], recorder.crossing(j), **fp))
+    t_ev = []
+    if section:
+        t_ev.append(hy.t_event(variables[0] - par[4 + 2 * n], direction=hy.event_direction.positive, **fp))
     ta = hy.taylor_adaptive(list(zip(variables, rhs)), np.zeros(len(names), dtype=dtype),
-                            pars=np.zeros(len(par), dtype=dtype), nt_events=nt,
+                            pars=np.zeros(len(par), dtype=dtype), nt_events=nt, t_events=t_ev,
                             compact_mode=precision == "quad", **fp)
     return Compiled(tuple(laws), bool(inertial), n_thresholds, precision, ta, recorder, dtype)
