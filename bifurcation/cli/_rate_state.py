@@ -85,4 +85,15 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, preci
         click.echo(f"{ti:12.6g} {mi:20.16f} {vi:24.17g}")
 
 
-COMMANDS = [hopf_cmd, rate_state_cmd]
+@click.command("continue")
+@click.argument("workflow")
+@click.option("--out", default=None, help="Output directory (default results/<study name>/).")
+def continue_cmd(workflow: str, out) -> None:
+    """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
+    from ..models.rate_state.study import load_study, run_study
+
+    load_study(workflow)  # validate before anything is computed or written
+    run_study(workflow, out, echo=click.echo)
+
+
+COMMANDS = [continue_cmd, hopf_cmd, rate_state_cmd]

@@ -199,7 +199,9 @@ def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, points: int = 60, e
         if np.dot(t_new, tau) < 0:
             t_new = -t_new
         p = point(X_new, J, ok)
-        if np.sign(t_new[m]) != np.sign(tau[m]) and tau[m] != 0:
+        # A fold: κ turns. On the vertical family of a degenerate Hopf point (κ = 1 for every amplitude)
+        # the κ-component of the tangent is rounding noise whose sign means nothing: ignored below 1e-7.
+        if np.sign(t_new[m]) != np.sign(tau[m]) and min(abs(t_new[m]), abs(tau[m])) > 1e-7:
             folds.append(len(out) - 1)
         prev_mult = np.array(out[-1].multipliers)
         if np.any(np.isclose(np.array(p.multipliers).imag, 0)) and \

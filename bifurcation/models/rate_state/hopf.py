@@ -49,6 +49,8 @@ class HopfPoint:
     eigenvector: tuple          # q (complex, ⟨q, q⟩ = 1) in (ln V, ln θ_i[, z])
     adjoint: tuple              # p, ⟨p, q⟩ = 1
     degenerate_tolerance: float
+    rel_dev_k_c: float = math.nan       # |k_c − closed form|/closed form, at the working precision
+    rel_dev_omega_c: float = math.nan
 
     def to_record(self) -> dict:
         return {"k_c": self.k_c, "omega_c": self.omega_c, "lyapunov_coefficient": self.lyapunov_coefficient,
@@ -141,9 +143,10 @@ def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, dps: int = 50, lyapunov:
         lam = _max_real(spec, k_c, v_lp)
         omega = abs(mp.im(lam))
         k_cf, w_cf = closed_form(spec, v_lp)
+        dev = (float(abs(k_c / k_cf - 1)), float(abs(omega / w_cf - 1))) if spec.n_states == 1 else (math.nan,) * 2
         if not lyapunov:
             return HopfPoint(float(k_c), float(omega), math.nan, "not computed", float(k_cf), float(w_cf),
-                             (), (), math.nan)
+                             (), (), math.nan, *dev)
         l1, q, p = _lyapunov(spec, k_c, v_lp, omega)
         # Degenerate: |l1| below half the working digits of the size of its terms (the terms are
         # O(1); a true zero comes out at ~10^-dps, a nonzero l1 far above 10^-dps/2).
@@ -151,7 +154,7 @@ def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, dps: int = 50, lyapunov:
         scale_l1 = _l1_scale(spec, k_c, v_lp, q, p, omega)
         crit = "degenerate" if abs(l1) <= tol * scale_l1 else ("subcritical" if l1 > 0 else "supercritical")
         return HopfPoint(float(k_c), float(omega), float(l1), crit, float(k_cf), float(w_cf),
-                         tuple(complex(z) for z in q), tuple(complex(z) for z in p), float(tol * scale_l1))
+                         tuple(complex(z) for z in q), tuple(complex(z) for z in p), float(tol * scale_l1), *dev)
 
 
 def _multilinear(f, u0, vectors):

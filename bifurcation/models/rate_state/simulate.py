@@ -32,7 +32,9 @@ class RateStateResult:
     ``ln_v``, ``ln_theta`` (one row per state variable), ``mu`` and ``slip`` (δ − δ(t0)) are arrays in
     the run's precision (float64, or heyoka real128 for ``precision="quad"``). ``extrema`` rows are
     (t, ln V, +1 for a maximum / −1 for a minimum); ``crossings`` rows are (t, threshold index,
-    +1 upward / −1 downward). ``status`` is ``ok``, ``max-steps`` or ``nonfinite``; on anything but
+    +1 upward / −1 downward). ``status`` is ``ok``, ``max-steps``, ``stalled`` (the time step fell
+    below the resolution of t: V blows up in finite time, e.g. quasi-static below k_c) or
+    ``nonfinite``; on anything but
     ``ok`` the series hold NaN from the first time the run could not reach.
     """
 
@@ -157,7 +159,14 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
             outcome, steps_j, cout = res[0], res[3], res[4]
             steps += steps_j
             if outcome != hy.taylor_outcome.time_limit:
-                status = "nonfinite" if outcome == hy.taylor_outcome.err_nf_state else "max-steps"
+                if outcome == hy.taylor_outcome.err_nf_state:
+                    status = "nonfinite"
+                elif steps < max_steps:
+                    # The step fell below the resolution of t: V blowing up in finite time (the
+                    # quasi-static slider below k_c) or collapsing.
+                    status = "stalled"
+                else:
+                    status = "max-steps"
                 message = (f"{status} at t = {float(ta.time):.17g} after {steps} steps "
                            f"(segment {j}, V_lp = {v_seg:g})")
                 reached = times <= float(ta.time)
