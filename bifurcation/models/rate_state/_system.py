@@ -50,6 +50,8 @@ class Recorder:
 
     def reset(self, start=0.0) -> None:
         self.start = start
+        self.offset = 0.0   # the current segment's start: the integrator runs in segment-local time
+        self.first = True   # in the first segment (its local time 0 is the start of the run)
         self.extrema: list = []     # (t, ln V, +1 maximum / -1 minimum)
         self.crossings: list = []   # (t, threshold index, +1 up / -1 down)
         self.crossing_states: list = []  # (t, state) in the run's precision, for return maps
@@ -58,18 +60,18 @@ class Recorder:
         return self  # heyoka deep-copies callbacks; all of them must record here
 
     def extremum(self, ta, time, d_sgn) -> None:
-        if time == self.start:
+        if time == self.start and self.first:
             return  # at a steady start ẋ = 0 exactly: not an extremum of the run
         ta.update_d_output(time)
         # d_sgn is the sign of the event function's derivative: ẋ decreasing through 0 at a maximum of V.
-        self.extrema.append((float(time), float(ta.d_output[0]), 1 if d_sgn < 0 else -1))
+        self.extrema.append((float(time) + self.offset, float(ta.d_output[0]), 1 if d_sgn < 0 else -1))
 
     def crossing(self, j: int):
         def record(ta, time, d_sgn):
-            if time != self.start:
+            if time != self.start or not self.first:
                 ta.update_d_output(time)
-                self.crossings.append((float(time), j, 1 if d_sgn > 0 else -1))
-                self.crossing_states.append((time, ta.d_output.copy()))
+                self.crossings.append((float(time) + self.offset, j, 1 if d_sgn > 0 else -1))
+                self.crossing_states.append((time + type(time)(self.offset), ta.d_output.copy()))
         return record
 
 

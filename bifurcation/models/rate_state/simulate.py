@@ -137,11 +137,11 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
     # State and parameters, converted to the integrator's type from their decimal/double value once.
     state = [ln_v0, *ln_theta0] + ([z0] if spec.inertial else [])
     ta.state[:] = np.array([v if isinstance(v, dtype) else dtype(v) for v in state], dtype=dtype)
-    ta.time = dtype(history.times[0])
+    ta.time = dtype(0)
     pars = [spec.a, spec.k, history.velocities[0], spec.mass or 1.0, *spec.b, *spec.dc,
             *(math.log(v) for v in thresholds)]
     ta.pars[:] = np.array([dtype(v) for v in pars], dtype=dtype)
-    c.recorder.reset(ta.time)
+    c.recorder.reset(dtype(0))
 
     out = np.full((times.size, ta.state.size), np.nan, dtype=dtype)
     status, message, steps = "ok", "", 0
@@ -152,6 +152,12 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
         if t_start > t_last:
             break
         ta.pars[2] = dtype(v_seg)
+        # Each segment runs in its own local time from 0: the step size and event times are then resolved
+        # relative to the segment, not to an absolute t (a reload after a 1e12 hold would otherwise be
+        # integrated with the 1e-4 granularity of t = 1e12).
+        ta.time = dtype(0)
+        c.recorder.offset = t_start
+        c.recorder.first = j == 0
         stop = min(t_end, t_last)
         sel = (times >= t_start) & (times <= stop)
         if stop > t_start:
@@ -159,7 +165,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
             # outputs), landing exactly on the segment's end. (c_output=True costs ~12 ms per call.)
             inner = times[sel & (times > t_start)]
             grid = np.unique(np.concatenate([[t_start], inner, [stop]]))
-            res = ta.propagate_grid(grid.astype(dtype), max_steps=max(max_steps - steps, 1))
+            res = ta.propagate_grid((grid - t_start).astype(dtype), max_steps=max(max_steps - steps, 1))
             outcome, steps_j, values = res[0], res[3], np.asarray(res[-1])
             steps += steps_j
             rows = {float(g): values[i] for i, g in enumerate(grid) if i < values.shape[0]}
@@ -172,9 +178,9 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
                     status = "stalled"
                 else:
                     status = "max-steps"
-                message = (f"{status} at t = {float(ta.time):.17g} after {steps} steps "
+                reached = float(ta.time) + t_start
+                message = (f"{status} at t = {reached:.17g} after {steps} steps "
                            f"(segment {j}, V_lp = {v_seg:g})")
-                reached = float(ta.time)
                 for i in np.flatnonzero(sel):
                     if times[i] < reached and float(times[i]) in rows:
                         out[i] = rows[float(times[i])]
