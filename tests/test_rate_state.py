@@ -170,3 +170,15 @@ def test_bad_input_through_the_api_names_the_argument():
         rate_state(a=0.01, b=0.015, dc=0.01, state_law="aging", k=1, v_lp=1, t=[2, 1])
     with pytest.raises(InputError, match="dc/state_law"):
         rate_state(a=0.01, b=[0.015, 0.01], dc=[0.01], state_law="aging", k=1, v_lp=1, t=[0, 1])
+
+
+def test_the_bench_baseline_integrates_the_same_model():
+    # bifurcation bench --suite rate-state times scipy odeint on rsfmodel's own variables (μ, θ); at
+    # rsfmodel's rtol = 1e-12 it must reproduce their stored friction to their 8 printed decimals.
+    pytest.importorskip("scipy")
+    from bifurcation.models.rate_state._bench import _CASES, _odeint_case
+
+    for name in ("ruina_1", "prz_1"):
+        a, k, states = _CASES[name]
+        mu = _odeint_case(a, k, states, 1e-12)
+        assert np.max(np.abs(mu - CASES[name]["friction"])) < 1e-8
