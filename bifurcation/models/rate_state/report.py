@@ -15,7 +15,12 @@ def _amplitude(p) -> float:
 
 
 def _stable(p) -> bool:
-    return max(abs(z) for z in p.multipliers) < 1
+    """Strictly stable: every nontrivial multiplier inside the unit circle by more than FD noise (1e-6).
+
+    On the degenerate families (quasi-static aging and slip at k_c) the multiplier is 1 to ~1e-8:
+    neutral, drawn dashed with the unstable ones.
+    """
+    return max(abs(z) for z in p.multipliers) < 1 - 1e-6
 
 
 def verdict(result: dict, fates: list) -> dict:
@@ -127,7 +132,7 @@ def _figure(path, results) -> None:
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
     axes[0].set_ylabel("cycle amplitude ln V_max − ln V_min")
-    fig.suptitle("Cycles born at the Hopf point (solid: stable, dashed: unstable, dots: folds)", fontsize=10)
+    fig.suptitle("Cycles born at the Hopf point (solid: stable, dashed: unstable or neutral, dots: folds)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
