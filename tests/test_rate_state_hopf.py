@@ -81,3 +81,18 @@ def test_hopf_cli_json_keys_and_bad_input():
         args[bad[0]] = bad[1]
         r = CliRunner().invoke(cli, ["hopf", *[x for kv in args.items() for x in kv]])
         assert r.exit_code == 2 and len(r.output.strip().splitlines()) == 1 and msg in r.output, r.output
+
+
+def test_two_state_variables_aging_stays_degenerate_and_slip_is_supercritical():
+    # Two state variables, quasi-static: the aging law's l1 is still zero (3e-31 at 30 digits; the
+    # simulated growth shrinks like ε² — a higher-order term — from 5.6e-8 at ε = 2e-2 to 1.5e-8 at 1e-2),
+    # the slip law's is −0.01238 (simulation −0.01242 at ε = 1e-2: within the O(ε) term).
+    kw = dict(a=0.01, b=[0.012, 0.006], dc=[0.01, 0.1], v_lp=1.0, dps=30)
+    aging = hopf_point(state_law="aging", **kw)
+    assert aging.criticality == "degenerate"
+    spec = SliderSpec(a=0.01, b=[0.012, 0.006], dc=[0.01, 0.1], state_law="aging", k=aging.k_c)
+    assert abs(lyapunov_by_simulation(spec, aging, 1.0, 1e-2)) < 1e-6
+    slip = hopf_point(state_law="slip", **kw)
+    assert slip.criticality == "supercritical" and slip.k_c == pytest.approx(aging.k_c, rel=1e-14)
+    spec = SliderSpec(a=0.01, b=[0.012, 0.006], dc=[0.01, 0.1], state_law="slip", k=slip.k_c)
+    assert lyapunov_by_simulation(spec, slip, 1.0, 1e-2) == pytest.approx(slip.lyapunov_coefficient, rel=1e-2)

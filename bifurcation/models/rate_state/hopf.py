@@ -267,7 +267,7 @@ def lyapunov_by_simulation(spec: SliderSpec, point: HopfPoint, v_lp, eps: float,
     # The start is on the centre eigenspace, not the centre manifold: with a stable direction (inertia)
     # its O(ε²) offset decays over the first periods, so the growth is read between the upward
     # crossings ``skip`` and ``skip + 1`` (same phase: the O(ε²) terms of z cancel in the difference).
-    skip = 8 if spec.inertial else 0
+    skip = 8 if u_star.size > 2 else 0  # a stable direction besides the centre plane
     r = run_spec(spec_k, load_history(v_lp), [0.0, (skip + 1.5) * period], ln_v0=u0[0],
                  ln_theta0=list(u0[1:1 + spec.n_states]), z0=u0[-1] if spec.inertial else 0.0,
                  thresholds=[v_lp], precision=precision)
