@@ -103,3 +103,8 @@ def test_bad_workflow_is_one_line_and_writes_nothing(tmp_path, edit, message):
     r = CliRunner().invoke(cli, ["continue", str(wf), "--out", str(out)])
     assert r.exit_code == 2 and len(r.output.strip().splitlines()) == 1 and message in r.output, r.output
     assert not out.exists()
+
+
+def test_continue_on_a_missing_workflow_is_one_line(tmp_path):
+    r = CliRunner().invoke(cli, ["continue", str(tmp_path / "nope.toml")])
+    assert r.exit_code == 2 and len(r.output.strip().splitlines()) == 1 and "cannot be read" in r.output

@@ -102,7 +102,16 @@ def write_store(path, spec, results) -> None:
     ds.attrs.update({"workflow": spec.text, "model": "rate-state", "branch_labels": [r["spec"].label for r in results],
                      "criticality": [r["branch"].hopf.criticality for r in results],
                      "stop": [r["branch"].meta["stop"] for r in results]})
-    ds.to_zarr(str(path), mode="w", zarr_format=3, consolidated=False)
+    # Written beside the target and renamed into place: a killed run leaves the previous store whole.
+    import pathlib
+    import shutil
+
+    path = pathlib.Path(path)
+    tmp = path.with_name(path.name + ".partial")
+    shutil.rmtree(tmp, ignore_errors=True)
+    ds.to_zarr(str(tmp), mode="w", zarr_format=3, consolidated=False)
+    shutil.rmtree(path, ignore_errors=True)
+    tmp.rename(path)
 
 
 def _figure(path, results) -> None:
