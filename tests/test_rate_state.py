@@ -89,6 +89,16 @@ def test_velocity_extrema_and_slip_events_are_exact():
     assert s.ln_v[1] < s.ln_v[2] > s.ln_v[3]
 
 
+def test_extrema_alternate_and_a_steady_state_records_no_noise():
+    # After the reload of a 1e12 hold the slider settles onto steady sliding: ẋ is rounding noise there
+    # and changed sign ~70 times per time unit; only the real maximum and minimum may be recorded.
+    hold = load_history([1.0, 0.0, 1.0], at=[10.0, 1e12 + 10])
+    r = rate_state(a=0.01, b=0.012, dc=1e-2, state_law="slip", k=10.0, v_lp=hold, t=[0.0, 1e12 + 10, 1e12 + 110])
+    assert r.extrema[:, 2].tolist() == [1.0, -1.0] and r.extrema[0, 1] > 5
+    e = _run("dieterich_1").extrema
+    assert np.all(e[1:, 2] == -e[:-1, 2]) and e[0, 0] > 10   # nothing during the steady first segment
+
+
 def test_slide_hold_slide_spans_many_decades_of_velocity():
     # A 1e6 hold: V falls by 11 decades (aging law, θ grows like t); the log variables keep ln V to
     # ~1e-15 relative against a real128 run at the end of the hold and after the reload.

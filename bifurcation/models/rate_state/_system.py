@@ -52,6 +52,7 @@ class Recorder:
         self.start = start
         self.offset = 0.0   # the current segment's start: the integrator runs in segment-local time
         self.first = True   # in the first segment (its local time 0 is the start of the run)
+        self.x0 = float("nan")  # ln V at the start (set by the run): the reference of the first extremum
         self.extrema: list = []     # (t, ln V, +1 maximum / -1 minimum)
         self.crossings: list = []   # (t, threshold index, +1 up / -1 down)
         self.crossing_states: list = []  # (t, state) in the run's precision, for return maps
@@ -63,8 +64,16 @@ class Recorder:
         if time == self.start and self.first:
             return  # at a steady start ẋ = 0 exactly: not an extremum of the run
         ta.update_d_output(time)
-        # d_sgn is the sign of the event function's derivative: ẋ decreasing through 0 at a maximum of V.
-        self.extrema.append((float(time) + self.offset, float(ta.d_output[0]), 1 if d_sgn < 0 else -1))
+        x = float(ta.d_output[0])
+        # At a steady state ẋ is rounding noise that changes sign at almost every step: an "extremum"
+        # within 64 ulps of the last recorded one is that noise, not an oscillation, and is dropped.
+        # Real extrema of a smooth ln V alternate between maxima and minima, so a repeat of the last
+        # kind is noise too.
+        kind = 1 if d_sgn < 0 else -1   # ẋ decreasing through 0 at a maximum of V
+        last_x, last_kind = (self.extrema[-1][1], self.extrema[-1][2]) if self.extrema else (self.x0, 0)
+        if abs(x - last_x) <= 64 * 2.2e-16 * max(1.0, abs(x)) or kind == last_kind:
+            return
+        self.extrema.append((float(time) + self.offset, x, kind))
 
     def crossing(self, j: int):
         def record(ta, time, d_sgn):

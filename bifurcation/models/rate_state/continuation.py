@@ -74,6 +74,7 @@ class ReturnMap:
         ta.pars[:] = [spec.a, k, self.v_lp, spec.mass or 1.0, *spec.b, *spec.dc, self.x0]
         ta.reset_cooldowns()
         c.recorder.reset(0.0)
+        c.recorder.x0 = self.x0
         steps = 0
         while True:
             outcome, _, _, n, *_ = ta.propagate_until(self.t_max, max_steps=self.max_steps - steps)

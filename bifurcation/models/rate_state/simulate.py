@@ -142,6 +142,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
             *(math.log(v) for v in thresholds)]
     ta.pars[:] = np.array([dtype(v) for v in pars], dtype=dtype)
     c.recorder.reset(dtype(0))
+    c.recorder.x0 = float(ln_v0)
 
     out = np.full((times.size, ta.state.size), np.nan, dtype=dtype)
     status, message, steps = "ok", "", 0
