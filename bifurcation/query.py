@@ -10,6 +10,7 @@ import csv
 import io
 import json
 import math
+from json.encoder import encode_basestring_ascii
 from typing import Iterable, Iterator, TextIO
 
 import numpy as np
@@ -122,10 +123,10 @@ class _Plan:
     def __init__(self, path, law, nu, nu_f) -> None:
         from .store import check_store
         from .store.integrity import TileReader
-        from .store.lock import holder
 
         check_store(path, None, argument="store")
-        self.reader = reader = TileReader(path, in_progress=holder(path) is not None)
+        # a tile being written (or left half written by a killed run) reads as not computed
+        self.reader = reader = TileReader(path, in_progress=True)
         self.dims = tuple(reader.done.metadata.dimension_names or ("law", "nu_f", "nu"))
         labels = {name: self._coordinate(name) for name in self.dims}
         self.labels = {"law": [str(x) for x in labels["law"]],
@@ -228,17 +229,24 @@ def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: 
         raise InputError("--format", fmt, "is not a format", f"use one of {', '.join(FORMATS)}")
     n = 0
     if fmt == "json":
+        # json.dumps with indent takes its pure-Python path (slow); a record is flat, so its scalars are
+        # written as json writes them, in the layout of json.dumps(records, indent=2)
+        keys = {}
         for record in records:
-            text = json.dumps(record, indent=2, allow_nan=False).replace("\n", "\n  ")
-            out.write(("[\n  " if n == 0 else ",\n  ") + text)
+            lines = []
+            for key, value in record.items():
+                if key not in keys:
+                    keys[key] = f'    {json.dumps(key)}: '
+                lines.append(keys[key] + _json_scalar(value))
+            out.write(("[\n  {\n" if n == 0 else ",\n  {\n") + ",\n".join(lines) + "\n  }")
             n += 1
         out.write("\n]\n" if n else "[]\n")
         return n
     if fmt == "csv":
         writer = csv.writer(out, lineterminator="\n")
         writer.writerow(COLUMNS)
-        for record in records:
-            writer.writerow([_cell(record.get(c)) for c in COLUMNS])
+        for record in records:   # csv writes floats with repr (exact) and None as an empty cell
+            writer.writerow([record[c] for c in COLUMNS])
             n += 1
         return n
     if law_width is None:
@@ -251,6 +259,21 @@ def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: 
         out.write("  ".join(cell.ljust(w) for cell, w in zip(cells, widths)).rstrip() + "\n")
         n += 1
     return n
+
+
+def _json_scalar(value) -> str:
+    """``value`` (str, float, int, bool or None) exactly as ``json.dumps`` writes it (strict: no NaN)."""
+    if value is None:
+        return "null"
+    if isinstance(value, str):
+        return encode_basestring_ascii(value)
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"{value!r} is not JSON")
+        return float.__repr__(value)
+    return int.__repr__(value)
 
 
 def _width(column: str, law_width: int) -> int:
