@@ -4,7 +4,7 @@ import importlib
 
 import pytest
 
-PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.engine", "bifurcation.laws",
+PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.engine", "bifurcation.laws", "bifurcation.models", "bifurcation.models.rate_state",
             "bifurcation.report", "bifurcation.run", "bifurcation.store", "bifurcation.theory",
             "bifurcation.workflow"]
 
