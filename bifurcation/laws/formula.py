@@ -42,7 +42,7 @@ import mpmath
 from ..errors import InputError
 from ._base import CONTINUITY_RTOL, FrictionLaw, Piece
 
-__all__ = ["parse_formula"]
+__all__ = ["formula_key", "parse_formula"]
 
 _FUNCTIONS = ("exp", "log", "sqrt", "sin", "cos", "tan", "sinh", "cosh", "tanh", "atan", "expm1", "log1p")
 _CONSTANTS = ("pi", "e")
@@ -718,6 +718,33 @@ def _check_samples(law: FrictionLaw, text: str) -> None:
                 raise _refuse(text, f"Φ is not real and finite at x = {x:g}",
                               "give a law defined for all x ≥ 0 (check denominators and the "
                               "arguments of sqrt, log and powers)")
+
+
+def _normal(node):
+    """``node`` with every number written one way (``2``, ``2.0`` and ``2e0`` alike)."""
+    if isinstance(node, _Num):
+        with mpmath.workdps(_DPS):
+            return _Num(mpmath.nstr(mpmath.mpf(node.text), _DIGITS, min_fixed=-math.inf, max_fixed=math.inf))
+    if isinstance(node, _Name):
+        return node
+    if isinstance(node, (_Neg, _Call)):
+        return type(node)(*([node.func] if isinstance(node, _Call) else []), _normal(node.arg))
+    return _Bin(node.op, _normal(node.left), _normal(node.right))
+
+
+@functools.lru_cache(maxsize=256)
+def formula_key(text: str) -> str:
+    """The parsed expression of a formula as one canonical text: two formulas with the same key are
+    the same law (``1/(1+x/2)**2``, ``1/(1 + x/2)^2`` and ``1/(1+x/2.0)^2`` share one). Raises
+    ``InputError`` for text that is not a formula."""
+    pieces, breaks, _ = _parse(text)
+    shown = [_show(_normal(p)) for p in pieces]
+    if not breaks:
+        return shown[0]
+    parts = [shown[0]]
+    for b, piece in zip(breaks, shown[1:]):
+        parts += [mpmath.nstr(b, _DIGITS), piece]
+    return "piecewise(" + ", ".join(parts) + ")"
 
 
 def parse_formula(text: str) -> FrictionLaw:
