@@ -1,130 +1,144 @@
-"""Tiles: chunk-aligned blocks of the (law, ν_f, ν) grid, the unit of work and of store writes.
+"""Tiles: chunk-aligned blocks of a study's grid (labels × the model's axes), the unit of work and of
+store writes.
 
-A tile is one law × a block of ``tiles.nu_f`` ν_f values × ``tiles.nu`` ν values, aligned with the
-store's chunks, so each tile is written by exactly one writer. ``compute_tile`` is a pure function of
-the tile (the worker task): it calls ``bifurcation.slip`` on the tile's points; a worker process
+A tile is one label (law) × a block of ``tiles.<axis>`` values along each axis of the model, aligned
+with the store's chunks, so each tile is written by exactly one writer. ``compute_tile`` is a pure
+function of the tile (the worker task): it runs the engine on the tile's points; a worker process
 compiles the law's integrator once and reuses it for every later tile (``engine._integrator`` cache).
 """
 
 from __future__ import annotations
 
+import itertools
+import math
 from dataclasses import dataclass
 from typing import Iterator
 
 import numpy as np
 
-from .store.layout import FILL, VARIABLES
+from .models import DEFAULT_MODEL, get_model
+from .store.layout import VARIABLES, fills, variables
 
 __all__ = ["OUTPUTS", "Tile", "compute_serial", "compute_tile", "iter_tiles", "tile_count"]
 
-#: Arrays of a computed tile, in write order: the data first, ``done`` last (the store's variables).
+#: Arrays of a computed tile of the single block, in write order: the data first, ``done`` last.
 OUTPUTS = tuple(VARIABLES)
-#: The arrays ``slip`` returns per point: every output but ``done``.
-_RESULTS = tuple(name for name in OUTPUTS if name != "done")
 
 
 @dataclass(frozen=True, eq=False)
 class Tile:
-    """One block of the grid. ``index`` = (law, ν_f, ν) start indices of the block in the store.
+    """One block of the grid. ``index`` = (label, *axis) start indices of the block in the store.
 
-    ``todo`` is None (compute every point) or a bool array of the tile's shape: compute only those
-    points (a tile that a killed run left partly done).
+    ``axes`` holds ``(axis name, values)`` per axis of the model. ``todo`` is None (compute every
+    point) or a bool array of the tile's shape: compute only those points (a tile that a killed run
+    left partly done).
     """
 
     law: str
-    index: tuple[int, int, int]
-    nu_f: tuple[float, ...]
-    nu: tuple[float, ...]
+    index: tuple[int, ...]
+    axes: tuple
     precision: str
     t_max: float
     max_steps: int
     batch: int
     todo: np.ndarray | None = None
+    model: str = DEFAULT_MODEL
+
+    def __getattr__(self, name: str):
+        for axis, values in self.__dict__.get("axes", ()):
+            if axis == name:
+                return values
+        raise AttributeError(f"'Tile' object has no attribute {name!r}")
 
     @property
-    def shape(self) -> tuple[int, int]:
-        return (len(self.nu_f), len(self.nu))
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(values) for _, values in self.axes)
 
     @property
-    def region(self) -> tuple[slice, slice, slice]:
-        """Where the tile goes in the (law, ν_f, ν) arrays."""
-        law, i, j = self.index
-        return (slice(law, law + 1), slice(i, i + len(self.nu_f)), slice(j, j + len(self.nu)))
+    def region(self) -> tuple[slice, ...]:
+        """Where the tile goes in the (label, *axes) arrays."""
+        law, *starts = self.index
+        return (slice(law, law + 1), *(slice(s, s + n) for s, n in zip(starts, self.shape)))
 
     @property
     def n_todo(self) -> int:
-        return self.shape[0] * self.shape[1] if self.todo is None else int(np.count_nonzero(self.todo))
+        return math.prod(self.shape) if self.todo is None else int(np.count_nonzero(self.todo))
 
     @property
     def name(self) -> str:
-        law, i, j = self.index
-        return f"{law}-{i}-{j}"
+        return "-".join(str(i) for i in self.index)
 
 
 def tile_count(workflow) -> int:
     """Number of tiles of ``workflow`` (whether done or not)."""
-    n_law, n_nu_f, n_nu = workflow.shape
-    t_nu_f, t_nu = workflow.tiles
-    return n_law * -(-n_nu_f // t_nu_f) * -(-n_nu // t_nu)
+    n_law, *sizes = workflow.shape
+    return n_law * math.prod(-(-n // t) for n, t in zip(sizes, workflow.tiles))
 
 
 def iter_tiles(workflow, done: np.ndarray | None = None) -> Iterator[Tile]:
     """The tiles of ``workflow`` that still have points to compute (all of them when ``done`` is None).
 
-    ``done`` is the store's (law, ν_f, ν) bool mask; fully done tiles are skipped and partly done tiles
-    carry a ``todo`` mask. Tiles are generated lazily, so a huge grid costs no memory up front.
+    ``done`` is the store's (label, *axes) bool mask; fully done tiles are skipped and partly done
+    tiles carry a ``todo`` mask. Tiles are generated lazily, so a huge grid costs no memory up front.
     """
-    t_nu_f, t_nu = workflow.tiles
-    nu_f, nu = workflow.nu_f, workflow.nu
+    grid = workflow.grid
+    starts = [range(0, len(values), size) for (_, values), size in zip(grid, workflow.tiles)]
     for law_index, law in enumerate(workflow.laws):
-        for i in range(0, len(nu_f), t_nu_f):
-            for j in range(0, len(nu), t_nu):
-                todo = None
-                if done is not None:
-                    block = done[law_index, i:i + t_nu_f, j:j + t_nu]
-                    if block.all():
-                        continue
-                    if block.any():
-                        todo = ~block
-                yield Tile(law=law, index=(law_index, i, j), nu_f=nu_f[i:i + t_nu_f], nu=nu[j:j + t_nu],
-                           precision=workflow.precision, t_max=workflow.t_max,
-                           max_steps=workflow.max_steps, batch=workflow.batch, todo=todo)
+        for corner in itertools.product(*starts):
+            block = tuple(slice(s, s + size) for s, size in zip(corner, workflow.tiles))
+            todo = None
+            if done is not None:
+                mask = done[(law_index, *block)]
+                if mask.all():
+                    continue
+                if mask.any():
+                    todo = ~mask
+            yield Tile(law=law, index=(law_index, *corner),
+                       axes=tuple((name, values[b]) for (name, values), b in zip(grid, block)),
+                       precision=workflow.precision, t_max=workflow.t_max, max_steps=workflow.max_steps,
+                       batch=workflow.batch, todo=todo, model=workflow.model)
+
+
+def _points(axes) -> dict[str, np.ndarray]:
+    """Axis name → values at every point of the block (``indexing="ij"``: the store's C order)."""
+    grids = np.meshgrid(*(np.asarray(values, dtype=float) for _, values in axes), indexing="ij")
+    return {name: g for (name, _), g in zip(axes, grids)}
 
 
 def compute_tile(tile: Tile) -> dict[str, np.ndarray]:
-    """Run the engine on the tile's points: a dict of ``OUTPUTS`` arrays of the tile's shape.
+    """Run the engine on the tile's points: a dict of the store's variables, each of the tile's shape.
 
     Points outside ``tile.todo`` are left at the store's fill values (NaN, 0, ``done = False``).
-    The values equal those of one ``slip`` call over the whole grid bit for bit: each point is an
-    independent cycle of the same compiled integrator, reset per point.
+    The values equal those of one engine call over the whole grid bit for bit: each point is an
+    independent run of the same compiled integrator, reset per point.
     """
-    from .engine.cycle import slip
+    from .engine.solve import solve
 
+    model = get_model(tile.model)
     shape = tile.shape
-    nu_f_grid, nu_grid = np.meshgrid(np.asarray(tile.nu_f, dtype=float), np.asarray(tile.nu, dtype=float),
-                                     indexing="ij")
+    points = _points(tile.axes)
     mask = np.ones(shape, dtype=bool) if tile.todo is None else np.asarray(tile.todo, dtype=bool)
-    out = {name: np.full(shape, FILL[name], dtype=VARIABLES[name]) for name in _RESULTS}
+    kinds, fill = variables(model), fills(model)
+    out = {name: np.full(shape, fill[name], dtype=kinds[name]) for name in kinds if name != "done"}
     out["done"] = mask.copy()
     if mask.any():
-        result = slip(tile.law, nu=nu_grid[mask], nu_f=nu_f_grid[mask], precision=tile.precision,
-                      t_max=tile.t_max, max_steps=tile.max_steps, batch=tile.batch)
-        for name in _RESULTS:
-            out[name][mask] = result[name]
+        result = solve(model, tile.law, {k: v[mask] for k, v in points.items()}, precision=tile.precision,
+                       t_max=tile.t_max, max_steps=tile.max_steps, batch=tile.batch)
+        for name in out:
+            if name != "done":
+                out[name][mask] = result[name]
     return out
 
 
 def compute_serial(workflow) -> dict[str, np.ndarray]:
-    """The whole grid in this process, one ``slip`` call per law: (law, ν_f, ν) arrays of ``OUTPUTS``.
+    """The whole grid in this process, one engine call per law: (label, *axes) arrays of the store's
+    variables. The reference a distributed run must equal bit for bit."""
+    from .engine.solve import solve
 
-    The reference a distributed run must equal bit for bit.
-    """
-    from .engine.cycle import slip
-
-    nu_f, nu = np.meshgrid(np.asarray(workflow.nu_f, dtype=float), np.asarray(workflow.nu, dtype=float),
-                           indexing="ij")
-    results = [slip(law, nu=nu, nu_f=nu_f, precision=workflow.precision, t_max=workflow.t_max,
-                    max_steps=workflow.max_steps, batch=workflow.batch) for law in workflow.laws]
-    out = {name: np.stack([r[name] for r in results]) for name in _RESULTS}
+    model = workflow.spec
+    points = _points(workflow.grid)
+    results = [solve(model, law, points, precision=workflow.precision, t_max=workflow.t_max,
+                     max_steps=workflow.max_steps, batch=workflow.batch) for law in workflow.laws]
+    out = {name: np.stack([np.asarray(r[name]) for r in results]) for name in variables(model) if name != "done"}
     out["done"] = np.ones(workflow.shape, dtype=bool)
     return out

@@ -6,6 +6,7 @@ import sys
 
 import click
 
+from ..query import FORMATS
 from ._common import echo_json, fail, number
 
 __all__ = ["COMMANDS"]
@@ -51,27 +52,54 @@ def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer
         sys.exit(1)
 
 
+def _axis_options(command):
+    """One repeatable option per axis of every registered model (``--nu``, ``--nu-f``, ``--gamma``),
+    from the models' declarations: a new model's axes appear here without a change to the CLI."""
+    from ..models import get_model, model_names
+
+    seen = {}
+    for name in model_names():
+        for axis in get_model(name).axes:
+            seen.setdefault(axis.name, axis)
+    for axis in reversed(list(seen.values())):
+        command = click.option(axis.option, axis.name, multiple=True, callback=_numbers(axis.option),
+                               help=f"{axis.symbol}: a label of the store (repeatable). Default: all.")(command)
+    return command
+
+
+def _option_names() -> dict:
+    from ..models import get_model, model_names
+
+    names = {"store": "--store", "law": "--law"}
+    for name in model_names():
+        names.update({axis.name: axis.option for axis in get_model(name).axes})
+    return names
+
+
 @click.command("query")
 @click.option("--store", metavar="PATH", required=True, help="A store written by `bifurcation submit`.")
-@click.option("--law", multiple=True, help="Law label (repeatable). Default: all.")
-@click.option("--nu", multiple=True, callback=_numbers("--nu"),
-              help="ν: exact label or nearest (repeatable). Default: all.")
-@click.option("--nu-f", "nu_f", multiple=True, callback=_numbers("--nu-f"),
-              help="ν_f: exact label or nearest (repeatable). Default: all.")
-@click.option("--format", "fmt", type=click.Choice(["table", "csv", "json"]), default="table", show_default=True)
+@click.option("--law", multiple=True, help="Law label (repeatable; a formula matches by its expression). Default: all.")
+@_axis_options
+@click.option("--nearest", is_flag=True,
+              help="Take the nearest label where a value is not one (and say so on stderr); default: refuse.")
+@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
 @click.option("--done-only", is_flag=True, help="Only points already computed.")
-def query_cmd(store: str, law, nu, nu_f, fmt: str, done_only: bool) -> None:
-    """Print the points of a store selected by law, ν and ν_f."""
+def query_cmd(store: str, law, nearest: bool, fmt: str, done_only: bool, **axes) -> None:
+    """Print the points of a store selected by law and by the axes of its model (exact labels)."""
     from ..errors import InputError
     from ..query import format_records, query
 
+    notes: list[str] = []
     try:
-        records = query(store, law=law or None, nu=nu or None, nu_f=nu_f or None, computed_only=done_only)
+        records = query(store, law=law or None, computed_only=done_only, nearest=nearest, notes=notes,
+                        **{k: v for k, v in axes.items() if v})
     except InputError as exc:   # name the options as the user typed them
-        name = {"store": "--store", "law": "--law", "nu": "--nu", "nu_f": "--nu-f"}.get(exc.argument)
+        name = _option_names().get(exc.argument)
         if name is None:
             raise
         fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
+    for note in notes:
+        click.echo(f"bifurcation: note: {note}", err=True)
     click.echo(format_records(records, fmt))
 
 
