@@ -33,6 +33,9 @@ _STORE = click.option("--store", "stores", metavar="PATH", multiple=True, requir
 _LAW = click.option("--law", required=True, help="Law label in the store, e.g. carlson-langer.")
 _NU_F = click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f"), help="Friction velocity ν_f.")
 _JSON = click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+_NEAREST = click.option("--nearest", is_flag=True,
+                        help="Take the nearest ν_f label of the store when --nu-f is not one (said on stderr); "
+                             "default: refuse, naming the nearest labels.")
 _NAMES = {"nu_f": "--nu-f", "law": "--law", "store": "--store", "nu": "--store (ν values)"}
 
 
@@ -43,12 +46,15 @@ def _stores(paths):
         return load_stores(list(paths))
 
 
-def _analyse(fn, stores, law: str, nu_f: float, as_json: bool):
+def _analyse(fn, stores, law: str, nu_f: float, as_json: bool, nearest: bool):
     """``fn(stores, law, nu_f)`` with option-named errors; with ``--json`` print its summary and return
     None, else return the result for the command to print."""
     sources = _stores(stores)
     with _with_options(_NAMES):
-        result = fn(sources, law, nu_f)
+        result = fn(sources, law, nu_f, nearest=nearest)
+    if result.nu_f != nu_f:
+        click.echo(f"bifurcation: note: --nu-f {nu_f!r} is not a label; took the nearest, {result.nu_f!r}",
+                   err=True)
     if as_json:
         echo_json(result.summary())
         return None
@@ -60,14 +66,16 @@ def _analyse(fn, stores, law: str, nu_f: float, as_json: bool):
 @_LAW
 @_NU_F
 @_JSON
-def extrapolate(stores, law: str, nu_f: float, as_json: bool) -> None:
+@_NEAREST
+def extrapolate(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> None:
     """Δ(ν → 0) at ν_f extrapolated from the store's finite-ν points, vs the direct limit and the paper."""
     from ..analysis import extrapolate_delta
 
-    ex = _analyse(extrapolate_delta, stores, law, nu_f, as_json)
+    ex = _analyse(extrapolate_delta, stores, law, nu_f, as_json, nearest)
     if ex is None:
         return
     paper = "—" if ex.paper_value is None else f"{ex.paper_value:.10g}  ({ex.paper_source})"
+    nu_f = ex.nu_f
     click.echo(f"{law} at ν_f = {nu_f:g} ({ex.regime}; variable {ex.variable}; {ex.nu.size} points)")
     click.echo(f"delta0_extrapolated  {ex.delta0_extrapolated:.12g} ± {ex.uncertainty:.2g}")
     click.echo(f"delta0_direct        {ex.delta0_direct:.16g} (± {ex.delta0_direct_error:.1g})")
@@ -81,13 +89,15 @@ def extrapolate(stores, law: str, nu_f: float, as_json: bool) -> None:
 @_LAW
 @_NU_F
 @_JSON
-def fit_period(stores, law: str, nu_f: float, as_json: bool) -> None:
+@_NEAREST
+def fit_period(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> None:
     """Fit T − Δ0/ν = (α−ω) ln(1/ν) + C0 + K ν^−r + … (ν_f < 1/2) and compare the log coefficient with α − ω."""
     from ..analysis import fit_period as fit
 
-    f = _analyse(fit, stores, law, nu_f, as_json)
+    f = _analyse(fit, stores, law, nu_f, as_json, nearest)
     if f is None:
         return
+    nu_f = f.nu_f
     click.echo(f"{law} at ν_f = {nu_f:g}: r = (α−ω)² = {f.exponent_r:.6f}, window ν ≤ {f.nu_max:g}, "
                f"{f.n_points} points, {len(f.model)} terms")
     click.echo(f"log_coefficient          {f.log_coefficient:.10f} ± {f.log_coefficient_uncertainty:.1g}")
