@@ -36,13 +36,16 @@ def _numbers(name: str):
               show_default=True,
               help="Who writes finished tiles: the workers (store on a filesystem all workers share) "
                    "or this process (no shared filesystem needed).")
+@click.option("--dashboard", is_flag=True,
+              help="Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
-def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer: str, as_json: bool) -> None:
+def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer: str, dashboard: bool,
+               as_json: bool) -> None:
     """Compute the missing points of WORKFLOW (a TOML file) on Dask into a Zarr store."""
     from ..run import submit
 
     summary = submit(workflow, store=store, scheduler=scheduler, workers=workers, new_store=new_store,
-                     writer=writer)
+                     writer=writer, dashboard=dashboard)
     if as_json:
         echo_json(summary.to_dict())
     else:

@@ -71,8 +71,9 @@ class Summary:
             f"points: {self.points} in the grid, {self.computed} computed, {self.skipped} skipped "
             f"(already done), {self.failed} failed",
             f"statuses of computed points: {statuses}",
-            f"wall time {self.wall_time:.2f} s ({self.compute_time:.2f} s computing), "
-            f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}",
+            (f"wall time {self.wall_time:.2f} s ({self.compute_time:.2f} s computing), "
+             f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}")
+            if self.tiles else "nothing to compute: every point of the grid is already done",
         ]
         lines += [f"error: {e}" for e in self.errors]
         if self.failed:
@@ -95,7 +96,8 @@ def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
 
 
 def submit(workflow, store=None, scheduler=None, workers=None, progress=None, new_store: bool = False, *,
-           writer: str = "workers", retries: int = 3, command: str | None = None) -> Summary:
+           writer: str = "workers", retries: int = 3, command: str | None = None,
+           dashboard: bool = False) -> Summary:
     """Compute the missing points of ``workflow`` into ``store``; returns a ``Summary``.
 
     Parameters
@@ -112,11 +114,25 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     workers : int, optional
         Embedded: the number of worker processes. With a scheduler: wait for that many workers.
     progress : None, bool or callable
-        See ``bifurcation.run.progress.Progress`` (default: a counter on stderr if it is a terminal).
+        See ``bifurcation.run.progress.Progress`` (default: a bar on a terminal, else a plain line
+        every 30 s and one at the end, on stderr).
     writer : {"workers", "client"}
         Who writes finished tiles (``WRITERS``).
     retries : int
         Retries of a task that raises.
+    dashboard : bool
+        Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one); its link
+        is printed with the progress.
+
+    Examples
+    --------
+    A script that starts the embedded cluster must guard its entry point (Dask starts worker
+    processes that re-import the script)::
+
+        from bifurcation import submit
+
+        if __name__ == "__main__":
+            print(submit("workflows/paper-fig3.toml", workers=2))
     """
     started = time.perf_counter()
     if not isinstance(workflow, Workflow):
@@ -150,15 +166,21 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     errors: list[str] = []
     compute_time = 0.0
     cluster_name = "nothing to compute"
+    progress = Progress(progress, todo)
     if todo:   # fresh stores always have work; the cluster comes first so a bad one writes nothing
-        with connect(target, workers) as client:
+        progress.note(f"{todo} points to compute ({skipped} already done); connecting to "
+                      f"{describe(target)}" + (f" of {workers} workers" if workers and target is None else ""))
+        with connect(target, workers, dashboard=dashboard) as client:
+            if dashboard or target is not None:
+                progress.note(f"dashboard: {client.dashboard_link}")
             if fresh:
                 attrs = create_store(path, workflow, command=command, overwrite=new_store)
             cluster_name = describe(target)
             run_id = str(attrs["run_id"])
             t0 = time.perf_counter()
+            progress.begin()
             computed, failed, n_tiles = _run(client, workflow, path, run_id, done, statuses, errors,
-                                             Progress(progress, todo), writer, retries)
+                                             progress, writer, retries)
             compute_time = time.perf_counter() - t0
     wall = time.perf_counter() - started
     summary = Summary(study=workflow.name, store=str(path), points=workflow.n_points, computed=computed,
