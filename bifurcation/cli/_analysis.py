@@ -115,11 +115,12 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> N
 @_STORE
 @click.option("--out", "out", metavar="DIR", required=True, help="Directory for REPORT.md, report.html, PNGs.")
 def report(stores, out: str) -> None:
-    """Write the report (claims table, errata, fits, figures) from one or more stores into DIR."""
-    from ..report import write_report
+    """Report what one or more stores hold (model, laws, axes, transition, fits, figures) into DIR."""
+    from ..report import write_store_report
 
     sources = _stores(stores)
-    files = write_report(sources, out)
+    with _with_options(_NAMES):
+        files = write_store_report(sources, out)
     click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figures")
 
 

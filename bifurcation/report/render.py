@@ -363,6 +363,8 @@ def _markdown(blocks) -> str:
             out.append(f"# {rest[0]}\n")
         elif kind == "h2":
             out.append(f"## {rest[0]}\n")
+        elif kind == "h3":
+            out.append(f"### {rest[0]}\n")
         elif kind == "p":
             out.append(f"{rest[0]}\n")
         elif kind == "ul":
@@ -418,7 +420,7 @@ def _html(blocks, out: Path) -> str:
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
              f"<title>{e(blocks[0][1])}</title><style>{_CSS}</style></head><body>"]
     for kind, *rest in blocks:
-        if kind in ("h1", "h2"):
+        if kind in ("h1", "h2", "h3"):
             parts.append(f"<{kind}>{m(rest[0])}</{kind}>")
         elif kind == "p":
             parts.append(f"<p>{m(rest[0])}</p>")
