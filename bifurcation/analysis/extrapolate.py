@@ -1,6 +1,6 @@
 r"""Δ(ν → 0) from finite-ν data, with an honest uncertainty, compared with the direct limit and the paper.
 
-Three regimes, each with the correction model its asymptotics give (PHYSICS.md):
+Three regimes, each with the correction model its asymptotics give (docs/physics.md):
 
 ν_f = 1/2 (α = 1, a Jordan block).
     The finite-ν orbit leaves the fixed point with a relative weight ε of the generalised eigenvector:

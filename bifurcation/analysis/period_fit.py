@@ -1,6 +1,6 @@
 r"""The recurrence time T(ν) against its asymptotic expansion, for ν_f < 1/2.
 
-Why these terms (PHYSICS.md, "Recurrence time"). Write V = U − νt: V̈ = −V + g((V̇ + ν)/ν_f) with
+Why these terms (docs/physics.md, "Asymptotics at small ν"). Write V = U − νt: V̈ = −V + g((V̇ + ν)/ν_f) with
 g = 1 − Φ, an O(ν) regular perturbation of the autonomous ν = 0 flow, and the stop U̇ = 0 is V̇ = −ν, so
 Δ = V_stop + ν t_stop and T = Δ/ν. Near the fixed point the start is O(ν) off it in both eigen-directions
 λ± = α ± ω (λ+λ− = 1). The fast mode carries the block out in t_stop = (1/λ+) ln(1/ν) + O(1); by then the
