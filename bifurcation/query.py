@@ -1,5 +1,5 @@
 """Query a store by label: one value or list per axis of the store's model → one record per point,
-as a table, CSV or JSON.
+as a table, CSV or JSON, streamed (memory independent of the store's size).
 
 Every requested value must be a label of the store (``bifurcation.store.labels``: within a relative
 1e-12; a law by its parsed expression), else a one-line error names the axis, the value and the
@@ -12,17 +12,20 @@ import csv
 import io
 import json
 import math
+from typing import Iterable, Iterator, TextIO
 
 import numpy as np
 
-from .engine.result import status_names
+from .engine.result import Status
 from .errors import InputError
 from .store.labels import match_label, match_value
-from .store.layout import store_model, variables
+from .store.layout import store_model
 
-__all__ = ["COLUMNS", "FORMATS", "columns", "format_records", "query"]
+__all__ = ["COLUMNS", "FORMATS", "RecordStream", "columns", "format_records", "iter_records", "query",
+           "write_records"]
 
 FORMATS = ("table", "csv", "json")
+_STATUS_NAMES = [str(s) for s in Status]
 
 
 def columns(model=None) -> tuple[str, ...]:
@@ -47,6 +50,56 @@ def _as_list(value) -> list | None:
     return list(value)
 
 
+def _selection(model, labels: dict, law, axes: dict, nearest: bool, notes) -> dict[str, list[int]]:
+    """Selected indices per dimension (all when not given), matched by ``store.labels``."""
+    unknown = [k for k in axes if k not in model.dims[1:]]
+    if unknown:
+        raise InputError(unknown[0], axes[unknown[0]], f"is not an axis of model {model.name!r}",
+                         f"use the axes {', '.join(model.dims[1:])}")
+    label_dim = model.labels.name
+    selected = {label_dim: list(range(len(labels[label_dim])))}
+    wanted = _as_list(law)
+    if wanted is not None:
+        selected[label_dim] = sorted({match_label(label_dim, labels[label_dim], x, model.labels.identity,
+                                                  argument="law").index for x in wanted})
+    for axis in model.axes:
+        values = _as_list(axes.get(axis.name))
+        axis_labels = np.asarray(labels[axis.name], dtype=float)
+        if values is None:
+            selected[axis.name] = list(range(axis_labels.size))
+            continue
+        chosen = set()
+        for value in values:   # one value at a time: an error shows that value
+            m = match_value(axis.name, axis_labels, value, nearest=nearest, scale=axis.scale)
+            chosen.add(m.index)
+            if not m.exact and notes is not None:
+                notes.append(m.note())
+        selected[axis.name] = sorted(chosen)
+    return selected
+
+
+class _Records:
+    """How one point becomes a record for ``model`` (keys in ``columns`` order)."""
+
+    def __init__(self, model) -> None:
+        self.label = model.labels.name
+        self.axes = [a.name for a in reversed(model.axes)]
+        self.floats = model.float_outputs
+        self.others = [o.name for o in model.outputs if o.name != "status" and o.name not in self.floats]
+
+    def make(self, label: str, coords: dict, status: int, values: dict) -> dict:
+        record = {self.label: label}
+        for name in self.axes:
+            record[name] = coords[name]
+        record["status"] = _STATUS_NAMES[status]
+        for name in self.floats:
+            x = values[name]
+            record[name] = x if math.isfinite(x) else None
+        for name in self.others:
+            record[name] = values[name]
+        return record
+
+
 def query(store, *, law=None, computed_only: bool = False, nearest: bool = False, notes=None,
           **axes) -> list[dict]:
     """Records of the points selected in ``store`` (a path or a Dataset from ``open_store``).
@@ -56,58 +109,137 @@ def query(store, *, law=None, computed_only: bool = False, nearest: bool = False
     string such as ``"stick-slip"``; ``"not-computed"`` where the store has no value yet) and the
     model's outputs (None for NaN), in the store's order. ``nearest`` takes the nearest label where a
     value is not one; each such match appends a line to the list ``notes`` (if given).
+    ``iter_records`` yields the same records one at a time (memory independent of the store's size).
     """
-    from .models import get_model
-    from .store import open_store
+    return list(iter_records(store, law=law, computed_only=computed_only, nearest=nearest, notes=notes,
+                             **axes))
 
-    ds = store if hasattr(store, "data_vars") else open_store(store)
-    model = get_model(store_model(ds.attrs))
-    label_dim = model.labels.name
-    unknown = [k for k in axes if k not in model.dims[1:]]
-    if unknown:
-        raise InputError(unknown[0], axes[unknown[0]], f"is not an axis of model {model.name!r}",
-                         f"use the axes {', '.join(model.dims[1:])}")
-    indexers = {}
-    wanted = _as_list(law)
-    if wanted is not None:
-        labels = ds[label_dim].values
-        indexers[label_dim] = sorted({match_label(label_dim, labels, x, model.labels.identity, argument="law").index
-                                      for x in wanted})
-    for axis in model.axes:
-        values = _as_list(axes.get(axis.name))
-        if values is None:
-            continue
-        labels = np.asarray(ds[axis.name].values, dtype=float)
-        chosen = set()
-        for value in values:   # one value at a time: an error shows that value
-            m = match_value(axis.name, labels, value, nearest=nearest, scale=axis.scale)
-            chosen.add(m.index)
-            if not m.exact and notes is not None:
-                notes.append(m.note())
-        indexers[axis.name] = sorted(chosen)
-    sub = ds.isel(indexers)
-    names = variables(model)
-    values = {name: np.asarray(sub[name].values) for name in names}
-    statuses = status_names(values["status"])
-    coords = [[str(x) for x in sub[label_dim].values]]
-    coords += [[v.item() for v in np.asarray(sub[a.name].values)] for a in model.axes]
-    floats = model.float_outputs
-    others = [n for n in names if n not in floats and n not in ("status", "done")]
-    records = []
+
+class RecordStream:
+    """The records of a query, iterated one at a time; ``law_width`` is the longest label, ``keys``
+    the record keys (the columns of the store's model)."""
+
+    def __init__(self, records: Iterator[dict], law_width: int, keys=COLUMNS) -> None:
+        self._records, self.law_width, self.keys = records, law_width, tuple(keys)
+
+    def __iter__(self) -> Iterator[dict]:
+        return self._records
+
+
+def iter_records(store, *, law=None, computed_only: bool = False, nearest: bool = False, notes=None,
+                 **axes) -> RecordStream:
+    """The records of ``query``, streamed: read a chunk row at a time, every chunk checked.
+
+    From a path, every selected chunk is checked (checksum, ``done`` against the data;
+    ``store.integrity``) in this call, before any record is made, so a damaged store yields nothing:
+    ``StoreDamagedError`` names the chunk and the repair command. A Dataset is read as it is.
+    """
+    axes = {k: v for k, v in axes.items() if v is not None}
+    if hasattr(store, "data_vars"):
+        from .models import get_model
+
+        model = get_model(store_model(store.attrs))
+        labels = {name: np.asarray(store[name].values) for name in model.dims}
+        labels[model.labels.name] = [str(x) for x in labels[model.labels.name]]
+        selected = _selection(model, labels, law, axes, nearest, notes)
+        width = max(map(len, labels[model.labels.name]))
+        return RecordStream(_dataset_records(store, model, selected, computed_only), width, columns(model))
+    plan = _Plan(store, law, axes, nearest, notes)
+    plan.check()
+    return RecordStream(plan.records(computed_only), max(map(len, plan.labels[plan.model.labels.name])),
+                        columns(plan.model))
+
+
+class _Plan:
+    """The chunks a selection touches, read one chunk row (label, blocks of all but the last axis)
+    at a time."""
+
+    def __init__(self, path, law, axes, nearest, notes) -> None:
+        from .models import get_model
+        from .store import check_store
+        from .store.integrity import TileReader
+        from .store.lock import holder
+
+        attrs = check_store(path, None, argument="store")
+        self.model = model = get_model(store_model(attrs))
+        self.reader = reader = TileReader(path, in_progress=holder(path) is not None)
+        self.dims = tuple(reader.done.metadata.dimension_names or model.dims)
+        labels = {name: self._coordinate(name) for name in self.dims}
+        label_dim = model.labels.name
+        labels[label_dim] = [str(x) for x in labels[label_dim]]
+        self.labels = {name: (labels[name] if name == label_dim else [v.item() for v in labels[name]])
+                       for name in self.dims}
+        self.selected = _selection(model, self.labels, law, axes, nearest, notes)
+        self.chunks = dict(zip(self.dims, reader.chunks))
+        self.maker = _Records(model)
+
+    def _coordinate(self, name: str) -> np.ndarray:
+        from .store.integrity import Damage, StoreDamagedError
+
+        array = self.reader.coordinates[name]
+        for k in range(-(-array.shape[0] // array.chunks[0])):
+            if not self.reader.exists(name, (k,)):
+                raise StoreDamagedError(self.reader.path, Damage(self.reader.key(name, (k,)), (k,),
+                                                                 "missing coordinate chunk"))
+        return self.reader._decode(array, name, (0,), (slice(None),))
+
+    def _blocks(self, name: str) -> list[tuple[int, list[int]]]:
+        """``(chunk index, selected indices in it)`` along dimension ``name``."""
+        size, out = self.chunks[name], {}
+        for index in self.selected[name]:
+            out.setdefault(index // size, []).append(index)
+        return sorted(out.items())
+
+    def rows(self):
+        """Per chunk row: the chunk indices of all dimensions but the last, their selected indices,
+        and the blocks of the last dimension."""
+        import itertools
+
+        leading = [self._blocks(name) for name in self.dims[:-1]]
+        last = self._blocks(self.dims[-1])
+        for combo in itertools.product(*leading):
+            yield [c for c, _ in combo], [ix for _, ix in combo], last
+
+    def check(self) -> None:
+        """Every selected chunk, decoded and checked, before anything is printed."""
+        for head, _, last in self.rows():
+            for cn, _ in last:
+                self.reader.read((*head, cn))
+
+    def records(self, computed_only: bool) -> Iterator[dict]:
+        import itertools
+
+        dims, chunks, labels = self.dims, self.chunks, self.labels
+        names = [n for n in self.reader.variables if n != "done"]
+        for head, indices, last in self.rows():
+            # one chunk row at a time: memory is one row of chunks, whatever the store's size
+            row = {cn: self.reader.read((*head, cn)) for cn, _ in last}
+            for point in itertools.product(*indices):
+                local = tuple(i - c * chunks[d] for i, c, d in zip(point, head, dims))
+                for cn, cols in last:
+                    values = row[cn]
+                    for j in cols:
+                        at = (*local, j - cn * chunks[dims[-1]])
+                        if computed_only and not values["done"][at]:
+                            continue
+                        coords = {d: labels[d][i] for d, i in zip(dims[1:], (*point[1:], j))}
+                        yield self.maker.make(labels[dims[0]][point[0]], coords, int(values["status"][at]),
+                                              {n: values[n][at].item() for n in names})
+
+
+def _dataset_records(ds, model, selected, computed_only) -> Iterator[dict]:
+    sub = ds.isel(selected)
+    dims = model.dims
+    maker = _Records(model)
+    names = [o.name for o in model.outputs]
+    values = {name: np.asarray(sub[name].values) for name in (*names, "done")}
+    coords = {d: np.asarray(sub[d].values) for d in dims}
     for index in np.ndindex(values["status"].shape):
         if computed_only and not values["done"][index]:
             continue
-        record = {label_dim: coords[0][index[0]]}
-        for k in range(len(model.axes) - 1, -1, -1):
-            record[model.axes[k].name] = coords[k + 1][index[k + 1]]
-        record["status"] = statuses[index]
-        for name in floats:
-            x = float(values[name][index])
-            record[name] = x if math.isfinite(x) else None
-        for name in others:
-            record[name] = values[name][index].item()
-        records.append(record)
-    return records
+        at = {d: coords[d][i].item() for d, i in zip(dims[1:], index[1:])}
+        yield maker.make(str(coords[dims[0]][index[0]]), at, int(values["status"][index]),
+                         {n: values[n][index].item() for n in names})
 
 
 def _cell(value) -> str:
@@ -119,23 +251,63 @@ def _cell(value) -> str:
 
 
 def format_records(records: list[dict], fmt: str = "table", keys=None) -> str:
-    """``records`` as an aligned ``table``, ``csv`` (header, empty cell = NaN) or strict ``json``.
+    """``records`` as an aligned ``table``, ``csv`` (header, empty cell = NaN) or strict ``json``."""
+    buffer = io.StringIO()
+    write_records(records, fmt, buffer, keys=keys)
+    return buffer.getvalue().rstrip("\n")
 
-    ``keys``: the columns (default: those of the first record, else the single block's).
+
+#: Table column widths: a float's repr is at most 24 characters (-1.7976931348623157e+308).
+_FLOAT_WIDTH = 24
+
+
+def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: int | None = None,
+                  keys=None) -> int:
+    """Write ``records`` to ``out`` as they come (the table has fixed column widths); returns the count.
+
+    ``keys``: the columns (default: ``records.keys`` of a ``RecordStream``, else those of the first
+    record, else the single block's). The JSON is the text of ``json.dumps(list(records), indent=2)``,
+    written one record at a time.
     """
     if fmt not in FORMATS:
         raise InputError("--format", fmt, "is not a format", f"use one of {', '.join(FORMATS)}")
+    if keys is None:
+        keys = getattr(records, "keys", None)
+    if keys is None:
+        records = list(records)
+        keys = tuple(records[0]) if records else COLUMNS
+    n = 0
     if fmt == "json":
-        return json.dumps(records, indent=2, allow_nan=False)
-    keys = tuple(keys) if keys is not None else (tuple(records[0]) if records else COLUMNS)
-    rows = [[_cell(r.get(c)) for c in keys] for r in records]
+        for record in records:
+            text = json.dumps(record, indent=2, allow_nan=False).replace("\n", "\n  ")
+            out.write(("[\n  " if n == 0 else ",\n  ") + text)
+            n += 1
+        out.write("\n]\n" if n else "[]\n")
+        return n
     if fmt == "csv":
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
+        writer = csv.writer(out, lineterminator="\n")
         writer.writerow(keys)
-        writer.writerows(rows)
-        return buffer.getvalue().rstrip("\n")
-    widths = [max(len(c), *(len(row[k]) for row in rows)) if rows else len(c) for k, c in enumerate(keys)]
-    lines = ["  ".join(c.ljust(w) for c, w in zip(keys, widths)).rstrip()]
-    lines += ["  ".join((cell or "-").ljust(w) for cell, w in zip(row, widths)).rstrip() for row in rows]
-    return "\n".join(lines)
+        for record in records:
+            writer.writerow([_cell(record.get(c)) for c in keys])
+            n += 1
+        return n
+    if law_width is None:
+        records = list(records)
+        law_width = max((len(str(r.get(keys[0], ""))) for r in records), default=0)
+    widths = [max(len(c), _width(c, law_width, k)) for k, c in enumerate(keys)]
+    out.write("  ".join(c.ljust(w) for c, w in zip(keys, widths)).rstrip() + "\n")
+    for record in records:
+        cells = [_cell(record.get(c)) or "-" for c in keys]
+        out.write("  ".join(cell.ljust(w) for cell, w in zip(cells, widths)).rstrip() + "\n")
+        n += 1
+    return n
+
+
+def _width(column: str, law_width: int, position: int) -> int:
+    if position == 0:
+        return law_width
+    if column == "status":
+        return max(len(name) for name in _STATUS_NAMES)
+    if column == "steps":
+        return 8   # max_steps ≤ 10^7 (bifurcation.bounds)
+    return _FLOAT_WIDTH

@@ -88,14 +88,15 @@ def _option_names() -> dict:
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
 @click.option("--done-only", is_flag=True, help="Only points already computed.")
 def query_cmd(store: str, law, nearest: bool, fmt: str, done_only: bool, **axes) -> None:
-    """Print the points of a store selected by law and by the axes of its model (exact labels)."""
+    """Print the points of a store selected by law and by the axes of its model (exact labels; streamed:
+    memory independent of the store)."""
     from ..errors import InputError
-    from ..query import format_records, query
+    from ..query import iter_records, write_records
 
     notes: list[str] = []
-    try:
-        records = query(store, law=law or None, computed_only=done_only, nearest=nearest, notes=notes,
-                        **{k: v for k, v in axes.items() if v})
+    try:   # the selection and every selected chunk are checked here, before any output
+        records = iter_records(store, law=law or None, computed_only=done_only, nearest=nearest, notes=notes,
+                               **{k: v for k, v in axes.items() if v})
     except InputError as exc:   # name the options as the user typed them
         name = _option_names().get(exc.argument)
         if name is None:
@@ -103,7 +104,7 @@ def query_cmd(store: str, law, nearest: bool, fmt: str, done_only: bool, **axes)
         fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
     for note in notes:
         click.echo(f"bifurcation: note: {note}", err=True)
-    click.echo(format_records(records, fmt))
+    write_records(records, fmt, sys.stdout, law_width=records.law_width)
 
 
 COMMANDS = [submit_cmd, query_cmd]

@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from ..bounds import NU_BOUNDS, NU_F_BOUNDS
 from ..engine.result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, FIELD_ATTRS, FIELDS, Status
 from ..laws import law_names, resolve_law
 from ._base import Axis, Event, Labels, Model, Output, StateVar, System
@@ -50,9 +51,9 @@ LAW = Labels(
     workflow_key="laws", resolve=resolve_law, identity=law_identity, example="carlson-langer")
 
 NU_F = Axis("nu_f", "ν_f", "friction velocity ν_f, Eq. (2) of Vasconcelos PRL 76, 4865 (1996)",
-            bounds=(1e-4, 10.0), example=0.4)
+            bounds=NU_F_BOUNDS, example=0.4)
 NU = Axis("nu", "ν", "pulling speed ν, Eq. (5) of Vasconcelos PRL 76, 4865 (1996)",
-          bounds=(1e-20, 1.0), scale="log", example=1e-9)
+          bounds=NU_BOUNDS, scale="log", example=1e-9)
 
 #: The outputs of a cycle, in store order (the engine's ``FIELDS``, then ``steps`` and ``status``).
 OUTPUTS = (*(Output(name, *FIELD_ATTRS[name]) for name in FIELDS),
