@@ -6,7 +6,8 @@ relative (README, "Precision"). The fits of the report amplify such differences,
 coefficient K2 of a 14-term expansion, the largest residual of a fit): a committed report rewritten on
 another CPU changed in its last digits. So each fitted number is printed only to the digits that a
 data change of that size cannot move: the fits are repeated on copies of the data whose Δ and T are
-multiplied by 1 + ``PERTURBATION``·u (u uniform in [−1, 1], fixed seeds), and a number keeps only
+multiplied by 1 + ``PERTURBATION``·u (u in [−1, 1], a hash of the point's labels and a seed: the same on
+every machine, so the cut is too), and a number keeps only
 the decimals above ``MARGIN`` times the largest change seen. A number that no digit of survives is
 printed as its order of magnitude and marked "(machine-dependent)".
 """
@@ -19,7 +20,8 @@ import numpy as np
 
 __all__ = ["MARGIN", "PERTURBATION", "SEEDS", "perturb", "spread", "stable"]
 
-#: Relative size of the perturbation: the engine's worst measured error (README, "Precision").
+#: Relative size of the perturbation: the data error the fits assume (``analysis.period_fit``
+#: ``DEFAULT_RELATIVE_ERROR``; the engine's median error against real128 is ~1e-16, README "Precision").
 PERTURBATION = 2.2e-16
 #: Seeds of the perturbed repetitions.
 SEEDS = (11, 12, 13)
@@ -29,14 +31,42 @@ MARGIN = 2.0
 MACHINE_DEPENDENT = "(machine-dependent)"
 
 
+def _mix(x: np.ndarray) -> np.ndarray:
+    """splitmix64's finaliser: well-spread uint64 from uint64."""
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
+def _uniform(ds, name: str, seed: int) -> np.ndarray:
+    """u in [−1, 1) per point of ``ds[name]``, a function of the point's labels and ``seed`` only.
+
+    Not of the data: the same point gets the same u on every CPU and in every dataset that holds it
+    (a store, or the same points computed in process), so the digit cut made from it is the same.
+    """
+    import zlib
+
+    with np.errstate(over="ignore"):
+        h = np.full(ds[name].shape, np.uint64(seed) * np.uint64(0x9E3779B97F4A7C15), dtype=np.uint64)
+        for axis, dim in enumerate(ds[name].dims):
+            values = ds[dim].values
+            if values.dtype.kind in "OUS":
+                keys = np.array([zlib.crc32(str(v).encode()) for v in values], dtype=np.uint64)
+            else:
+                keys = np.asarray(values, dtype=np.float64).view(np.uint64)
+            shape = [1] * h.ndim
+            shape[axis] = -1
+            h = _mix(h ^ _mix(keys.reshape(shape) + np.uint64(axis + 1)))
+    return (h >> np.uint64(11)).astype(np.float64) / 2.0**52 - 1.0
+
+
 def perturb(ds, seed: int):
     """A copy of the dataset ``ds`` with ``delta`` and ``period`` perturbed relatively by ``PERTURBATION``."""
-    rng = np.random.default_rng(seed)
     out = ds.copy(deep=True)
     for name in ("delta", "period"):
         if name in out:
             values = np.asarray(out[name].values, dtype=float)
-            out[name].values = values * (1 + PERTURBATION * rng.uniform(-1, 1, values.shape))
+            out[name].values = values * (1 + PERTURBATION * _uniform(out, name, seed))
     return out
 
 

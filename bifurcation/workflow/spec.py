@@ -155,11 +155,14 @@ class Workflow:
                              "split the study into several workflows")
 
     def __getattr__(self, name: str):
-        # the axes as attributes (w.nu, w.nu_f); only called for names that are not fields
+        # the axes as attributes (w.nu, w.nu_f), and the labels by their dimension name (w.law);
+        # only called for names that are not fields
         grid = self.__dict__.get("grid", ())
         for axis, values in grid:
             if axis == name:
                 return values
+        if "model" in self.__dict__ and name == get_model(self.__dict__["model"]).labels.name:
+            return self.__dict__["laws"]
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     # -- derived -------------------------------------------------------------------------------
