@@ -82,7 +82,7 @@ def _naive_heyoka(law: str, nu: float, nu_f: float) -> float:
     from .laws import resolve_law
 
     c = build(resolve_law(law))
-    return nu * float(run_cycle(c, nu, nu_f)["W"])
+    return nu * float(run_cycle(c, {"nu": nu, "nu_f": nu_f, "forcing": 1.0})["W"])
 
 
 def _reference(law: str, nu: float, nu_f: float) -> float:

@@ -1,4 +1,4 @@
-"""The ν → 0 limit computed directly, not by extrapolation (PHYSICS.md).
+"""The ν → 0 limit computed directly, not by extrapolation (docs/physics.md).
 
 For ν_f ≤ 1/2 the limit cycle is the orbit of the ν = 0 flow Ü = −U + g(U̇/ν_f) that leaves the fixed
 point along the fast eigen-direction; Δ0 is the displacement along it until U̇ returns to 0. It is
@@ -81,8 +81,8 @@ def _stick_slip_limit(law: FrictionLaw, nu_f: float, precision: str):
     except ValueError as exc:
         return (math.nan,) * 4 + (0, Status.NONFINITE, str(exc))
     # The creep event marks U̇ = ν_f; run_cycle records it and every later crossing of breakpoint 1.
-    raw = run_cycle(c, dtype(1), dtype(nu_f), forcing=0.0, state0=(_to_fp(U, dtype), _to_fp(Ud, dtype)),
-                    t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS)
+    raw = run_cycle(c, {"nu": dtype(1), "nu_f": dtype(nu_f), "forcing": dtype(0)},
+                    state0=(_to_fp(U, dtype), _to_fp(Ud, dtype)), t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS)
     if raw["status"] is not Status.STICK_SLIP:
         return (math.nan,) * 4 + (raw["steps"], raw["status"], raw["message"])
     t_reach = raw["creep_time"]

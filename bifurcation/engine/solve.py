@@ -21,6 +21,7 @@ def solve(model, label: str, points: dict, *, precision: str = "double", t_max: 
     of the model's outputs (arrays of that shape) and ``messages`` (flat index → text).
     """
     from ..models import get_model
+    from .cycle import run_model
 
     spec = get_model(model)
     missing = [a.name for a in spec.axes if a.name not in points]
@@ -29,17 +30,9 @@ def solve(model, label: str, points: dict, *, precision: str = "double", t_max: 
     arrays = np.broadcast_arrays(*(np.asarray(points[a.name], dtype=float) for a in spec.axes))
     shape = arrays[0].shape
     flat = {a.name: np.ascontiguousarray(v).ravel() for a, v in zip(spec.axes, arrays)}
-    fields, messages = _run_model(spec, label, flat, precision=precision, t_max=t_max, max_steps=max_steps,
+    fields, messages = run_model(spec, label, flat, precision=precision, t_max=t_max, max_steps=max_steps,
                                  batch=batch)
     out = {name: np.asarray(value).reshape(shape) for name, value in fields.items()}
     out["messages"] = messages
     return out
 
-
-def _run_model(spec, label, flat, **options):
-    from .cycle import slip
-
-    if spec.name != "single-block":
-        raise NotImplementedError(f"model {spec.name}: the engine does not read model declarations yet")
-    r = slip(label, nu=flat["nu"], nu_f=flat["nu_f"], **options)
-    return {o.name: r[o.name] for o in spec.outputs}, r.messages

@@ -124,12 +124,15 @@ class Event:
     description: str
     records: str = ""        # raw outcome written by a "first" or "maximum" event
     per_piece: bool = False
+    of: str = ""             # the state variable whose running maximum a "maximum" event records
 
     def __post_init__(self) -> None:
         if self.action not in ACTIONS:
             raise ValueError(f"event {self.name}: action {self.action!r} is not one of {ACTIONS}")
         if self.action in ("first", "maximum") and not self.records:
             raise ValueError(f"event {self.name}: a {self.action!r} event must name what it records")
+        if self.action == "maximum" and not self.of:
+            raise ValueError(f"event {self.name}: a 'maximum' event must name the state variable (of=...)")
 
     @property
     def terminal(self) -> bool:
@@ -193,12 +196,17 @@ class Slots:
 @dataclass(frozen=True)
 class System:
     """What ``Model.equations`` returns: heyoka state variables, their right-hand sides, and one
-    event expression (with its heyoka direction name) per declared event, instantiated per piece
-    for ``per_piece`` events: ``events[name]`` is ``(expression, direction)`` or a list of them."""
+    event expression (with its heyoka direction name: "negative", "positive" or "any") per declared
+    event, instantiated per piece for ``per_piece`` events: ``events[name]`` is
+    ``(expression, direction)`` or a list of them; a name left out is not registered."""
 
     state: tuple
     rhs: tuple
     events: Mapping
+    #: ``(record, breakpoint index)``: the up-crossing of that breakpoint's switch is also the "first"
+    #: event ``record`` (declared absent from ``events``: one event function, not two at one x);
+    #: its later crossings are kept in order (``crossings`` of the raw outcomes).
+    first_on_switch: tuple = ("", -1)
 
 
 @dataclass(frozen=True)

@@ -63,7 +63,7 @@ OUTPUTS = (*(Output(name, *FIELD_ATTRS[name]) for name in FIELDS),
 #: The events of a cycle, in the order the engine registers them.
 STOP_EVENTS = (
     Event("stop", "end", "U̇ returns to 0 from above (x = 0, direction negative): the cycle ends"),
-    Event("max_velocity", "maximum", "dU̇/dt = 0 from above: a velocity maximum", records="vmax"),
+    Event("max_velocity", "maximum", "dU̇/dt = 0 from above: a velocity maximum", records="vmax", of="V"),
     Event("reach_nu_f", "first", "U̇ = ν_f from below (t1), declared only where x = 1 is not a breakpoint",
           records="creep_time"),
     Event("switch", "switch", "x crosses breakpoint b of the law (x/b − 1 = 0, either way): the piece "
@@ -99,7 +99,9 @@ def block_equations(law, slots, num, *, damping=None) -> System:
               "switch": [(x / b - 1.0, "any") for b in law.breakpoints]}
     if 1.0 not in law.breakpoints:
         events["reach_nu_f"] = (x - 1.0, "positive")
-    return System(state=(W, V), rhs=(V, rhs), events=events)
+        return System(state=(W, V), rhs=(V, rhs), events=events)
+    return System(state=(W, V), rhs=(V, rhs), events=events,
+                  first_on_switch=("creep_time", law.breakpoints.index(1.0)))
 
 
 def _equations(law, slots, num) -> System:
@@ -130,7 +132,7 @@ def classify_cycles(raw: dict, points: dict, *, critical_nu_f) -> tuple[dict, di
         "delta": nu * W,
         "period": W,
         "creep_time": np.where(stopped, raw["creep_time"], math.nan),
-        "slip_duration": np.where(stopped, raw["duration"], math.nan),
+        "slip_duration": np.where(stopped, raw["time_after_creep_time"], math.nan),
         "stop_time": np.where(stopped, raw["time"], math.nan),
         "max_velocity": np.where(stopped, nu * raw["vmax"], math.nan),
         "steps": raw["steps"],
