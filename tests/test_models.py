@@ -221,3 +221,48 @@ def test_a_model_registered_at_run_time_is_served(tmp_path):
     ref = solve(full, "carlson-langer", {"gamma": np.full(5, 0.2), "nu_f": np.asarray(w.nu_f), "nu": np.full(5, 1e-9)})
     np.testing.assert_array_equal(out["delta"][0, :, 0], ref["delta"])
     assert not math.isnan(float(ref["delta"][0]))
+
+
+# -- a test model with a structural axis and a load history ("set" events) --------------------------------
+def _ramp_model():
+    """n chained ramps x_k' = (k + 1)·rate, the load ``rate`` stepped to 5 at t = 1 by a "set" event, ending
+    when x_{n−1} reaches 10. Exact end time: 10/(n·rate) if n·rate ≥ 10, else 1 + (10 − n·rate)/(5n)."""
+    import heyoka as hy
+
+    from bifurcation.models import Labels, StateVar, System
+    from bifurcation.models.single_block import LAW
+
+    def equations(law, slots, num, *, n):
+        xs = hy.make_vars(*(f"x{k}" for k in range(n))) if n > 1 else [hy.make_vars("x0")]
+        rate = slots.par("rate")
+        return System(state=tuple(xs), rhs=tuple((k + 1) * rate for k in range(n)),
+                      events={"end": (xs[-1] - num(10), "positive"), "step": [(hy.time - num(1), "positive")]},
+                      sets={"step": [{"rate": 5.0}]})
+
+    def classify(raw, points):
+        return {"end_time": raw["time"], "steps": raw["steps"], "status": raw["status"]}, raw["messages"]
+
+    return Model(
+        name="test-ramp", title="ramps", description="test", source="tests/test_models.py", labels=LAW,
+        axes=(Axis("n", "n", "ramps", bounds=(1, 8), dtype="int64", structural=True),
+              Axis("rate", "r", "load rate", bounds=(0.1, 100.0))),
+        parameters=("rate",), state=(StateVar("x", "ramp"),),
+        events=(Event("end", "end", "x reaches 10"), Event("step", "set", "the load steps to 5", per_piece=True)),
+        outputs=(Output("end_time", "time of the end"), Output("steps", "steps", dtype="int64", fill=0),
+                 Output("status", "status", dtype="int8", fill=0)),
+        statuses=(bf.Status.STICK_SLIP, bf.Status.NO_STOP), equations=equations, classify=classify,
+        initial=lambda n: (0.0,) * n)
+
+
+@pytest.mark.parametrize("batch", [1, 4])
+def test_structural_axis_and_set_events(batch):
+    from bifurcation.engine.solve import solve
+
+    model = register(_ramp_model(), replace=True)
+    n = np.array([1, 2, 4, 1, 2, 4, 8])
+    rate = np.array([0.5, 0.5, 0.5, 20.0, 20.0, 3.0, 0.2])
+    out = solve(model, "carlson-langer", {"n": n, "rate": rate}, batch=batch)
+    exact = np.where(n * rate >= 10, 10 / (n * rate), 1 + (10 - n * rate) / (5 * n))
+    # piecewise-linear motion: the Taylor series are exact, only the event root finding rounds (~1e-16)
+    np.testing.assert_allclose(out["end_time"], exact, rtol=1e-14)
+    assert np.all(out["status"] == int(bf.Status.STICK_SLIP))

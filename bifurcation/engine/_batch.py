@@ -23,7 +23,7 @@ __all__ = ["run_batch"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
 _SUCCESS = hy.taylor_outcome.success
-_STOP = EventKind.STOP
+_STOP, _SET = EventKind.STOP, EventKind.SET
 
 
 def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_steps: int) -> dict:
@@ -34,7 +34,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     n_pieces = c.n_pieces
     slots = c.slots
     first_piece = slots.piece0
-    names = [s.name for s in c.model.state]
+    names = list(c.state_names)
     out_time = np.full(n_points, math.nan)
     out_state = {name: np.full(n_points, math.nan) for name in names}
     recorded = c.recorder.values   # written by the non-terminal events too
@@ -50,7 +50,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     state = ta.state
     pars = ta.pars
     queue = iter(range(n_points))
-    initial = np.asarray(c.model.initial_state, dtype=float)
+    initial = np.asarray(c.initial, dtype=float)
     slot_values = [(slots.index(name), values[name]) for name in slots.names]
     alias_record, alias = c.first_alias
 
@@ -102,7 +102,11 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
                     finish(lane, Status.STICK_SLIP)
                     reloaded = True
                     continue
-                # only the end and the switches are terminal in batch mode
+                if kinds[index] is _SET:
+                    for slot, value in c.sets_of[index]:
+                        pars[slot, lane] = value
+                    continue
+                # only the end, the sets and the switches are terminal in batch mode
                 j = breakpoint_of[index]
                 up = j == piece[lane]
                 pars[first_piece + piece[lane], lane] = 0.0

@@ -39,6 +39,7 @@ class EventKind(Enum):
     MAX_VELOCITY = "maximum"  # a running maximum of a state variable is updated
     REACH_NU_F = "first"      # the time of a first occurrence is recorded
     SWITCH = "switch"         # the piece selector moves one piece up or down
+    SET = "set"               # runtime slots are set to the values the system gives
 
 
 _KINDS = {kind.value: kind for kind in EventKind}
@@ -73,6 +74,9 @@ class Compiled:
     first_records: tuple = ()               # every "first" record name of the model
     max_records: tuple = ()                 # (record name, state index) of every "maximum" event
     first_alias: tuple = ("", -1)           # (record, breakpoint index) carried by a switch
+    state_names: tuple = ()                 # the system's state variables, in order
+    initial: tuple = ()                     # the model's initial state for this structure
+    sets_of: tuple = ()                     # per terminal event: ((slot index, value), ...) of a "set"
 
 
 def fp_info(precision: str):
@@ -128,18 +132,18 @@ class LaneRecorder:
         return callback
 
 
-def _events(model, system, law: FrictionLaw, fp_type, recorder: LaneRecorder | None):
+def _events(model, system, law: FrictionLaw, fp_type, recorder: LaneRecorder | None, slots):
     """Terminal events with their meanings, and the non-terminal events (batch mode)."""
     batch = recorder is not None
     make = hy.t_event_batch if batch else hy.t_event
     fp = {"fp_type": fp_type} if fp_type is not None else {}
     cooldown = fp_type(COOLDOWN) if fp_type is not None else COOLDOWN
-    state_names = [s.name for s in model.state]
+    state_names = [str(v) for v in system.state]
 
     def direction(name):
         return getattr(hy.event_direction, _DIRECTIONS[name])
 
-    events, kinds, bp_of, records, state_of, nt_events = [], [], [], [], [], []
+    events, kinds, bp_of, records, state_of, sets_of, nt_events = [], [], [], [], [], [], []
     for event in model.events:
         if event.name not in system.events:
             continue
@@ -157,35 +161,43 @@ def _events(model, system, law: FrictionLaw, fp_type, recorder: LaneRecorder | N
             bp_of.append(j if event.per_piece else -1)
             records.append(event.records)
             state_of.append(index)
-    return events, tuple(kinds), tuple(bp_of), tuple(records), tuple(state_of), nt_events
+            sets = system.sets.get(event.name, ()) if event.action == "set" else ()
+            sets_of.append(tuple((slots.index(k), v) for k, v in sets[j].items()) if sets else ())
+    return events, tuple(kinds), tuple(bp_of), tuple(records), tuple(state_of), tuple(sets_of), nt_events
 
 
-def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1, model=None) -> Compiled:
-    """The cached compiled integrator for ``law`` under ``model`` (default: the single block)."""
+def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1, model=None,
+             structure=None) -> Compiled:
+    """The cached compiled integrator for ``law`` under ``model`` (default: the single block) and the
+    values ``structure`` of its structural axes."""
     from ..models import get_model
 
     model = get_model(model)
-    key = (model.name, law.name, law.formula, precision, batch_size)
+    structure = dict(structure or {})
+    key = (model.name, law.name, law.formula, precision, batch_size, tuple(sorted(structure.items())))
     hit = _CACHE.get(key)
     if hit is None:
-        hit = _CACHE[key] = build(law, precision, batch_size, model=model)
+        hit = _CACHE[key] = build(law, precision, batch_size, model=model, structure=structure)
     return hit
 
 
-def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1, model=None) -> Compiled:
+def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1, model=None,
+          structure=None) -> Compiled:
     """Compile a new integrator for ``law`` (uncached; the benchmark's naive baseline uses this)."""
     from ..models import get_model
 
     model = get_model(model)
+    structure = dict(structure or {})
     fp_type, dtype, num = fp_info(precision)
     slots = model.slots(len(law.pieces))
-    system = model.equations(law, slots, num)
+    system = model.equations(law, slots, num, **structure)
+    names = tuple(str(v) for v in system.state)
     batch = batch_size > 1
     first = tuple(e.records for e in model.events if e.action == "first")
-    maxima = tuple((e.records, [s.name for s in model.state].index(e.of))
-                   for e in model.events if e.action == "maximum")
+    maxima = tuple((e.records, names.index(e.of)) for e in model.events if e.action == "maximum")
     recorder = LaneRecorder(batch_size, first, maxima) if batch else None
-    events, kinds, bp_of, records, state_of, nt_events = _events(model, system, law, fp_type, recorder)
+    events, kinds, bp_of, records, state_of, sets_of, nt_events = _events(model, system, law, fp_type, recorder,
+                                                                          slots)
     kwargs = dict(t_events=events, nt_events=nt_events, compact_mode=precision == "quad")
     if fp_type is not None:
         kwargs["fp_type"] = fp_type
@@ -199,4 +211,5 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1, mode
     alias = system.first_on_switch
     return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder, dtype, alias[1],
                     model=model, slots=slots, records=records, state_of=state_of, first_records=first,
-                    max_records=maxima, first_alias=alias)
+                    max_records=maxima, first_alias=alias, state_names=names, initial=model.start(structure),
+                    sets_of=sets_of)

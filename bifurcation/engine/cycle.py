@@ -22,7 +22,7 @@ from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult, Status
 __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "run_cycle", "run_model", "slip"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
-_STOP, _MAXIMUM, _FIRST = EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F
+_STOP, _MAXIMUM, _FIRST, _SET = EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F, EventKind.SET
 
 
 def run_cycle(c: Compiled, values: dict, *, state0=None, t_max: float = DEFAULT_T_MAX,
@@ -41,7 +41,7 @@ def run_cycle(c: Compiled, values: dict, *, state0=None, t_max: float = DEFAULT_
     ta.time = dtype(0)
     state = ta.state  # views on the integrator's buffers
     pars = ta.pars
-    state[:] = c.model.initial_state if state0 is None else state0
+    state[:] = c.initial if state0 is None else state0
     # A terminal event's cooldown outlives a reset of time and state: clear it, or a point would
     # depend on the one before it.
     ta.reset_cooldowns()
@@ -84,6 +84,9 @@ def run_cycle(c: Compiled, values: dict, *, state0=None, t_max: float = DEFAULT_
         elif kind is _FIRST:
             if found[records[index]] != found[records[index]]:  # NaN: the first time only
                 found[records[index]] = ta.time
+        elif kind is _SET:
+            for slot, value in c.sets_of[index]:
+                pars[slot] = value
         else:  # a switch at breakpoint j: the upper end of this piece means up, the lower means down
             j = breakpoint_of[index]
             up = j == piece
@@ -98,7 +101,7 @@ def run_cycle(c: Compiled, values: dict, *, state0=None, t_max: float = DEFAULT_
                     found[alias_record] = ta.time
                 else:
                     crossings.append(ta.time)
-    out = {s.name: state[i] for i, s in enumerate(c.model.state)}
+    out = {name: state[i] for i, name in enumerate(c.state_names)}
     out.update(found)
     out.update(maxima)
     out.update(time=ta.time, crossings=crossings, steps=steps, status=status, message=message)
@@ -113,16 +116,16 @@ def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps
     float64 (quad keeps the difference exact to ~1e-33).
     """
     dtype = c.dtype
-    keys = ("time", *(s.name for s in c.model.state), *c.first_records, *(n for n, _ in c.max_records))
+    keys = ("time", *c.state_names, *c.first_records, *(n for n, _ in c.max_records))
     out = {k: np.full(size, math.nan) for k in keys}
     for r in c.first_records:
         out[f"time_after_{r}"] = np.full(size, math.nan)
     out["steps"] = np.zeros(size, dtype=np.int64)
     out["status"] = np.zeros(size, dtype=np.int8)
     messages = {}
-    names = c.slots.names
+    columns = [(name, values[name]) for name in c.slots.names]
     for i in range(size):
-        raw = run_cycle(c, {name: dtype(values[name][i]) for name in names}, t_max=t_max, max_steps=max_steps)
+        raw = run_cycle(c, {name: dtype(column[i]) for name, column in columns}, t_max=t_max, max_steps=max_steps)
         for k in keys:
             out[k][i] = float(raw[k])
         for r in c.first_records:
@@ -144,7 +147,28 @@ def run_model(model, law, points: dict, *, precision: str = "double", t_max: flo
     law = resolve_law(law)
     size = next(iter(points.values())).size if points else 1
     values = model.runtime(points)
-    c = compiled(law, precision, batch if batch > 1 else 1, model=model)
+    structural = [a.name for a in model.structural]
+    if not structural:
+        return _run_group(model, law, values, size, {}, precision, t_max, max_steps, batch)
+    # one compiled system per distinct structure (an N-block chain per N): run each group, scatter back
+    keys = np.stack([np.asarray(points[name]).ravel() for name in structural], axis=1)
+    groups, inverse = np.unique(keys, axis=0, return_inverse=True)
+    fields, messages = {}, {}
+    for g, key in enumerate(groups):
+        where = np.flatnonzero(inverse.ravel() == g)
+        structure = {name: model.axis(name).cast(value) for name, value in zip(structural, key)}
+        part, notes = _run_group(model, law, {k: v[where] for k, v in values.items()}, where.size, structure,
+                                 precision, t_max, max_steps, batch)
+        for name, column in part.items():
+            if name not in fields:
+                fields[name] = np.empty(size, dtype=np.asarray(column).dtype)
+            fields[name][where] = column
+        messages.update({int(where[i]): text for i, text in notes.items()})
+    return fields, messages
+
+
+def _run_group(model, law, values, size, structure, precision, t_max, max_steps, batch):
+    c = compiled(law, precision, batch if batch > 1 else 1, model=model, structure=structure)
     if batch > 1:
         from ._batch import run_batch
 

@@ -30,10 +30,12 @@ __all__ = ["ACTIONS", "Axis", "Event", "Labels", "Model", "Output", "Slots", "St
 #: ``end``     terminal: the run of this point ends here (the single block's stop);
 #: ``switch``  terminal: the piece selector of the friction law moves up or down one piece;
 #: ``maximum`` records the running maximum of the output named by ``Event.records``;
-#: ``first``   records the time of its first occurrence into ``Event.records``.
+#: ``first``   records the time of its first occurrence into ``Event.records``;
+#: ``set``     terminal: sets runtime slots to the values ``System.sets[name][instance]`` gives (a load
+#:             history's step, say: the event function is t − t_k).
 #: ``maximum`` and ``first`` events are terminal in scalar mode (exact time and state at the event)
 #: and non-terminal callbacks in batch mode (a terminal event stops every SIMD lane).
-ACTIONS = ("end", "first", "maximum", "switch")
+ACTIONS = ("end", "first", "maximum", "set", "switch")
 _SCALES = ("linear", "log")
 _DTYPES = ("float64", "int64", "int8", "bool")
 
@@ -71,6 +73,10 @@ class Axis:
             raise ValueError(f"axis {self.name}: bounds {self.bounds} are not an increasing (positive for log) pair")
         if self.dtype not in ("float64", "int64"):
             raise ValueError(f"axis {self.name}: dtype {self.dtype!r} is not float64 or int64")
+
+    def cast(self, value):
+        """``value`` as this axis's Python type (int for counts)."""
+        return int(value) if self.dtype == "int64" else float(value)
 
     @property
     def slot(self) -> str:
@@ -137,7 +143,7 @@ class Event:
     @property
     def terminal(self) -> bool:
         """Terminal in batch mode too (it changes the integration, not just a record)."""
-        return self.action in ("end", "switch")
+        return self.action in ("end", "set", "switch")
 
 
 @dataclass(frozen=True)
@@ -207,14 +213,17 @@ class System:
     #: event ``record`` (declared absent from ``events``: one event function, not two at one x);
     #: its later crossings are kept in order (``crossings`` of the raw outcomes).
     first_on_switch: tuple = ("", -1)
+    #: For each "set" event: one ``{slot name: value}`` per instance (what it sets when it fires).
+    sets: Mapping = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
 class Model:
     """A model's declaration (see the module docstring and docs/models.md).
 
-    ``equations(law, slots, num)`` builds the system for a resolved label (``num`` makes a constant
-    in the integrator's precision). ``classify(raw, points)`` turns the engine's raw outcomes (arrays
+    ``equations(law, slots, num, **structure)`` builds the system for a resolved label (``num`` makes
+    a constant in the integrator's precision; ``structure`` holds the values of the ``structural``
+    axes, e.g. ``n=64`` blocks: the engine compiles one system per distinct value). ``classify(raw, points)`` turns the engine's raw outcomes (arrays
     over the points: the recorded outcomes, ``time``, the final state by name, ``steps``, ``status``
     and ``messages``) into the model's ``outputs`` and messages; ``points`` maps every runtime
     parameter to its per-point values. ``fixed`` sets the runtime slots no axis sets.
@@ -236,6 +245,8 @@ class Model:
     fixed: Mapping = field(default_factory=dict)
     initial_state: tuple = ()
     checkpoint: bool = False      # a run long enough to checkpoint its state between chunks of work
+    #: ``initial_state`` for a structural value (an N-block chain's 2N zeros), if it depends on one.
+    initial: Callable | None = None
 
     def __post_init__(self) -> None:
         names = [self.labels.name, *(a.name for a in self.axes)]
@@ -278,6 +289,14 @@ class Model:
 
     def slots(self, n_pieces: int = 1) -> Slots:
         return Slots(self.parameters, n_pieces)
+
+    @property
+    def structural(self) -> tuple[Axis, ...]:
+        return tuple(a for a in self.axes if a.structural)
+
+    def start(self, structure: Mapping) -> tuple:
+        """The initial state for the structural values ``structure``."""
+        return tuple(self.initial(**structure)) if self.initial is not None else tuple(self.initial_state)
 
     def runtime(self, points: Mapping) -> dict:
         """Per-point values of every runtime parameter from the axes' ``points`` and ``fixed``."""
