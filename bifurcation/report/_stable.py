@@ -50,7 +50,7 @@ def _uniform(ds, name: str, seed: int) -> np.ndarray:
         h = np.full(ds[name].shape, np.uint64(seed) * np.uint64(0x9E3779B97F4A7C15), dtype=np.uint64)
         for axis, dim in enumerate(ds[name].dims):
             values = ds[dim].values
-            if values.dtype.kind in "OUS":
+            if values.dtype.kind in "OUST":
                 keys = np.array([zlib.crc32(str(v).encode()) for v in values], dtype=np.uint64)
             else:
                 keys = np.asarray(values, dtype=np.float64).view(np.uint64)
