@@ -9,7 +9,7 @@ data change of that size cannot move: the fits are repeated on copies of the dat
 multiplied by 1 + ``PERTURBATION``·u (u in [−1, 1], a hash of the point's labels and a seed: the same on
 every machine, so the cut is too), and a number keeps only
 the decimals above ``MARGIN`` times the largest change seen. A number that no digit of survives is
-printed as its order of magnitude and marked "(machine-dependent)".
+replaced by "(machine-dependent)".
 """
 
 from __future__ import annotations
@@ -85,14 +85,22 @@ def spread(reference, reruns, name: str) -> float:
 
 def stable(value, change: float, spec: str) -> str:
     """``value`` formatted with ``spec`` (``".8f"``, ``".4g"``, ``".1e"``, ``"+.1e"``), cut to the
-    digits that a change of ``MARGIN``·``change`` cannot move."""
+    digits that a change of ``MARGIN``·``change`` cannot move.
+
+    A number that no digit of survives is not printed: ``(machine-dependent)``. (A bound such as the
+    power of ten above |value| + ``MARGIN``·change still moved across a decade between simulated
+    machines.)"""
     if value is None or not math.isfinite(value):
         return "—"
     text = format(value, spec)
     if change <= 0 or value == 0:
         return text
     if not math.isfinite(change):
-        return f"{value:.0e} {MACHINE_DEPENDENT}"
+        return MACHINE_DEPENDENT
+
+    def bound() -> str:
+        return MACHINE_DEPENDENT
+
     step = 10.0 ** math.ceil(math.log10(MARGIN * change))   # the finest decimal kept
     lead = math.floor(math.log10(abs(value)))
     kind, digits = spec[-1], int(spec.rstrip("efg").split(".")[-1] or 6)
@@ -100,12 +108,12 @@ def stable(value, change: float, spec: str) -> str:
     if kind == "f":
         keep = min(digits, max(0, -round(math.log10(step))))
         if abs(value) < step:
-            return f"{value:.0e} {MACHINE_DEPENDENT}"
+            return bound()
         return format(round(value, keep), f"{sign}.{keep}f")
     significant = lead - round(math.log10(step)) + 1
     have = digits if kind == "g" else digits + 1
     if significant < 1:
-        return f"{value:.0e} {MACHINE_DEPENDENT}"
+        return bound()
     n = min(have, significant)
     if kind == "g":
         if lead + 1 > n:   # more integer digits than are kept: round to tens, hundreds, ...

@@ -361,9 +361,9 @@ _STABLE_NOTE = ("Digits: heyoka compiles for the host CPU, so the engine's resul
                 "their last bits (≤ 1e-14 relative). Each fitted number above is printed only to the digits "
                 "that such a change cannot move: the fits were repeated three times on data perturbed by "
                 "2.2e-16 relative (the data error the fits assume) and every digit whose unit is less than twice "
-                "the largest change was dropped; a number with no such digit is given as its order of magnitude "
-                "and marked machine-dependent, as is a term count that the perturbation changed. The claims "
-                "table quotes the same fits with fewer digits.")
+                "the largest change was dropped; a number with no such digit is replaced by (machine-dependent), "
+                "and a term count that the perturbation changed is marked so. The claims table quotes the same "
+                "fits with fewer digits.")
 
 
 def fit_tables(extrapolations, period_fits, reruns) -> dict:
