@@ -20,7 +20,7 @@ from bifurcation.errors import InputError
 from bifurcation.models import (ACTIONS, DEFAULT_MODEL, Axis, Event, Model, Output, Slots, get_model, model_names,
                                 register)
 from bifurcation.store import create_store, open_store, write_tile
-from bifurcation.tiles import compute_serial, compute_tile, iter_tiles, tile_count
+from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles, tile_count
 from bifurcation.workflow import parse_workflow
 
 DAMPED = textwrap.dedent("""
@@ -176,7 +176,7 @@ def test_damped_store_equals_the_serial_engine(damped_store):
 
 def test_query_and_cli_serve_the_damped_store(damped_store):
     w, path = damped_store
-    from bifurcation.query import query
+    from bifurcation.store.query import query
 
     (record,) = query(path, law="carlson-langer", gamma=0.1, nu_f=0.3, nu=1e-9)
     assert (record["gamma"], record["nu_f"], record["nu"], record["status"]) == (0.1, 0.3, 1e-9, "stick-slip")

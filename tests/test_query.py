@@ -13,9 +13,9 @@ from click.testing import CliRunner
 import bifurcation as bf
 from bifurcation.cli import cli
 from bifurcation.errors import InputError
-from bifurcation.query import COLUMNS, FORMATS, format_records, query
+from bifurcation.store.query import COLUMNS, FORMATS, format_records, query
 from bifurcation.store import create_store, open_store, write_tile
-from bifurcation.tiles import compute_tile, iter_tiles
+from bifurcation.run.tiles import compute_tile, iter_tiles
 from bifurcation.workflow import Workflow
 
 W = Workflow(name="query-test", laws=("piecewise-linear", "carlson-langer"), nu=(1e-6, 1e-9, 1e-12),
@@ -129,6 +129,6 @@ def test_cli_query_formats(store):
 
 
 def test_cli_format_choices_are_the_formats():
-    # hard-coded in the CLI so that --help does not import bifurcation.query; kept equal here
+    # the CLI takes its choices from the constant (bifurcation.cli._options)
     (option,) = [p for p in cli.get_command(None, "query").params if p.name == "fmt"]
     assert tuple(option.type.choices) == FORMATS

@@ -10,7 +10,7 @@ from click.testing import CliRunner
 
 from bifurcation.cli import cli
 from bifurcation.store import create_store, write_tile
-from bifurcation.tiles import compute_tile, iter_tiles
+from bifurcation.run.tiles import compute_tile, iter_tiles
 from bifurcation.workflow import parse_workflow
 
 USER = textwrap.dedent("""

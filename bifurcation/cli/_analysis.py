@@ -9,6 +9,7 @@ from pathlib import Path
 
 import click
 
+from . import _options as O
 from ._common import echo_json, fail, number
 
 __all__ = ["COMMANDS", "PAPER_WORKFLOWS"]
@@ -32,10 +33,8 @@ _STORE = click.option("--store", "stores", metavar="PATH", multiple=True, requir
                       help="A store written by `bifurcation submit`, or a directory of stores (repeatable).")
 _LAW = click.option("--law", required=True, help="Law label in the store, e.g. carlson-langer.")
 _NU_F = click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f"), help="Friction velocity ν_f.")
-_JSON = click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-_NEAREST = click.option("--nearest", is_flag=True,
-                        help="Take the nearest ν_f label of the store when --nu-f is not one (said on stderr); "
-                             "default: refuse, naming the nearest labels.")
+_JSON = O.JSON
+_NEAREST = O.NEAREST
 _NAMES = {"nu_f": "--nu-f", "law": "--law", "store": "--store", "nu": "--store (ν values)"}
 
 
@@ -135,9 +134,8 @@ def _workflow_dir() -> Path:
 @click.command("reproduce")
 @click.option("--out", default="results/paper", show_default=True, metavar="DIR",
               help="Where the report goes (the stores go to results/<study>.zarr).")
-@click.option("--scheduler", metavar="ADDRESS|SCHEDULER_FILE", default=None,
-              help="Dask scheduler; default $DASK_SCHEDULER_ADDRESS, else an embedded local cluster.")
-@click.option("--workers", type=int, default=None, help="Embedded cluster: worker processes (default: cores).")
+@O.SCHEDULER
+@O.WORKERS
 @click.option("--new-stores", is_flag=True,
               help="Replace a results/<study>.zarr that holds an older version of a paper workflow.")
 def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:

@@ -6,7 +6,7 @@ import sys
 
 import click
 
-from ..query import FORMATS
+from . import _options as O
 from ._common import echo_json, fail, number
 
 __all__ = ["COMMANDS"]
@@ -26,19 +26,13 @@ def _numbers(name: str):
 @click.argument("workflow", metavar="WORKFLOW")
 @click.option("--store", metavar="PATH", default=None,
               help="Zarr store (default: results/<study name>.zarr). Resumed if it holds this workflow.")
-@click.option("--scheduler", metavar="ADDRESS|SCHEDULER_FILE", default=None,
-              help="Dask scheduler (tcp://host:8786) or scheduler file. Default: $DASK_SCHEDULER_ADDRESS, "
-                   "else an embedded local cluster.")
-@click.option("--workers", type=int, default=None,
-              help="Embedded cluster: worker processes (default: cores). With --scheduler: wait for N workers.")
+@O.SCHEDULER
+@O.WORKERS
 @click.option("--new-store", is_flag=True, help="Replace an existing store that holds another workflow.")
-@click.option("--write-from", "writer", type=click.Choice(["workers", "client"]), default="workers",
-              show_default=True,
-              help="Who writes finished tiles: the workers (store on a filesystem all workers share) "
-                   "or this process (no shared filesystem needed).")
+@O.WRITE_FROM
 @click.option("--dashboard", is_flag=True,
               help="Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one).")
-@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@O.JSON
 def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer: str, dashboard: bool,
                as_json: bool) -> None:
     """Compute the missing points of WORKFLOW (a TOML file) on Dask into a Zarr store."""
@@ -80,18 +74,17 @@ def _option_names() -> dict:
 
 
 @click.command("query")
-@click.option("--store", metavar="PATH", required=True, help="A store written by `bifurcation submit`.")
+@O.STORE
 @click.option("--law", multiple=True, help="Law label (repeatable; a formula matches by its expression). Default: all.")
 @_axis_options
-@click.option("--nearest", is_flag=True,
-              help="Take the nearest label where a value is not one (and say so on stderr); default: refuse.")
-@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
+@O.NEAREST
+@O.FORMAT
 @click.option("--done-only", is_flag=True, help="Only points already computed.")
 def query_cmd(store: str, law, nearest: bool, fmt: str, done_only: bool, **axes) -> None:
     """Print the points of a store selected by law and by the axes of its model (exact labels; streamed:
     memory independent of the store)."""
     from ..errors import InputError
-    from ..query import iter_records, write_records
+    from ..store.query import iter_records, write_records
 
     notes: list[str] = []
     try:   # the selection and every selected chunk are checked here, before any output

@@ -34,14 +34,9 @@ class Status(IntEnum):
     NO_STOP = 3        #: did not stop before t_max or max_steps (bounded, never hangs)
     NO_STICK = 4       #: stopped, but the spring force then exceeds static friction (back-slip)
     NONFINITE = 5      #: the integrator produced a non-finite state
-    INVALID = 6        #: the point's input was invalid (never produced by ``slip`` on valid input)
 
     def __str__(self) -> str:  # "stick-slip", as users and the store see it
         return self.name.lower().replace("_", "-")
-
-    @classmethod
-    def parse(cls, text: str) -> "Status":
-        return cls[text.upper().replace("-", "_")]
 
 
 #: Float fields of a slip result, in order.

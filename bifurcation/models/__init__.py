@@ -12,7 +12,7 @@ import importlib
 from ..errors import InputError
 from ._base import ACTIONS, Axis, Event, Labels, Model, Output, Slots, StateVar, System
 
-__all__ = ["ACTIONS", "DEFAULT_MODEL", "Axis", "Event", "Labels", "Model", "Output", "Slots", "StateVar",
+__all__ = ["ACTIONS", "Axis", "DEFAULT_MODEL", "Event", "Labels", "Model", "Output", "Slots", "StateVar",
            "System", "get_model", "model_names", "register"]
 
 #: The model of a workflow without a ``[model]`` table, and of every store written before models.

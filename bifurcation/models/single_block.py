@@ -158,7 +158,7 @@ SINGLE_BLOCK = Model(
     state=(StateVar("W", "scaled displacement U/ν"), StateVar("V", "scaled velocity U̇/ν")),
     events=STOP_EVENTS,
     outputs=OUTPUTS,
-    statuses=tuple(s for s in Status if s is not Status.INVALID),
+    statuses=tuple(s for s in Status if s is not Status.NOT_COMPUTED),
     equations=_equations,
     classify=_classify,
 )

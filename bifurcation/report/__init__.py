@@ -5,4 +5,4 @@ reproduction (``render.write_report``, ``bifurcation reproduce``) and the report
 from .render import ReportData, analyse, write_report
 from .study import write_store_report
 
-__all__ = sorted(["ReportData", "analyse", "write_report", "write_store_report"])
+__all__ = ["ReportData", "analyse", "write_report", "write_store_report"]

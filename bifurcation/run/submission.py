@@ -21,7 +21,7 @@ import numpy as np
 
 from ..engine.result import Status
 from ..errors import InputError
-from ..tiles import Tile, compute_tile, iter_tiles
+from .tiles import Tile, compute_tile, iter_tiles
 from ..workflow import Workflow, load_workflow
 from .cluster import check_scheduler, check_workers, connect, describe
 from .progress import Progress

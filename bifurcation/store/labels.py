@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["RTOL", "Match", "match_label", "match_value", "nearest_labels"]
+__all__ = ["Match", "RTOL", "match_label", "match_value", "nearest_labels"]
 
 #: Relative agreement for a number to be a label: far above the rounding of a decimal (1.1e-16),
 #: far below any grid spacing a study uses (the finest shipped one is 1e-3 relative).

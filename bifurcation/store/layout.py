@@ -82,8 +82,9 @@ def variable_attrs(name: str, model=None) -> dict:
     output = spec.output(name)
     attrs = {"long_name": output.long_name, "units": output.units}
     if name == "status":
-        attrs["flag_values"] = [int(s) for s in spec.statuses]
-        attrs["flag_meanings"] = " ".join(str(s) for s in spec.statuses)
+        flags = (Status.NOT_COMPUTED, *spec.statuses)
+        attrs["flag_values"] = [int(s) for s in flags]
+        attrs["flag_meanings"] = " ".join(str(s) for s in flags)
     return attrs
 
 

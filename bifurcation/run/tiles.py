@@ -16,8 +16,8 @@ from typing import Iterator
 
 import numpy as np
 
-from .models import DEFAULT_MODEL, get_model
-from .store.layout import VARIABLES, fills, variables
+from ..models import DEFAULT_MODEL, get_model
+from ..store.layout import VARIABLES, fills, variables
 
 __all__ = ["OUTPUTS", "Tile", "compute_serial", "compute_tile", "iter_tiles", "tile_count"]
 
@@ -112,7 +112,7 @@ def compute_tile(tile: Tile) -> dict[str, np.ndarray]:
     The values equal those of one engine call over the whole grid bit for bit: each point is an
     independent run of the same compiled integrator, reset per point.
     """
-    from .engine.solve import solve
+    from ..engine.solve import solve
 
     model = get_model(tile.model)
     shape = tile.shape
@@ -133,7 +133,7 @@ def compute_tile(tile: Tile) -> dict[str, np.ndarray]:
 def compute_serial(workflow) -> dict[str, np.ndarray]:
     """The whole grid in this process, one engine call per law: (label, *axes) arrays of the store's
     variables. The reference a distributed run must equal bit for bit."""
-    from .engine.solve import solve
+    from ..engine.solve import solve
 
     model = workflow.spec
     points = _points(workflow.grid)

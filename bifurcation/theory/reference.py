@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import mpmath
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["carlson_langer_mp", "limit_orbit_exact", "piecewise_linear_exact"]
 

@@ -16,10 +16,10 @@ from typing import Iterable, Iterator, TextIO
 
 import numpy as np
 
-from .engine.result import Status
-from .errors import InputError
-from .store.labels import match_label, match_value
-from .store.layout import store_model
+from ..engine.result import Status
+from ..errors import InputError
+from .labels import match_label, match_value
+from .layout import store_model
 
 __all__ = ["COLUMNS", "FORMATS", "RecordStream", "columns", "format_records", "iter_records", "query",
            "write_records"]
@@ -31,7 +31,7 @@ _STATUS_NAMES = [str(s) for s in Status]
 def columns(model=None) -> tuple[str, ...]:
     """Keys of a record, in order: the label, the axes (fastest first), status, the float outputs,
     the other outputs."""
-    from .models import get_model
+    from ..models import get_model
 
     spec = get_model(model)
     rest = [o.name for o in spec.outputs if o.name != "status" and o.name not in spec.float_outputs]
@@ -136,7 +136,7 @@ def iter_records(store, *, law=None, computed_only: bool = False, nearest: bool 
     """
     axes = {k: v for k, v in axes.items() if v is not None}
     if hasattr(store, "data_vars"):
-        from .models import get_model
+        from ..models import get_model
 
         model = get_model(store_model(store.attrs))
         labels = {name: np.asarray(store[name].values) for name in model.dims}
@@ -155,10 +155,10 @@ class _Plan:
     at a time."""
 
     def __init__(self, path, law, axes, nearest, notes) -> None:
-        from .models import get_model
-        from .store import check_store
-        from .store.integrity import TileReader
-        from .store.lock import holder
+        from ..models import get_model
+        from . import check_store
+        from .integrity import TileReader
+        from .lock import holder
 
         attrs = check_store(path, None, argument="store")
         self.model = model = get_model(store_model(attrs))
@@ -174,7 +174,7 @@ class _Plan:
         self.maker = _Records(model)
 
     def _coordinate(self, name: str) -> np.ndarray:
-        from .store.integrity import Damage, StoreDamagedError
+        from .integrity import Damage, StoreDamagedError
 
         array = self.reader.coordinates[name]
         for k in range(-(-array.shape[0] // array.chunks[0])):
