@@ -77,6 +77,7 @@ class Compiled:
     state_names: tuple = ()                 # the system's state variables, in order
     initial: tuple = ()                     # the model's initial state for this structure
     sets_of: tuple = ()                     # per terminal event: ((slot index, value), ...) of a "set"
+    max_start: tuple = ()                   # (record, start value) of each maximum from ``initial``
 
 
 def fp_info(precision: str):
@@ -212,4 +213,5 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1, mode
     return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder, dtype, alias[1],
                     model=model, slots=slots, records=records, state_of=state_of, first_records=first,
                     max_records=maxima, first_alias=alias, state_names=names, initial=model.start(structure),
-                    sets_of=sets_of)
+                    sets_of=sets_of,
+                    max_start=tuple((name, dtype(model.start(structure)[i])) for name, i in maxima))

@@ -25,36 +25,52 @@ _NONFINITE = hy.taylor_outcome.err_nf_state
 _STOP, _MAXIMUM, _FIRST, _SET = EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F, EventKind.SET
 
 
-def run_cycle(c: Compiled, values: dict, *, state0=None, t_max: float = DEFAULT_T_MAX,
+def run_cycle(c: Compiled, values, *, state0=None, t_max: float = DEFAULT_T_MAX,
               max_steps: int = DEFAULT_MAX_STEPS) -> dict:
     """Integrate one run with the compiled integrator ``c``; returns a dict of raw outcomes.
 
     ``values`` maps each runtime slot of the model (``c.slots.names``) to its value here (for the
     single block: ``nu``, ``nu_f``, ``forcing``; ``forcing = 0`` with ``nu = 1`` is the ν = 0 flow of
-    the direct limit). ``state0`` defaults to the model's initial state. Times, the final state (by
+    the direct limit), or is the sequence of those values in slot order. ``state0`` defaults to the model's initial state. Times, the final state (by
     name) and the records are returned in the integrator's precision (numpy scalars). This loop runs
     once per event of every point: it keeps Python work per event to a few integer comparisons.
     """
+    if isinstance(values, dict):
+        values = [values[name] for name in c.slots.names]
+    time, state, found, maxima, crossings, steps, status, message = _run(c, values, state0, t_max, max_steps)
+    out = dict(zip(c.state_names, state))
+    out.update(found)
+    out.update(maxima)
+    out.update(time=time, crossings=crossings, steps=steps, status=status, message=message)
+    return out
+
+
+def _run(c: Compiled, values, state0, t_max: float, max_steps: int) -> tuple:
+    """``run_cycle`` without the dict: (time, state, first records, maxima, crossings, steps, status,
+    message), all in its precision, ``state`` the integrator's own buffer (read it before the next run).
+    ``values`` in slot order."""
     ta = c.integrator
     dtype = c.dtype
-    slots = c.slots
     ta.time = dtype(0)
     state = ta.state  # views on the integrator's buffers
     pars = ta.pars
-    state[:] = c.initial if state0 is None else state0
+    start = c.initial if state0 is None else state0
+    for i, value in enumerate(start):
+        state[i] = value
     # A terminal event's cooldown outlives a reset of time and state: clear it, or a point would
     # depend on the one before it.
     ta.reset_cooldowns()
-    for name in slots.names:
-        pars[slots.index(name)] = values[name]
-    piece, first_piece = 0, slots.piece0  # every start is on piece 0 (rest at x = 0, the manifold below b1)
+    for i, value in enumerate(values):   # the slots in order: parameters[0], parameters[1], ...
+        pars[i] = value
+    piece, first_piece = 0, c.slots.piece0  # every start is on piece 0 (rest at x = 0, the manifold below b1)
     if c.n_pieces > 1:
         pars[first_piece:] = 0
         pars[first_piece] = 1
     kinds, breakpoint_of, records, state_of = c.kinds, c.breakpoint_of, c.records, c.state_of
     alias_record, alias = c.first_alias
-    found = {name: math.nan for name in c.first_records}
-    maxima = {name: state[index] for name, index in c.max_records}
+    found = dict.fromkeys(c.first_records, math.nan)
+    # a running maximum starts at the start's value (the initial state of the model, or state0)
+    maxima = dict(c.max_start) if state0 is None else {name: start[index] for name, index in c.max_records}
     crossings = []  # later crossings of the breakpoint that carries a "first" record (τ1 of Eq. 16)
     n_events = len(kinds)
     propagate = ta.propagate_until
@@ -101,11 +117,7 @@ def run_cycle(c: Compiled, values: dict, *, state0=None, t_max: float = DEFAULT_
                     found[alias_record] = ta.time
                 else:
                     crossings.append(ta.time)
-    out = {name: state[i] for i, name in enumerate(c.state_names)}
-    out.update(found)
-    out.update(maxima)
-    out.update(time=ta.time, crossings=crossings, steps=steps, status=status, message=message)
-    return out
+    return ta.time, state, found, maxima, crossings, steps, status, message   # state: the live view
 
 
 def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps: int) -> dict:
@@ -116,23 +128,32 @@ def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps
     float64 (quad keeps the difference exact to ~1e-33).
     """
     dtype = c.dtype
-    keys = ("time", *c.state_names, *c.first_records, *(n for n, _ in c.max_records))
-    out = {k: np.full(size, math.nan) for k in keys}
-    for r in c.first_records:
+    names, firsts, maxima = c.state_names, c.first_records, [n for n, _ in c.max_records]
+    out = {k: np.full(size, math.nan) for k in ("time", *names, *firsts, *maxima)}
+    for r in firsts:
         out[f"time_after_{r}"] = np.full(size, math.nan)
     out["steps"] = np.zeros(size, dtype=np.int64)
     out["status"] = np.zeros(size, dtype=np.int8)
     messages = {}
-    columns = [(name, values[name]) for name in c.slots.names]
+    time_out, steps_out, status_out = out["time"], out["steps"], out["status"]
+    state_out = [out[n] for n in names]
+    first_out = [(r, out[r], out[f"time_after_{r}"]) for r in firsts]
+    max_out = [(n, out[n]) for n in maxima]
+    # one row of slot values per point, in the integrator's precision (float64 → real128 is exact)
+    rows = [[dtype(v) for v in row] for row in zip(*(values[name] for name in c.slots.names))]
     for i in range(size):
-        raw = run_cycle(c, {name: dtype(column[i]) for name, column in columns}, t_max=t_max, max_steps=max_steps)
-        for k in keys:
-            out[k][i] = float(raw[k])
-        for r in c.first_records:
-            out[f"time_after_{r}"][i] = float(raw["time"] - raw[r])
-        out["steps"][i], out["status"][i] = raw["steps"], int(raw["status"])
-        if raw["message"]:
-            messages[i] = raw["message"]
+        time, state, found, peaks, _, steps, status, message = _run(c, rows[i], None, t_max, max_steps)
+        time_out[i] = float(time)
+        for column, value in zip(state_out, state):
+            column[i] = float(value)
+        for r, column, after in first_out:
+            column[i] = float(found[r])
+            after[i] = float(time - found[r])
+        for n, column in max_out:
+            column[i] = float(peaks[n])
+        steps_out[i], status_out[i] = steps, int(status)
+        if message:
+            messages[i] = message
     out["messages"] = messages
     return out
 
