@@ -226,20 +226,22 @@ def test_a_model_registered_at_run_time_is_served(tmp_path):
 # -- a test model with a structural axis and a load history ("set" events) --------------------------------
 def _ramp_model():
     """n chained ramps x_k' = (k + 1)·rate, the load ``rate`` stepped to 5 at t = 1 by a "set" event, ending
-    when x_{n−1} reaches 10. Exact end time: 10/(n·rate) if n·rate ≥ 10, else 1 + (10 − n·rate)/(5n)."""
+    when x_{n−1} reaches 10 (with "step" events at 5 and 7 that must change nothing). Exact end time: 10/(n·rate) if n·rate ≥ 10, else 1 + (10 − n·rate)/(5n)."""
     import heyoka as hy
 
     from bifurcation.models import Labels, StateVar, System
     from bifurcation.models.single_block import LAW
 
-    def equations(law, slots, num, *, n):
+    def equations(law, slots, num, *, n, precision):
         xs = hy.make_vars(*(f"x{k}" for k in range(n))) if n > 1 else [hy.make_vars("x0")]
         rate = slots.par("rate")
         return System(state=tuple(xs), rhs=tuple((k + 1) * rate for k in range(n)),
-                      events={"end": (xs[-1] - num(10), "positive"), "step": [(hy.time - num(1), "positive")]},
-                      sets={"step": [{"rate": 5.0}]})
+                      events={"end": (xs[-1] - num(10), "positive"), "step": [(hy.time - num(1), "positive")],
+                              "rung": [(xs[-1] - num(5), "positive"), (xs[-1] - num(7), "positive")]},
+                      sets={"step": [{"rate": 5.0}]}, info={"n": n})
 
     def classify(raw, points):
+        assert raw["info"]["n"] >= 1   # what the compiled system told classify
         return {"end_time": raw["time"], "steps": raw["steps"], "status": raw["status"]}, raw["messages"]
 
     return Model(
@@ -247,7 +249,8 @@ def _ramp_model():
         axes=(Axis("n", "n", "ramps", bounds=(1, 8), dtype="int64", structural=True),
               Axis("rate", "r", "load rate", bounds=(0.1, 100.0))),
         parameters=("rate",), state=(StateVar("x", "ramp"),),
-        events=(Event("end", "end", "x reaches 10"), Event("step", "set", "the load steps to 5", per_piece=True)),
+        events=(Event("end", "end", "x reaches 10"), Event("step", "set", "the load steps to 5", per_piece=True),
+                Event("rung", "step", "ends a step at x = 5 and 7, nothing else", per_piece=True)),
         outputs=(Output("end_time", "time of the end"), Output("steps", "steps", dtype="int64", fill=0),
                  Output("status", "status", dtype="int8", fill=0)),
         statuses=(bf.Status.STICK_SLIP, bf.Status.NO_STOP), equations=equations, classify=classify,

@@ -23,7 +23,7 @@ __all__ = ["run_batch"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
 _SUCCESS = hy.taylor_outcome.success
-_STOP, _SET = EventKind.STOP, EventKind.SET
+_STOP, _SET, _STEP = EventKind.STOP, EventKind.SET, EventKind.STEP
 
 
 def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_steps: int) -> dict:
@@ -102,6 +102,8 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
                     finish(lane, Status.STICK_SLIP)
                     reloaded = True
                     continue
+                if kinds[index] is _STEP:  # this lane's step ended on a rung: nothing to do
+                    continue
                 if kinds[index] is _SET:
                     for slot, value in c.sets_of[index]:
                         pars[slot, lane] = value
@@ -128,7 +130,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         if reloaded:
             ta.set_dtime(hi, lo)
     out = {"time": out_time, **out_state, **out_records, "steps": out_steps, "status": out_status,
-           "messages": messages}
+           "messages": messages, "info": c.info}
     for r in c.first_records:
         out[f"time_after_{r}"] = out_time - out_records[r]
     return out

@@ -40,6 +40,7 @@ class EventKind(Enum):
     REACH_NU_F = "first"      # the time of a first occurrence is recorded
     SWITCH = "switch"         # the piece selector moves one piece up or down
     SET = "set"               # runtime slots are set to the values the system gives
+    STEP = "step"             # ends a Taylor step, nothing else (a rung of a ladder)
 
 
 _KINDS = {kind.value: kind for kind in EventKind}
@@ -78,6 +79,7 @@ class Compiled:
     initial: tuple = ()                     # the model's initial state for this structure
     sets_of: tuple = ()                     # per terminal event: ((slot index, value), ...) of a "set"
     max_start: tuple = ()                   # (record, start value) of each maximum from ``initial``
+    info: dict = None                       # the system's facts for ``classify`` (``System.info``)
 
 
 def fp_info(precision: str):
@@ -191,7 +193,7 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1, mode
     structure = dict(structure or {})
     fp_type, dtype, num = fp_info(precision)
     slots = model.slots(len(law.pieces))
-    system = model.equations(law, slots, num, **structure)
+    system = model.equations(law, slots, num, precision=precision, **structure)
     names = tuple(str(v) for v in system.state)
     batch = batch_size > 1
     first = tuple(e.records for e in model.events if e.action == "first")
@@ -214,4 +216,5 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1, mode
                     model=model, slots=slots, records=records, state_of=state_of, first_records=first,
                     max_records=maxima, first_alias=alias, state_names=names, initial=model.start(structure),
                     sets_of=sets_of,
-                    max_start=tuple((name, dtype(model.start(structure)[i])) for name, i in maxima))
+                    max_start=tuple((name, dtype(model.start(structure)[i])) for name, i in maxima),
+                    info=dict(system.info))

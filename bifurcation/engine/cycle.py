@@ -22,7 +22,8 @@ from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult, Status
 __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "run_cycle", "run_model", "slip"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
-_STOP, _MAXIMUM, _FIRST, _SET = EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F, EventKind.SET
+_STOP, _MAXIMUM, _FIRST, _SET, _STEP = (EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F,
+                                        EventKind.SET, EventKind.STEP)
 
 
 def run_cycle(c: Compiled, values, *, state0=None, t_max: float = DEFAULT_T_MAX,
@@ -41,7 +42,7 @@ def run_cycle(c: Compiled, values, *, state0=None, t_max: float = DEFAULT_T_MAX,
     out = dict(zip(c.state_names, state))
     out.update(found)
     out.update(maxima)
-    out.update(time=time, crossings=crossings, steps=steps, status=status, message=message)
+    out.update(time=time, crossings=crossings, steps=steps, status=status, message=message, info=c.info)
     return out
 
 
@@ -100,6 +101,8 @@ def _run(c: Compiled, values, state0, t_max: float, max_steps: int) -> tuple:
         elif kind is _FIRST:
             if found[records[index]] != found[records[index]]:  # NaN: the first time only
                 found[records[index]] = ta.time
+        elif kind is _STEP:   # the step ended on a rung: nothing to record
+            pass
         elif kind is _SET:
             for slot, value in c.sets_of[index]:
                 pars[slot] = value
@@ -155,6 +158,7 @@ def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps
         if message:
             messages[i] = message
     out["messages"] = messages
+    out["info"] = c.info
     return out
 
 

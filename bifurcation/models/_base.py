@@ -32,10 +32,12 @@ __all__ = ["ACTIONS", "Axis", "Event", "Labels", "Model", "Output", "Slots", "St
 #: ``maximum`` records the running maximum of the output named by ``Event.records``;
 #: ``first``   records the time of its first occurrence into ``Event.records``;
 #: ``set``     terminal: sets runtime slots to the values ``System.sets[name][instance]`` gives (a load
-#:             history's step, say: the event function is t − t_k).
+#:             history's step, say: the event function is t − t_k);
+#: ``step``    terminal: ends the Taylor step there and does nothing else (a rung of a ladder that keeps
+#:             a step from stepping over friction that fades).
 #: ``maximum`` and ``first`` events are terminal in scalar mode (exact time and state at the event)
 #: and non-terminal callbacks in batch mode (a terminal event stops every SIMD lane).
-ACTIONS = ("end", "first", "maximum", "set", "switch")
+ACTIONS = ("end", "first", "maximum", "set", "step", "switch")
 _SCALES = ("linear", "log")
 _DTYPES = ("float64", "int64", "int8", "bool")
 
@@ -143,7 +145,7 @@ class Event:
     @property
     def terminal(self) -> bool:
         """Terminal in batch mode too (it changes the integration, not just a record)."""
-        return self.action in ("end", "set", "switch")
+        return self.action in ("end", "set", "step", "switch")
 
 
 @dataclass(frozen=True)
@@ -215,15 +217,19 @@ class System:
     first_on_switch: tuple = ("", -1)
     #: For each "set" event: one ``{slot name: value}`` per instance (what it sets when it fires).
     sets: Mapping = field(default_factory=dict)
+    #: Facts about this compiled system that ``classify`` needs (passed as ``raw["info"]``), e.g. the
+    #: range of the state a ladder of events vouches for.
+    info: Mapping = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
 class Model:
     """A model's declaration (see the module docstring and docs/models.md).
 
-    ``equations(law, slots, num, **structure)`` builds the system for a resolved label (``num`` makes
-    a constant in the integrator's precision; ``structure`` holds the values of the ``structural``
-    axes, e.g. ``n=64`` blocks: the engine compiles one system per distinct value). ``classify(raw, points)`` turns the engine's raw outcomes (arrays
+    ``equations(law, slots, num, *, precision, **structure)`` builds the system for a resolved label
+    (``num`` makes a constant in the integrator's ``precision``, "double" or "quad"; ``structure``
+    holds the values of the ``structural`` axes, e.g. ``n=64`` blocks: the engine compiles one system
+    per distinct value). ``classify(raw, points)`` turns the engine's raw outcomes (arrays
     over the points: the recorded outcomes, ``time``, the final state by name, ``steps``, ``status``
     and ``messages``) into the model's ``outputs`` and messages; ``points`` maps every runtime
     parameter to its per-point values. ``fixed`` sets the runtime slots no axis sets.

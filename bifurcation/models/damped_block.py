@@ -22,7 +22,7 @@ __all__ = ["DAMPED_BLOCK", "GAMMA"]
 GAMMA = Axis("gamma", "γ", "viscous damping coefficient γ (force −γU̇)", bounds=(0.0, 10.0), example=0.1)
 
 
-def _equations(law, slots, num):
+def _equations(law, slots, num, *, precision="double"):
     return block_equations(law, slots, num, damping=slots.par("gamma"))
 
 

@@ -104,7 +104,7 @@ def block_equations(law, slots, num, *, damping=None) -> System:
                   first_on_switch=("creep_time", law.breakpoints.index(1.0)))
 
 
-def _equations(law, slots, num) -> System:
+def _equations(law, slots, num, *, precision="double") -> System:
     return block_equations(law, slots, num)
 
 
