@@ -116,7 +116,9 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> N
 def report(stores, out: str) -> None:
     """Report what one or more stores hold (model, laws, axes, transition, fits, figures) into DIR."""
     from ..report import write_store_report
+    from ._common import check_out_dir
 
+    check_out_dir(out)   # before the analysis, not after it
     sources = _stores(stores)
     with _with_options(_NAMES):
         files = write_store_report(sources, out)
@@ -145,7 +147,10 @@ def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:
     from ..run import submit
     from ..run.cluster import check_scheduler, check_workers, connect
 
+    from ._common import check_out_dir
+
     started = time.perf_counter()
+    check_out_dir(out)
     workflows = _workflow_dir()
     stores = []
     # One cluster for the three workflows (starting an embedded one costs ~1 s and compiles per worker).

@@ -28,18 +28,21 @@ def _numbers(name: str):
               help="Zarr store (default: results/<study name>.zarr). Resumed if it holds this workflow.")
 @O.SCHEDULER
 @O.WORKERS
+@click.option("--workers-timeout", type=float, default=None, metavar="SECONDS",
+              help="With --scheduler and --workers N: how long to wait for N workers (default 120).")
 @click.option("--new-store", is_flag=True, help="Replace an existing store that holds another workflow.")
 @O.WRITE_FROM
 @click.option("--dashboard", is_flag=True,
               help="Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one).")
 @O.JSON
-def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer: str, dashboard: bool,
+def submit_cmd(workflow: str, store, scheduler, workers, workers_timeout, new_store: bool, writer: str,
+               dashboard: bool,
                as_json: bool) -> None:
     """Compute the missing points of WORKFLOW (a TOML file) on Dask into a Zarr store."""
     from ..run import submit
 
     summary = submit(workflow, store=store, scheduler=scheduler, workers=workers, new_store=new_store,
-                     writer=writer, dashboard=dashboard)
+                     writer=writer, workers_timeout=workers_timeout, dashboard=dashboard)
     if as_json:
         echo_json(summary.to_dict())
     else:

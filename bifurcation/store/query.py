@@ -158,11 +158,10 @@ class _Plan:
         from ..models import get_model
         from . import check_store
         from .integrity import TileReader
-        from .lock import holder
-
         attrs = check_store(path, None, argument="store")
         self.model = model = get_model(store_model(attrs))
-        self.reader = reader = TileReader(path, in_progress=holder(path) is not None)
+        # a tile being written (or left half written by a killed run) reads as not computed
+        self.reader = reader = TileReader(path, in_progress=True)
         self.dims = tuple(reader.done.metadata.dimension_names or model.dims)
         labels = {name: self._coordinate(name) for name in self.dims}
         label_dim = model.labels.name
@@ -287,8 +286,8 @@ def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: 
     if fmt == "csv":
         writer = csv.writer(out, lineterminator="\n")
         writer.writerow(keys)
-        for record in records:
-            writer.writerow([_cell(record.get(c)) for c in keys])
+        for record in records:   # csv writes floats with repr (exact) and None as an empty cell
+            writer.writerow([record.get(c) for c in keys])
             n += 1
         return n
     if law_width is None:
