@@ -23,7 +23,7 @@ __all__ = ["run_batch"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
 _SUCCESS = hy.taylor_outcome.success
-_STOP, _SET, _STEP = EventKind.STOP, EventKind.SET, EventKind.STEP
+_STOP, _SET, _STEP = EventKind.STOP, EventKind.SET, EventKind.RUNG
 
 
 def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_steps: int) -> dict:
@@ -83,6 +83,9 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
 
     kinds, breakpoint_of = c.kinds, c.breakpoint_of
     n_events = len(kinds)
+    # A lane that never gets a point (fewer points than lanes) must still have a finite right side:
+    # ν = ν_f = 0 gave 0/0, a NaN time step and a ValueError from heyoka for the whole batch.
+    pars[:, :] = 1.0
     for lane in range(lanes):
         load(lane)
     ta.set_dtime(hi, lo)

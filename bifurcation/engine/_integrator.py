@@ -40,7 +40,7 @@ class EventKind(Enum):
     REACH_NU_F = "first"      # the time of a first occurrence is recorded
     SWITCH = "switch"         # the piece selector moves one piece up or down
     SET = "set"               # runtime slots are set to the values the system gives
-    STEP = "step"             # ends a Taylor step, nothing else (a rung of a ladder)
+    RUNG = "step"             # ends a Taylor step, nothing else (a rung of a ladder: _fading)
 
 
 _KINDS = {kind.value: kind for kind in EventKind}

@@ -23,7 +23,7 @@ __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "run_cycle", "run_model", "slip
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
 _STOP, _MAXIMUM, _FIRST, _SET, _STEP = (EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F,
-                                        EventKind.SET, EventKind.STEP)
+                                        EventKind.SET, EventKind.RUNG)
 
 
 def run_cycle(c: Compiled, values, *, state0=None, t_max: float = DEFAULT_T_MAX,

@@ -34,6 +34,9 @@ class Status(IntEnum):
     NO_STOP = 3        #: did not stop before t_max or max_steps (bounded, never hangs)
     NO_STICK = 4       #: stopped, but the spring force then exceeds static friction (back-slip)
     NONFINITE = 5      #: the integrator produced a non-finite state
+    #: Stopped, but U̇/ν_f went beyond the x up to which the engine checked that no Taylor step can
+    #: step over the law's friction (docs/engine.md, "Friction that fades"): no value is given.
+    UNRESOLVED = 7
 
     def __str__(self) -> str:  # "stick-slip", as users and the store see it
         return self.name.lower().replace("_", "-")
@@ -86,7 +89,7 @@ class _Fields:
             long_name, units = attrs_of[k]
             attrs = {"long_name": long_name, "units": units}
             if k == "status":
-                attrs.update(flag_values=np.arange(len(Status), dtype=np.int8),
+                attrs.update(flag_values=np.array([int(s) for s in Status], dtype=np.int8),
                              flag_meanings=" ".join(str(s) for s in Status))
             return ("point", flat[k], attrs)
 
@@ -169,7 +172,9 @@ class SlipResult(_Fields):
 
 def status_names(codes) -> np.ndarray:
     """Status codes as strings ("stick-slip", ...), same shape (object array)."""
-    names = np.array([str(s) for s in Status], dtype=object)
+    names = np.full(max(Status) + 1, "", dtype=object)   # codes may have gaps (a retired code stays unused)
+    for s in Status:
+        names[int(s)] = str(s)
     return np.asarray(names[np.asarray(codes)], dtype=object)
 
 

@@ -3,6 +3,11 @@
 ``get_model("single-block")`` returns a frozen ``Model``: its axes, state, equations, events, outputs
 and statuses. Adding a model means one module here and one line in ``_REGISTRY``, or
 ``register(model)`` at run time (for a model that lives elsewhere, e.g. in a test).
+
+``MODELS`` / ``model_module`` name the model *packages* that are not declarations yet (the
+rate-and-state slider, ``rate_state``, has its own spec, engine and study; moving it onto the
+contract above is its next step): they are listed, imported on first use, and served by their own
+commands.
 """
 
 from __future__ import annotations
@@ -12,8 +17,18 @@ import importlib
 from ..errors import InputError
 from ._base import ACTIONS, Axis, Event, Labels, Model, Output, Slots, StateVar, System
 
-__all__ = ["ACTIONS", "Axis", "DEFAULT_MODEL", "Event", "Labels", "Model", "Output", "Slots", "StateVar",
-           "System", "get_model", "model_names", "register"]
+__all__ = ["ACTIONS", "Axis", "DEFAULT_MODEL", "Event", "Labels", "MODELS", "Model", "Output", "Slots", "StateVar",
+           "System", "get_model", "model_module", "model_names", "register"]
+
+#: Model packages that are not declarations yet: name → implementing module (relative to this package).
+MODELS = {"rate-state": ".rate_state"}
+
+
+def model_module(name: str):
+    """The package implementing the (undeclared) model ``name`` (imported on first use)."""
+    if name not in MODELS:
+        raise InputError("model", name, "is not a known model", f"use one of {sorted(MODELS)}")
+    return importlib.import_module(MODELS[name], __name__)
 
 #: The model of a workflow without a ``[model]`` table, and of every store written before models.
 DEFAULT_MODEL = "single-block"

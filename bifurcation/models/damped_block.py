@@ -23,7 +23,7 @@ GAMMA = Axis("gamma", "γ", "viscous damping coefficient γ (force −γU̇)", b
 
 
 def _equations(law, slots, num, *, precision="double"):
-    return block_equations(law, slots, num, damping=slots.par("gamma"))
+    return block_equations(law, slots, num, damping=slots.par("gamma"), precision=precision)
 
 
 def _classify(raw: dict, points: dict):

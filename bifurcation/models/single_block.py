@@ -69,13 +69,19 @@ STOP_EVENTS = (
     Event("switch", "switch", "x crosses breakpoint b of the law (x/b − 1 = 0, either way): the piece "
           "selector moves one piece up or down; at b = 1 the first up-crossing is also t1",
           per_piece=True),
+    Event("rung", "step", "x falls through a rung r of the law's ladder (x/r − 1 = 0 from above): the step "
+          "ends there, so no Taylor step steps over friction that fades (engine._fading, docs/engine.md)",
+          per_piece=True),
 )
 
 
-def block_equations(law, slots, num, *, damping=None) -> System:
+def block_equations(law, slots, num, *, damping=None, precision="double") -> System:
     """The scaled single-block system for ``law`` (module docstring), with an optional extra force
-    ``−damping·Ẇ`` (``damping`` a heyoka expression; None: none, the single block itself)."""
+    ``−damping·Ẇ`` (``damping`` a heyoka expression; None: none, the single block itself), and the
+    ladder of rungs the law needs in ``precision`` (``engine._fading``)."""
     import heyoka as hy
+
+    from ..engine import _fading
 
     W, V = hy.make_vars("W", "V")
     nu, nu_f, c = slots.par("nu"), slots.par("nu_f"), slots.par("forcing")
@@ -95,17 +101,29 @@ def block_equations(law, slots, num, *, damping=None) -> System:
     rhs = load + drop / nu
     # dx/dt = νẄ/ν_f, written without the 1/ν so that it stays O(1) during the slip.
     dxdt = (nu * load + drop) / nu_f
+    ladder = _fading.ladder(law, precision)
     events = {"stop": (x, "negative"), "max_velocity": (dxdt, "negative"),
-              "switch": [(x / b - 1.0, "any") for b in law.breakpoints]}
+              "switch": [(x / b - 1.0, "any") for b in law.breakpoints],
+              "rung": [(x / r - 1.0, "negative") for r in ladder.rungs]}
+    info = {"x_checked": ladder.x_checked}
     if 1.0 not in law.breakpoints:
         events["reach_nu_f"] = (x - 1.0, "positive")
-        return System(state=(W, V), rhs=(V, rhs), events=events)
-    return System(state=(W, V), rhs=(V, rhs), events=events,
+        return System(state=(W, V), rhs=(V, rhs), events=events, info=info)
+    return System(state=(W, V), rhs=(V, rhs), events=events, info=info,
                   first_on_switch=("creep_time", law.breakpoints.index(1.0)))
 
 
 def _equations(law, slots, num, *, precision="double") -> System:
-    return block_equations(law, slots, num)
+    return block_equations(law, slots, num, precision=precision)
+
+
+def _unresolved(status: np.ndarray, messages: dict, x_max: np.ndarray, x_checked: float) -> None:
+    """Mark stopped points whose U̇/ν_f went past the ladder's checked range (docs/engine.md)."""
+    beyond = (status == int(Status.STICK_SLIP)) & (x_max > x_checked)
+    for i in np.flatnonzero(beyond):
+        status[i] = int(Status.UNRESOLVED)
+        messages[int(i)] = (f"U̇/ν_f reached {x_max[i]:.3g}, beyond x = {x_checked:.3g} up to which the engine "
+                            "checked that no Taylor step can step over this law's friction; use a larger ν_f")
 
 
 def classify_cycles(raw: dict, points: dict, *, critical_nu_f) -> tuple[dict, dict]:
@@ -117,6 +135,7 @@ def classify_cycles(raw: dict, points: dict, *, critical_nu_f) -> tuple[dict, di
     nu = points["nu"]
     status = raw["status"].copy()
     messages = dict(raw["messages"])
+    _unresolved(status, messages, nu * raw["vmax"] / points["nu_f"], raw.get("info", {}).get("x_checked", math.inf))
     stopped = status == int(Status.STICK_SLIP)
     creep = stopped & (points["nu_f"] > critical_nu_f) & np.isnan(raw["creep_time"])
     status[creep] = int(Status.CREEP)

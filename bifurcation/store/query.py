@@ -26,7 +26,7 @@ __all__ = ["COLUMNS", "FORMATS", "RecordStream", "columns", "format_records", "i
            "write_records"]
 
 FORMATS = ("table", "csv", "json")
-_STATUS_NAMES = [str(s) for s in Status]
+_STATUS_NAMES = {int(s): str(s) for s in Status}
 
 
 def columns(model=None) -> tuple[str, ...]:
@@ -329,7 +329,7 @@ def _width(column: str, law_width: int, position: int) -> int:
     if position == 0:
         return law_width
     if column == "status":
-        return max(len(name) for name in _STATUS_NAMES)
+        return max(len(name) for name in _STATUS_NAMES.values())
     if column == "steps":
         return 8   # max_steps ≤ 10^7 (bifurcation.bounds)
     return _FLOAT_WIDTH
