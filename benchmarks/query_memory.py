@@ -25,7 +25,7 @@ import numpy as np
 def build(path: Path, points: int):
     from bifurcation.store import create_store, write_tile
     from bifurcation.store.layout import VARIABLES
-    from bifurcation.tiles import iter_tiles
+    from bifurcation.run.tiles import iter_tiles
     from bifurcation.workflow import Workflow
     from bifurcation.workflow._axes import linear_points, log_points
 

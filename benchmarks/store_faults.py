@@ -56,7 +56,7 @@ def tile_of(store: Path, path: Path) -> tuple:
 def main(argv=None) -> dict:
     from bifurcation.run.repair import verify
     from bifurcation.store import create_store, open_store, write_tile
-    from bifurcation.tiles import OUTPUTS, compute_tile, iter_tiles
+    from bifurcation.run.tiles import OUTPUTS, compute_tile, iter_tiles
     from bifurcation.workflow import Workflow
     from bifurcation.workflow._axes import linear_points, log_points
 

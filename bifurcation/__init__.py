@@ -28,6 +28,7 @@ _LAZY = {
     "submit": "run",
 }
 
-__all__ = sorted(_LAZY)
+__all__ = ["FIELDS", "FrictionLaw", "InputError", "LIMIT_FIELDS", "LimitResult", "SlipResult", "Status",
+           "law_names", "limit", "open_store", "resolve_law", "slip", "submit"]
 
 __getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from bifurcation.store import open_store
-from bifurcation.tiles import OUTPUTS
+from bifurcation.run.tiles import OUTPUTS
 
 __all__ = ["assert_bitwise_equal", "assert_store_equals"]
 

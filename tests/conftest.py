@@ -4,7 +4,7 @@ import functools
 
 import pytest
 
-from bifurcation.reference import carlson_langer_mp
+from bifurcation.theory.reference import carlson_langer_mp
 
 
 @pytest.fixture(scope="session")

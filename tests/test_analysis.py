@@ -171,8 +171,11 @@ def test_series_selection_and_errors(grid):
     assert len(s) == NU.size and np.all(np.diff(s.x) > 0)
     with pytest.raises(InputError, match="has no finished points for law 'exponential'"):
         series_along_nu(grid, "exponential", 0.4)
-    with pytest.raises(InputError, match="nu_f=0.33"):
+    with pytest.raises(InputError, match=r"^nu_f=0.33: is not a label of this store \(nearest: 0.3, 0.4"):
         series_along_nu(grid, "carlson-langer", 0.33)
+    assert series_along_nu(grid, "carlson-langer", 0.33, nearest=True).x.size == NU.size
+    # the same label written another way (a relative 1e-13 off) is the same label
+    assert len(series_along_nu(grid, "carlson-langer", 0.4 * (1 + 1e-13))) == NU.size
 
 
 # -- the claims table ------------------------------------------------------------------------------------

@@ -20,7 +20,7 @@ import pytest
 
 from bifurcation.run import submit
 from bifurcation.store import read_done
-from bifurcation.tiles import OUTPUTS, compute_serial
+from bifurcation.run.tiles import OUTPUTS, compute_serial
 
 from _store_helpers import assert_store_equals
 

@@ -11,10 +11,10 @@ import xarray as xr
 from click.testing import CliRunner
 
 from bifurcation.cli import cli
-from bifurcation.query import query
+from bifurcation.store.query import query
 from bifurcation.store import create_store, open_store, record_submit, write_tile
 from bifurcation.store.export import cf_problems, read_csv
-from bifurcation.tiles import compute_tile, iter_tiles
+from bifurcation.run.tiles import compute_tile, iter_tiles
 from bifurcation.workflow import parse_workflow
 
 TOML = """

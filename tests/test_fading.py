@@ -23,7 +23,7 @@ import bifurcation as bf
 from bifurcation.engine import _fading, _integrator
 from bifurcation.engine.result import Status
 from bifurcation.laws import resolve_law
-from bifurcation.reference import piecewise_linear_exact
+from bifurcation.theory.reference import piecewise_linear_exact
 from bifurcation.reference_taylor import REFERENCE_LAWS, taylor_cycle
 
 DATA = pathlib.Path(__file__).parent / "data" / "fading_reference.json"
@@ -47,7 +47,7 @@ def _groups(kind: str) -> dict:
 
 # -- the reference against independent yardsticks --------------------------------------------------------
 def test_reference_reproduces_the_exact_piecewise_linear_cycle():
-    # Eq. (12) has a closed-form cycle (bifurcation.reference); the Taylor reference must agree to its
+    # Eq. (12) has a closed-form cycle (bifurcation.theory.reference); the Taylor reference must agree to its
     # own precision (dps 30 asked: 1e-28 leaves two digits for the event roots).
     for nu, nu_f in ((1e-9, 0.05),):
         ours = taylor_cycle("piecewise(1 - x, 1, 0)", nu, nu_f, dps=30)
@@ -57,7 +57,7 @@ def test_reference_reproduces_the_exact_piecewise_linear_cycle():
 
 
 def test_reference_reproduces_carlson_langer_odefun(carlson_langer_reference):
-    # mpmath.odefun at dps 30 (bifurcation.reference.carlson_langer_mp) against our series integrator.
+    # mpmath.odefun at dps 30 (bifurcation.theory.reference.carlson_langer_mp) against our series integrator.
     ours = taylor_cycle("1/(1 + x)", 1e-3, 0.4, dps=30)
     ref = carlson_langer_reference(1e-3)
     assert abs(ours["delta"] / ref["delta"] - 1) < 1e-25
@@ -118,9 +118,9 @@ def test_without_rungs_the_issue_comes_back(monkeypatch):
     # fixes it, and the reference sees the difference.
     ref = next(p for p in POINTS if p["kind"] == "cycle" and p["law"] == "exp(-x)"
                and p["nu"] == 1e-18 and p["nu_f"] == 1e-3)
-    monkeypatch.setattr(_integrator, "ladder", lambda law, precision: _fading.Ladder((), math.inf))
+    monkeypatch.setattr(_fading, "ladder", lambda law, precision: _fading.Ladder((), math.inf))
     blind = _integrator.build(resolve_law("exponential"))
-    raw = bf.engine.cycle.run_cycle(blind, 1e-18, 1e-3)
+    raw = bf.engine.cycle.run_cycle(blind, {"nu": 1e-18, "nu_f": 1e-3, "forcing": 1.0})
     error = 1e-18 * float(raw["W"]) / float(mpmath.mpf(ref["delta"])) - 1
     assert 3e-7 < error < 5e-7
     assert abs(error - (math.pi ** 2 / 12) * 1e-6 / 2) < 0.1 * error
@@ -163,7 +163,7 @@ def test_beyond_the_checked_range_is_unresolved_not_stick_slip(monkeypatch):
     # message), in scalar, batch and limit alike, and one staying below (ν_f = 0.3) is not.
     real = _fading.ladder
     monkeypatch.setattr(_integrator, "_CACHE", {})
-    monkeypatch.setattr(_integrator, "ladder", lambda law, precision: _fading.Ladder(real(law, precision).rungs, 50.0))
+    monkeypatch.setattr(_fading, "ladder", lambda law, precision: _fading.Ladder(real(law, precision).rungs, 50.0))
     r = bf.slip("exponential", nu=[1e-9, 1e-9], nu_f=[1e-3, 0.3])
     assert r.status_names().tolist() == ["unresolved", "stick-slip"]
     assert math.isnan(r.delta[0]) and "beyond x = 50" in r.messages[0] and math.isfinite(r.delta[1])
@@ -171,7 +171,7 @@ def test_beyond_the_checked_range_is_unresolved_not_stick_slip(monkeypatch):
     assert rb.status_names().tolist() == ["unresolved", "stick-slip"]
     lim = bf.limit("exponential", nu_f=[1e-3, 0.3])
     assert lim.status_names().tolist() == ["unresolved", "stick-slip"] and math.isnan(lim.delta0[0])
-    assert Status.parse("unresolved") is Status.UNRESOLVED and str(Status.UNRESOLVED) == "unresolved"
+    assert Status(7) is Status.UNRESOLVED and str(Status.UNRESOLVED) == "unresolved"
     record = r.to_records()[0]
     assert record["status"] == "unresolved" and record["delta"] is None and "message" in record
 

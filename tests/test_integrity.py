@@ -18,12 +18,12 @@ from click.testing import CliRunner
 
 from bifurcation.cli import cli
 from bifurcation.errors import InputError
-from bifurcation.query import query
+from bifurcation.store.query import query
 from bifurcation.run import submit
 from bifurcation.run.repair import verify
 from bifurcation.store import create_store, open_store, write_tile
 from bifurcation.store.integrity import StoreDamagedError, scan
-from bifurcation.tiles import compute_serial, compute_tile, iter_tiles
+from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles
 from bifurcation.workflow import Workflow
 
 from _store_helpers import assert_store_equals

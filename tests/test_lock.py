@@ -20,7 +20,7 @@ from bifurcation.run import submit
 from bifurcation.store import create_store, write_tile
 from bifurcation.store.lock import LOCK_NAME, StoreLock, holder
 from bifurcation.store.zarr_store import StoreReplacedError
-from bifurcation.tiles import compute_serial, compute_tile, iter_tiles
+from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles
 from bifurcation.workflow import Workflow
 
 from _store_helpers import assert_store_equals

@@ -4,7 +4,8 @@ import importlib
 
 import pytest
 
-PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.engine", "bifurcation.laws", "bifurcation.models", "bifurcation.models.rate_state",
+PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.bench", "bifurcation.engine", "bifurcation.laws",
+            "bifurcation.models", "bifurcation.models.rate_state",
             "bifurcation.report", "bifurcation.run", "bifurcation.store", "bifurcation.theory",
             "bifurcation.workflow"]
 
@@ -41,3 +42,11 @@ def test_lazy_names_survive_their_submodules_being_imported_first():
             "print(bad)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_lazy_packages_advertise_exactly_their_lazy_names():
+    import bifurcation
+    import bifurcation.engine
+
+    for package in (bifurcation, bifurcation.engine):
+        assert package.__all__ == sorted(package._LAZY)

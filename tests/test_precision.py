@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import bifurcation
-from bifurcation.reference import limit_orbit_exact, piecewise_linear_exact
+from bifurcation.theory.reference import limit_orbit_exact, piecewise_linear_exact
 from bifurcation.theory import linear
 
 NU = np.array([1e-3, 1e-6, 1e-9, 1e-12, 1e-15])

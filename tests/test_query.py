@@ -13,9 +13,9 @@ from click.testing import CliRunner
 import bifurcation as bf
 from bifurcation.cli import cli
 from bifurcation.errors import InputError
-from bifurcation.query import COLUMNS, FORMATS, format_records, query
+from bifurcation.store.query import COLUMNS, FORMATS, format_records, query
 from bifurcation.store import create_store, open_store, write_tile
-from bifurcation.tiles import compute_tile, iter_tiles
+from bifurcation.run.tiles import compute_tile, iter_tiles
 from bifurcation.workflow import Workflow
 
 W = Workflow(name="query-test", laws=("piecewise-linear", "carlson-langer"), nu=(1e-6, 1e-9, 1e-12),
@@ -41,11 +41,39 @@ def test_exact_selection_matches_the_engine(store):
     assert list(record) == list(COLUMNS)
 
 
+def test_a_value_that_is_not_a_label_is_refused_naming_the_nearest(store):
+    # issue 9: --nu-f 5 --nu 1e-30 on a grid ending at 0.8 and 1e-12 returned the corner point
+    with pytest.raises(InputError, match=r"^nu_f=5.0: is not a label of this store \(nearest: 0.8, 0.6;"):
+        query(store, nu_f=5.0)
+    with pytest.raises(InputError, match=r"^nu=1e-30: is not a label of this store \(nearest: 1e-12, 1e-09;"):
+        query(store, nu=1e-30, nearest=False)
+    # within a relative 1e-12 is the same label (two decimal texts of one number), 1e-11 is not
+    assert len(query(store, law="carlson-langer", nu=1e-9 * (1 + 5e-13), nu_f=0.4)) == 1
+    with pytest.raises(InputError, match=r"^nu="):
+        query(store, nu=1e-9 * (1 + 1e-11))
+
+
 def test_nearest_selection_reports_the_selected_labels(store):
-    records = query(store, law="piecewise-linear", nu=3e-10, nu_f=[0.41, 0.79])
+    notes = []
+    records = query(store, law="piecewise-linear", nu=3e-10, nu_f=[0.41, 0.79], nearest=True, notes=notes)
     assert [(r["nu"], r["nu_f"]) for r in records] == [(1e-9, 0.4), (1e-9, 0.8)]
+    assert notes == ["nu_f: no label 0.41; took the nearest, 0.4", "nu_f: no label 0.79; took the nearest, 0.8",
+                     "nu: no label 3e-10; took the nearest, 1e-09"]   # in the store's axis order
     # ν is nearest in log: 1e-7 is one decade from 1e-6 and two from 1e-9 (linearly it is nearer 1e-9)
-    assert [r["nu"] for r in query(store, law="piecewise-linear", nu=1e-7, nu_f=0.2)] == [1e-6]
+    assert [r["nu"] for r in query(store, law="piecewise-linear", nu=1e-7, nu_f=0.2, nearest=True)] == [1e-6]
+
+
+def test_formula_laws_match_by_their_expression(tmp_path):
+    w = Workflow(name="formula-query", laws=("1/(1+x/2)^2", "exp(-x)"), nu=(1e-6,), nu_f=(0.3,))
+    path = tmp_path / "f.zarr"
+    run_id = create_store(path, w)["run_id"]
+    for tile in iter_tiles(w):
+        write_tile(path, tile, compute_tile(tile), run_id)
+    (a,) = query(path, law="1/(1 + x/2)**2")
+    (b,) = query(path, law=" 1/(1+x/2.0)^2")
+    assert a == b and a["law"] == "1/(1+x/2)^2" and a["status"] == "stick-slip"
+    with pytest.raises(InputError, match=r"^law='1/\(1\+x/2\)\^3': is not a law of this store"):
+        query(path, law="1/(1+x/2)^3")
 
 
 def test_all_points_in_order_and_not_computed_points(store):
@@ -101,6 +129,6 @@ def test_cli_query_formats(store):
 
 
 def test_cli_format_choices_are_the_formats():
-    # hard-coded in the CLI so that --help does not import bifurcation.query; kept equal here
+    # the CLI takes its choices from the constant (bifurcation.cli._options)
     (option,) = [p for p in cli.get_command(None, "query").params if p.name == "fmt"]
     assert tuple(option.type.choices) == FORMATS

@@ -1,6 +1,6 @@
 """The mpmath references against the paper's closed forms and an independent integrator.
 
-The reference (``bifurcation.reference``) and the closed forms (``bifurcation.theory``) share no code:
+The reference (``bifurcation.theory.reference``) and the closed forms (``bifurcation.theory``) share no code:
 the reference continues general closed-form pieces through event roots, the theory module has the
 paper's formulas. Tolerances say where they come from.
 """
@@ -13,7 +13,7 @@ from scipy.integrate import solve_ivp
 
 from bifurcation import theory
 from bifurcation.errors import InputError
-from bifurcation.reference import limit_orbit_exact, piecewise_linear_exact
+from bifurcation.theory.reference import limit_orbit_exact, piecewise_linear_exact
 
 DPS = 40
 #: At dps 40 (computed with 20 guard digits) the reference and the mpmath closed forms agree to

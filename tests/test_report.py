@@ -241,7 +241,10 @@ def test_cli_fit_period_text_output(reproduced):
 
 @pytest.mark.parametrize("args, message", [
     (["fit-period", "--law", "carlson-langer", "--nu-f", "0.5"], "--nu-f=0.5: is not below 1/2"),
-    (["extrapolate", "--law", "carlson-langer", "--nu-f", "0.33"], "--nu-f=0.33: has no finished points"),
+    (["extrapolate", "--law", "carlson-langer", "--nu-f", "0.33"],
+     "--nu-f=0.33: is not a label of this store (nearest: 0.3, 0.4; 0.2 … 0.5, 4 labels)"),
+    (["fit-period", "--law", "carlson-langer", "--nu-f", "0.30001"], "--nu-f=0.30001: is not a label"),
+    (["extrapolate", "--law", "1/(1+x/2)^2", "--nu-f", "0.3"], "--law='1/(1+x/2)^2': is in no store given"),
     (["extrapolate", "--law", "carlson-langer", "--nu-f", "abc"], "'abc' is not a number"),
 ])
 def test_cli_bad_input_is_one_line_exit_2(reproduced, args, message):

@@ -16,7 +16,7 @@ from bifurcation.cli import cli
 from bifurcation.store import create_store, write_tile
 from bifurcation.store.lock import StoreLock
 from bifurcation.store.status import study_status
-from bifurcation.tiles import compute_tile, iter_tiles
+from bifurcation.run.tiles import compute_tile, iter_tiles
 from bifurcation.workflow import parse_workflow
 
 TOML = """

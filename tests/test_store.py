@@ -12,7 +12,7 @@ import pytest
 from bifurcation.engine.result import FIELD_ATTRS, FIELDS
 from bifurcation.errors import InputError
 from bifurcation.store import check_store, create_store, open_store, read_done, store_kind, write_tile
-from bifurcation.tiles import compute_serial, compute_tile, iter_tiles, tile_count
+from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles, tile_count
 from bifurcation.workflow import Workflow
 
 from _store_helpers import assert_bitwise_equal

@@ -16,7 +16,7 @@ from bifurcation.cli import cli
 from bifurcation.errors import InputError
 from bifurcation.run import WRITERS, submit
 from bifurcation.store import open_store, read_done
-from bifurcation.tiles import compute_serial, tile_count
+from bifurcation.run.tiles import compute_serial, tile_count
 from bifurcation.workflow import Workflow
 
 from _store_helpers import assert_store_equals
@@ -228,7 +228,7 @@ def test_cli_submit_and_query(scheduler, tmp_path, monkeypatch):
 
 
 def test_bench_pipeline_smoke():
-    from bifurcation.run.bench import bench_pipeline
+    from bifurcation.bench.pipeline import bench_pipeline
 
     out = bench_pipeline(points=1000, workers=1, tiles=(8, 64))
     assert out["points"] == 16 * 64 and out["complete"]

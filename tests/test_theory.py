@@ -12,7 +12,7 @@ import pytest
 
 import bifurcation.theory as theory
 from bifurcation.errors import InputError
-from bifurcation.reference import limit_orbit_exact, piecewise_linear_exact
+from bifurcation.theory.reference import limit_orbit_exact, piecewise_linear_exact
 
 DPS = 40
 #: mpmath at dps 40: identities hold to ~1e-38; numerical differentiation (mpmath.diff, default

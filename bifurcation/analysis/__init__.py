@@ -10,9 +10,7 @@ from .claims import CLAIM_KEYS, Claim, claims_table
 from .extrapolate import ExtrapolationResult, ModelRow, critical_epsilon, extrapolate_delta, paper_value
 from .period_fit import PeriodFit, Term, expansion_terms, fit_period
 
-__all__ = sorted([
-    "CLAIM_KEYS", "Claim", "ExtrapolationResult", "FALLBACK_GRID", "ModelRow", "PeriodFit", "Series", "Term",
-    "claims_table", "coordinate_values", "critical_epsilon", "cycles_along_nu", "expansion_terms",
-    "extrapolate_delta", "fallback_grid", "find_stores", "fit_period", "load_stores", "paper_value",
-    "series_along_nu", "series_along_nu_f", "slip_dataset",
-])
+__all__ = ["CLAIM_KEYS", "Claim", "ExtrapolationResult", "FALLBACK_GRID", "ModelRow", "PeriodFit", "Series",
+           "Term", "claims_table", "coordinate_values", "critical_epsilon", "cycles_along_nu",
+           "expansion_terms", "extrapolate_delta", "fallback_grid", "find_stores", "fit_period",
+           "load_stores", "paper_value", "series_along_nu", "series_along_nu_f", "slip_dataset"]

@@ -17,13 +17,14 @@ import numpy as np
 
 from ..engine import Status
 from ..errors import InputError
+from ..store.labels import RTOL, match_label, match_value
 
 __all__ = ["FALLBACK_GRID", "Series", "coordinate_values", "cycles_along_nu", "fallback_grid", "find_stores",
-           "load_stores", "series_along_nu", "series_along_nu_f", "slip_dataset"]
+           "load_stores", "match_nu_f", "series_along_nu", "series_along_nu_f", "slip_dataset"]
 
-#: Relative tolerance for matching a requested ν_f or ν to a coordinate label: labels written as
-#: decimal text in different workflows may differ in the last bits.
-_LABEL_RTOL = 1e-9
+#: Relative tolerance for matching a requested ν_f or ν to a coordinate label (the one rule of
+#: ``bifurcation.store.labels``): labels written as decimal text may differ in the last bit.
+_LABEL_RTOL = RTOL
 _GOOD = (int(Status.STICK_SLIP), int(Status.CREEP))
 
 #: What ``fallback_grid`` computes (the critical-point workflow's ν and ν_f), for provenance lines.
@@ -69,24 +70,42 @@ def _sources(source) -> list:
                      "in process")
 
 
-def _match(labels: np.ndarray, value: float) -> np.ndarray:
-    labels = np.asarray(labels, dtype=float)
-    return np.abs(labels - value) <= _LABEL_RTOL * max(abs(value), 1e-300)
-
-
 def _laws_of(ds) -> list[str]:
     return [str(v) for v in np.atleast_1d(ds["law"].values)]
 
 
-def _dataset_series(ds, law: str, axis: str, fixed: float, fields) -> Series | None:
-    """The slice of ``ds`` along ``axis`` ("nu" or "nu_f") at the other coordinate = ``fixed``."""
-    if law not in _laws_of(ds):
+def _single_block(ds) -> bool:
+    """The analysis reads (law, ν_f, ν) datasets of the single block (its theory: α, ω, the limit)."""
+    from ..models import DEFAULT_MODEL
+    from ..store.layout import store_model
+
+    return store_model(ds.attrs) == DEFAULT_MODEL and set(ds["status"].dims) == {"law", "nu_f", "nu"}
+
+
+def _law_index(ds, law: str) -> int | None:
+    """Index of ``law`` among the dataset's laws, matched by identity (a formula by its expression)."""
+    from ..models.single_block import law_identity
+
+    try:
+        return match_label("law", _laws_of(ds), law, law_identity).index
+    except InputError:
+        return None
+
+
+def _dataset_series(ds, law: str, axis: str, fixed: float, fields, nearest: bool = False) -> Series | None:
+    """The slice of ``ds`` along ``axis`` ("nu" or "nu_f") at the other coordinate = ``fixed`` (a label
+    within ``RTOL``; the nearest label if ``nearest``)."""
+    if not _single_block(ds):
+        return None
+    index = _law_index(ds, law)
+    if index is None:
         return None
     other = "nu_f" if axis == "nu" else "nu"
-    hit = _match(ds[other].values, fixed)
-    if not hit.any():
+    try:
+        hit = match_value(other, ds[other].values, fixed, nearest=nearest, scale="log" if other == "nu" else "linear")
+    except InputError:
         return None
-    sub = ds.sel(law=law).isel({other: int(np.flatnonzero(hit)[0])})
+    sub = ds.isel(law=index).isel({other: hit.index})
     x = np.asarray(sub[axis].values, dtype=float)
     status = np.asarray(sub["status"].values)
     good = np.isin(status, _GOOD) & np.asarray(sub["done"].values, dtype=bool)
@@ -94,24 +113,28 @@ def _dataset_series(ds, law: str, axis: str, fixed: float, fields) -> Series | N
               for f in fields}
     order = np.argsort(x)
     keep = good[order]
-    return Series(law, x[order][keep], status[order][keep], {k: v[order][keep] for k, v in values.items()})
+    return Series(str(sub["law"].values), x[order][keep], status[order][keep],
+                  {k: v[order][keep] for k, v in values.items()})
 
 
-def _series(source, law: str, axis: str, fixed: float, fields, *, what: str) -> Series:
-    stores = _sources(source)
+def _series(source, law: str, axis: str, fixed: float, fields, *, what: str, nearest: bool = False) -> Series:
+    stores = [ds for ds in _sources(source) if _single_block(ds)]
+    holding = [ds for ds in stores if _law_index(ds, law) is not None]
+    other = "nu_f" if axis == "nu" else "nu"
+    if holding and not nearest:
+        # the exact-label rule: a value that no store holds is refused, naming the nearest labels
+        labels = np.unique(np.concatenate([np.asarray(ds[other].values, dtype=float) for ds in holding]))
+        match_value(what, labels, fixed, scale="log" if other == "nu" else "linear")
     best = None
-    for ds in stores:
-        found = _dataset_series(ds, law, axis, fixed, fields)
+    for ds in holding:
+        found = _dataset_series(ds, law, axis, fixed, fields, nearest=nearest)
         if found is not None and (best is None or len(found) > len(best)):
             best = found
     if best is None or len(best) == 0:
         hint = ""
         if stores:
-            other = "nu_f" if axis == "nu" else "nu"
-            labels = sorted({float(v) for ds in stores if law in _laws_of(ds) for v in ds[other].values})
             laws = sorted({l for ds in stores for l in _laws_of(ds)})
-            hint = f" (stores hold laws {laws}" + (f", {other} from {labels[0]:g} to {labels[-1]:g}, "
-                                                  f"{len(labels)} values)" if labels else ")")
+            hint = f" (stores hold laws {laws})"
         raise InputError(what, fixed, f"has no finished points for law {law!r}{hint}",
                          f"give a {what} value that the store holds, or run a workflow that covers it")
     return best
@@ -121,29 +144,52 @@ def coordinate_values(source, law: str, name: str) -> list[float]:
     """Sorted distinct values of coordinate ``name`` ("nu" or "nu_f") over the stores holding ``law``."""
     out: list[float] = []
     for ds in _sources(source):
-        values = ds[name].values if law in _laws_of(ds) else []
+        values = ds[name].values if _single_block(ds) and _law_index(ds, law) is not None else []
         for v in np.asarray(values, dtype=float):
             if not any(abs(v - u) <= _LABEL_RTOL * abs(v) for u in out):
                 out.append(float(v))
     return sorted(out)
 
 
-def series_along_nu(source, law: str, nu_f: float, fields=("delta", "period")) -> Series:
-    """Δ, T, … against ν at fixed (law, ν_f): the longest such series among the sources."""
-    return _series(source, law, "nu", float(nu_f), fields, what="nu_f")
+def series_along_nu(source, law: str, nu_f: float, fields=("delta", "period"), *, nearest: bool = False) -> Series:
+    """Δ, T, … against ν at fixed (law, ν_f): the longest such series among the sources.
+
+    ``nu_f`` must be a label of a store holding ``law`` (``bifurcation.store.labels``) unless ``nearest``.
+    """
+    return _series(source, law, "nu", _number("nu_f", nu_f), fields, what="nu_f", nearest=nearest)
 
 
-def series_along_nu_f(source, law: str, nu: float, fields=("delta",)) -> Series:
+def series_along_nu_f(source, law: str, nu: float, fields=("delta",), *, nearest: bool = False) -> Series:
     """Δ, … against ν_f at fixed (law, ν): the longest such series among the sources."""
-    return _series(source, law, "nu_f", float(nu), fields, what="nu")
+    return _series(source, law, "nu_f", _number("nu", nu), fields, what="nu", nearest=nearest)
 
 
-def cycles_along_nu(source, law: str, nu_f: float):
+def match_nu_f(source, law: str, nu_f: float, *, nearest: bool = False):
+    """The ν_f label (a ``bifurcation.store.labels.Match``) of the stores holding ``law`` that
+    ``nu_f`` selects: equal within ``RTOL``, else refused naming the nearest labels, or with
+    ``nearest`` the nearest one. Stores without ``law`` are ignored; no store with it is an error."""
+    holding = [ds for ds in _sources(source) if _single_block(ds) and _law_index(ds, law) is not None]
+    if not holding:
+        laws = sorted({l for ds in _sources(source) if _single_block(ds) for l in _laws_of(ds)})
+        raise InputError("law", law, f"is in no store given (they hold {', '.join(laws) or 'no law'})",
+                         "give a law the store holds (a formula matches by its expression)")
+    labels = np.unique(np.concatenate([np.asarray(ds["nu_f"].values, dtype=float) for ds in holding]))
+    return match_value("nu_f", labels, _number("nu_f", nu_f), nearest=nearest)
+
+
+def _number(name: str, value) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(name, value, "is not a number", "give a number such as 0.4") from None
+
+
+def cycles_along_nu(source, law: str, nu_f: float, *, nearest: bool = False):
     """ν, Δ, T and status along ν at (law, ν_f): finished good points with finite Δ and T.
 
     T falls back to Δ/ν (exact: the stuck phase reloads the spring by Δ) where a store lacks it.
     """
-    s = series_along_nu(source, law, nu_f, fields=("delta", "period"))
+    s = series_along_nu(source, law, nu_f, fields=("delta", "period"), nearest=nearest)
     delta = s["delta"]
     period = np.where(np.isfinite(s["period"]), s["period"], delta / s.x)
     ok = np.isfinite(delta) & np.isfinite(period)

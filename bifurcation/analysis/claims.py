@@ -59,10 +59,6 @@ def _rel(a, b) -> float:
     return float(np.max(np.abs(a / b - 1)))
 
 
-def _g(x: float, digits: int = 3) -> str:
-    return f"{x:.{digits}g}"
-
-
 # -- the creep side, Eqs. (8)-(10) --------------------------------------------------------------------
 def _creep_claims(nu=_FIG_NU):
     from ..engine import slip

@@ -1,6 +1,6 @@
 r"""Δ(ν → 0) from finite-ν data, with an honest uncertainty, compared with the direct limit and the paper.
 
-Three regimes, each with the correction model its asymptotics give (PHYSICS.md):
+Three regimes, each with the correction model its asymptotics give (docs/physics.md):
 
 ν_f = 1/2 (α = 1, a Jordan block).
     The finite-ν orbit leaves the fixed point with a relative weight ε of the generalised eigenvector:
@@ -31,7 +31,7 @@ import numpy as np
 
 from ..engine import Status
 from ..errors import InputError
-from ._data import cycles_along_nu
+from ._data import cycles_along_nu, match_nu_f
 from ._lsq import lambert_w, linear_fit
 from .period_fit import DEFAULT_RELATIVE_ERROR, DEFAULT_WINDOWS, direct_delta0, fit_ladder
 
@@ -234,7 +234,8 @@ def _creep(nu, delta):
 
 
 def extrapolate_delta(source, law: str, nu_f: float, *, relative_error: float = DEFAULT_RELATIVE_ERROR,
-                      orders=CRITICAL_ORDERS, windows=None, direct: bool = True) -> ExtrapolationResult:
+                      orders=CRITICAL_ORDERS, windows=None, direct: bool = True,
+                      nearest: bool = False) -> ExtrapolationResult:
     """Extrapolate Δ(ν → 0) at (law, ν_f) from the finite-ν points of ``source``.
 
     Parameters
@@ -250,8 +251,11 @@ def extrapolate_delta(source, law: str, nu_f: float, *, relative_error: float = 
         ν_max of the fit windows (default: 1e-5, 1e-7, 1e-9 at 1/2; ``period_fit``'s below 1/2).
     direct : bool
         Also compute the direct limit (engine, quad) to compare with.
+    nearest : bool
+        Take the nearest ν_f label of the stores when ``nu_f`` is not one (``result.nu_f`` is the
+        label taken); by default such a ν_f is refused, naming the nearest labels.
     """
-    nu_f = float(nu_f)
+    nu_f = match_nu_f(source, law, nu_f, nearest=nearest).label
     nu, delta, period, status = cycles_along_nu(source, law, nu_f)
     naive, reach = {}, None
     pv, psrc = paper_value(law, nu_f)

@@ -1,6 +1,6 @@
 r"""The recurrence time T(ν) against its asymptotic expansion, for ν_f < 1/2.
 
-Why these terms (PHYSICS.md, "Recurrence time"). Write V = U − νt: V̈ = −V + g((V̇ + ν)/ν_f) with
+Why these terms (docs/physics.md, "Asymptotics at small ν"). Write V = U − νt: V̈ = −V + g((V̇ + ν)/ν_f) with
 g = 1 − Φ, an O(ν) regular perturbation of the autonomous ν = 0 flow, and the stop U̇ = 0 is V̇ = −ν, so
 Δ = V_stop + ν t_stop and T = Δ/ν. Near the fixed point the start is O(ν) off it in both eigen-directions
 λ± = α ± ω (λ+λ− = 1). The fast mode carries the block out in t_stop = (1/λ+) ln(1/ν) + O(1); by then the
@@ -36,7 +36,7 @@ import numpy as np
 
 from ..engine import Status
 from ..errors import InputError
-from ._data import cycles_along_nu
+from ._data import _number, cycles_along_nu, match_nu_f
 from ._lsq import linear_fit
 
 __all__ = ["PeriodFit", "Term", "expansion_terms", "fit_period"]
@@ -262,7 +262,7 @@ def direct_delta0(law: str, nu_f: float) -> tuple[float, float]:
 
 def fit_period(source, law: str, nu_f: float, *, delta0: float | None = None,
                relative_error: float = DEFAULT_RELATIVE_ERROR, windows=DEFAULT_WINDOWS,
-               power_term: bool = True, free_delta0: bool = True) -> PeriodFit:
+               power_term: bool = True, free_delta0: bool = True, nearest: bool = False) -> PeriodFit:
     """Fit T(ν) − Δ0/ν at fixed ν_f < 1/2 to its asymptotic expansion (module docstring).
 
     Parameters
@@ -270,7 +270,8 @@ def fit_period(source, law: str, nu_f: float, *, delta0: float | None = None,
     source : xarray.Dataset, or a list of them
         Store(s) with dims (law, nu_f, nu) and fields ``period``/``delta`` (or ``slip_dataset``).
     law, nu_f : str, float
-        Which series (ν_f < 1/2; matched to the store's labels to 1e-9 relative).
+        Which series (ν_f < 1/2; a label of the stores within a relative 1e-12, or with ``nearest``
+        the nearest label, which ``result.nu_f`` then holds).
     delta0 : float, optional
         Δ0(ν_f); default the engine's direct limit (quad precision).
     relative_error : float
@@ -282,13 +283,16 @@ def fit_period(source, law: str, nu_f: float, *, delta0: float | None = None,
     free_delta0 : bool
         Fit a 1/ν column too (absorbs rounding of Δ0).
     """
-    nu_f = float(nu_f)
+    nu_f = _number("nu_f", nu_f)
     if not (0 < nu_f < 0.5):
         raise InputError("nu_f", nu_f, "is not below 1/2: the expansion of T is for the stick-slip side "
                          "(at 1/2 the exponents merge)", "use 0 < nu_f < 0.5, or `bifurcation extrapolate` "
                          "at nu_f = 0.5")
     from ..theory import alpha, omega
 
+    nu_f = match_nu_f(source, law, nu_f, nearest=nearest).label
+    if not nu_f < 0.5:
+        raise InputError("nu_f", nu_f, "(the nearest label) is not below 1/2", "give a ν_f label below 0.5")
     nu, _, period, status = cycles_along_nu(source, law, nu_f)
     stick = status == Status.STICK_SLIP
     nu, period = nu[stick], period[stick]

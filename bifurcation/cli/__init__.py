@@ -23,13 +23,7 @@ def _register() -> None:
     import importlib
 
     for name in ("_engine", "_service", "_analysis", "_verify", "_status", "_rate_state"):
-        try:
-            module = importlib.import_module(f"{__name__}.{name}")
-        except ModuleNotFoundError as exc:  # a concern not built yet
-            if exc.name != f"{__name__}.{name}":
-                raise
-            continue
-        for command in module.COMMANDS:
+        for command in importlib.import_module(f"{__name__}.{name}").COMMANDS:
             cli.add_command(command)
 
 

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import click
 
+from . import _options as O
 from ._common import echo_json, fail, number
 
 __all__ = ["COMMANDS", "PAPER_WORKFLOWS"]
@@ -32,7 +33,8 @@ _STORE = click.option("--store", "stores", metavar="PATH", multiple=True, requir
                       help="A store written by `bifurcation submit`, or a directory of stores (repeatable).")
 _LAW = click.option("--law", required=True, help="Law label in the store, e.g. carlson-langer.")
 _NU_F = click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f"), help="Friction velocity ν_f.")
-_JSON = click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+_JSON = O.JSON
+_NEAREST = O.NEAREST
 _NAMES = {"nu_f": "--nu-f", "law": "--law", "store": "--store", "nu": "--store (ν values)"}
 
 
@@ -43,12 +45,15 @@ def _stores(paths):
         return load_stores(list(paths))
 
 
-def _analyse(fn, stores, law: str, nu_f: float, as_json: bool):
+def _analyse(fn, stores, law: str, nu_f: float, as_json: bool, nearest: bool):
     """``fn(stores, law, nu_f)`` with option-named errors; with ``--json`` print its summary and return
     None, else return the result for the command to print."""
     sources = _stores(stores)
     with _with_options(_NAMES):
-        result = fn(sources, law, nu_f)
+        result = fn(sources, law, nu_f, nearest=nearest)
+    if result.nu_f != nu_f:
+        click.echo(f"bifurcation: note: --nu-f {nu_f!r} is not a label; took the nearest, {result.nu_f!r}",
+                   err=True)
     if as_json:
         echo_json(result.summary())
         return None
@@ -60,14 +65,16 @@ def _analyse(fn, stores, law: str, nu_f: float, as_json: bool):
 @_LAW
 @_NU_F
 @_JSON
-def extrapolate(stores, law: str, nu_f: float, as_json: bool) -> None:
+@_NEAREST
+def extrapolate(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> None:
     """Δ(ν → 0) at ν_f extrapolated from the store's finite-ν points, vs the direct limit and the paper."""
     from ..analysis import extrapolate_delta
 
-    ex = _analyse(extrapolate_delta, stores, law, nu_f, as_json)
+    ex = _analyse(extrapolate_delta, stores, law, nu_f, as_json, nearest)
     if ex is None:
         return
     paper = "—" if ex.paper_value is None else f"{ex.paper_value:.10g}  ({ex.paper_source})"
+    nu_f = ex.nu_f
     click.echo(f"{law} at ν_f = {nu_f:g} ({ex.regime}; variable {ex.variable}; {ex.nu.size} points)")
     click.echo(f"delta0_extrapolated  {ex.delta0_extrapolated:.12g} ± {ex.uncertainty:.2g}")
     click.echo(f"delta0_direct        {ex.delta0_direct:.16g} (± {ex.delta0_direct_error:.1g})")
@@ -81,13 +88,15 @@ def extrapolate(stores, law: str, nu_f: float, as_json: bool) -> None:
 @_LAW
 @_NU_F
 @_JSON
-def fit_period(stores, law: str, nu_f: float, as_json: bool) -> None:
+@_NEAREST
+def fit_period(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> None:
     """Fit T − Δ0/ν = (α−ω) ln(1/ν) + C0 + K ν^−r + … (ν_f < 1/2) and compare the log coefficient with α − ω."""
     from ..analysis import fit_period as fit
 
-    f = _analyse(fit, stores, law, nu_f, as_json)
+    f = _analyse(fit, stores, law, nu_f, as_json, nearest)
     if f is None:
         return
+    nu_f = f.nu_f
     click.echo(f"{law} at ν_f = {nu_f:g}: r = (α−ω)² = {f.exponent_r:.6f}, window ν ≤ {f.nu_max:g}, "
                f"{f.n_points} points, {len(f.model)} terms")
     click.echo(f"log_coefficient          {f.log_coefficient:.10f} ± {f.log_coefficient_uncertainty:.1g}")
@@ -105,13 +114,14 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool) -> None:
 @_STORE
 @click.option("--out", "out", metavar="DIR", required=True, help="Directory for REPORT.md, report.html, PNGs.")
 def report(stores, out: str) -> None:
-    """Write the report (claims table, errata, fits, figures) from one or more stores into DIR."""
-    from ..report import write_report
+    """Report what one or more stores hold (model, laws, axes, transition, fits, figures) into DIR."""
+    from ..report import write_store_report
     from ._common import check_out_dir
 
     check_out_dir(out)   # before the analysis, not after it
     sources = _stores(stores)
-    files = write_report(sources, out)
+    with _with_options(_NAMES):
+        files = write_store_report(sources, out)
     click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figures")
 
 
@@ -126,9 +136,8 @@ def _workflow_dir() -> Path:
 @click.command("reproduce")
 @click.option("--out", default="results/paper", show_default=True, metavar="DIR",
               help="Where the report goes (the stores go to results/<study>.zarr).")
-@click.option("--scheduler", metavar="ADDRESS|SCHEDULER_FILE", default=None,
-              help="Dask scheduler; default $DASK_SCHEDULER_ADDRESS, else an embedded local cluster.")
-@click.option("--workers", type=int, default=None, help="Embedded cluster: worker processes (default: cores).")
+@O.SCHEDULER
+@O.WORKERS
 @click.option("--new-stores", is_flag=True,
               help="Replace a results/<study>.zarr that holds an older version of a paper workflow.")
 def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import click
 
-from ._common import echo_json, format_value, number
+from . import _options as O
+from ._common import echo_json, format_value
 
 __all__ = ["COMMANDS"]
 
-_PRECISION = click.Choice(["double", "quad"])
 
 
 @click.command("laws")
-@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@O.JSON
 def laws(as_json: bool) -> None:
     """List the named friction laws with their equations and sources."""
     from ..laws import law_names, resolve_law
@@ -37,11 +37,11 @@ def _print_point(record: dict, keys, as_json: bool) -> None:
 
 
 @click.command("slip")
-@click.option("--law", required=True, help="Law name (see `bifurcation laws`) or formula in x.")
-@click.option("--nu", required=True, callback=number("--nu", "1e-9"), help="Pulling speed ν > 0.")
-@click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f", "0.4"), help="Friction velocity ν_f > 0.")
-@click.option("--precision", type=_PRECISION, default="double", show_default=True)
-@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@O.LAW
+@O.NU
+@O.NU_F
+@O.PRECISION
+@O.JSON
 def slip_cmd(law: str, nu: float, nu_f: float, precision: str, as_json: bool) -> None:
     """One slip cycle at (ν, ν_f): Δ, T, t1, slip duration, max velocity, status."""
     from ..engine import FIELDS, slip
@@ -52,10 +52,10 @@ def slip_cmd(law: str, nu: float, nu_f: float, precision: str, as_json: bool) ->
 
 
 @click.command("limit")
-@click.option("--law", required=True, help="Law name (see `bifurcation laws`) or formula in x.")
-@click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f", "0.4"), help="Friction velocity ν_f > 0.")
-@click.option("--precision", type=_PRECISION, default="double", show_default=True)
-@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@O.LAW
+@O.NU_F
+@O.PRECISION
+@O.JSON
 def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
     """The ν → 0 limit at ν_f, computed directly on the ν = 0 flow: Δ0 and more."""
     from ..engine import LIMIT_FIELDS, limit
@@ -71,7 +71,7 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
               help="Also time the Dask pipeline on this many points (0: skip).")
 @click.option("--suite", type=click.Choice(["engine", "rate-state"]), default="engine", show_default=True,
               help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint.")
-@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@O.JSON
 def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
     """Benchmarks, side by side in one run, reported as ratios (never a test)."""
     import importlib.util

@@ -6,6 +6,7 @@ import sys
 
 import click
 
+from . import _options as O
 from ._common import echo_json, fail, number
 
 __all__ = ["COMMANDS"]
@@ -25,24 +26,18 @@ def _numbers(name: str):
 @click.argument("workflow", metavar="WORKFLOW")
 @click.option("--store", metavar="PATH", default=None,
               help="Zarr store (default: results/<study name>.zarr). Resumed if it holds this workflow.")
-@click.option("--scheduler", metavar="ADDRESS|SCHEDULER_FILE", default=None,
-              help="Dask scheduler (tcp://host:8786) or scheduler file. Default: $DASK_SCHEDULER_ADDRESS, "
-                   "else an embedded local cluster.")
-@click.option("--workers", type=int, default=None,
-              help="Embedded cluster: worker processes (default: cores). With --scheduler: wait for N workers.")
+@O.SCHEDULER
+@O.WORKERS
 @click.option("--workers-timeout", type=float, default=None, metavar="SECONDS",
               help="With --scheduler and --workers N: how long to wait for N workers (default 120).")
 @click.option("--new-store", is_flag=True, help="Replace an existing store that holds another workflow.")
-@click.option("--write-from", "writer", type=click.Choice(["workers", "client"]), default="workers",
-              show_default=True,
-              help="Who writes finished tiles: the workers (store on a filesystem all workers share) "
-                   "or this process (no shared filesystem needed).")
+@O.WRITE_FROM
 @click.option("--dashboard", is_flag=True,
               help="Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one).")
 @click.option("--detach", is_flag=True,
               help="With --scheduler: hand the study to the cluster and return; the workers finish it "
                    "(follow with `bifurcation status`).")
-@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@O.JSON
 def submit_cmd(workflow: str, store, scheduler, workers, workers_timeout, new_store: bool, writer: str,
                dashboard: bool, detach: bool, as_json: bool) -> None:
     """Compute the missing points of WORKFLOW (a TOML file) on Dask into a Zarr store.
@@ -63,27 +58,54 @@ def submit_cmd(workflow: str, store, scheduler, workers, workers_timeout, new_st
         sys.exit(1)
 
 
-@click.command("query")
-@click.option("--store", metavar="PATH", required=True, help="A store written by `bifurcation submit`.")
-@click.option("--law", multiple=True, help="Law label (repeatable). Default: all.")
-@click.option("--nu", multiple=True, callback=_numbers("--nu"),
-              help="ν: exact label or nearest (repeatable). Default: all.")
-@click.option("--nu-f", "nu_f", multiple=True, callback=_numbers("--nu-f"),
-              help="ν_f: exact label or nearest (repeatable). Default: all.")
-@click.option("--format", "fmt", type=click.Choice(["table", "csv", "json"]), default="table", show_default=True)
-@click.option("--done-only", is_flag=True, help="Only points already computed.")
-def query_cmd(store: str, law, nu, nu_f, fmt: str, done_only: bool) -> None:
-    """Print the points of a store selected by law, ν and ν_f (streamed: memory independent of the store)."""
-    from ..errors import InputError
-    from ..query import iter_records, write_records
+def _axis_options(command):
+    """One repeatable option per axis of every registered model (``--nu``, ``--nu-f``, ``--gamma``),
+    from the models' declarations: a new model's axes appear here without a change to the CLI."""
+    from ..models import get_model, model_names
 
+    seen = {}
+    for name in model_names():
+        for axis in get_model(name).axes:
+            seen.setdefault(axis.name, axis)
+    for axis in reversed(list(seen.values())):
+        command = click.option(axis.option, axis.name, multiple=True, callback=_numbers(axis.option),
+                               help=f"{axis.symbol}: a label of the store (repeatable). Default: all.")(command)
+    return command
+
+
+def _option_names() -> dict:
+    from ..models import get_model, model_names
+
+    names = {"store": "--store", "law": "--law"}
+    for name in model_names():
+        names.update({axis.name: axis.option for axis in get_model(name).axes})
+    return names
+
+
+@click.command("query")
+@O.STORE
+@click.option("--law", multiple=True, help="Law label (repeatable; a formula matches by its expression). Default: all.")
+@_axis_options
+@O.NEAREST
+@O.FORMAT
+@click.option("--done-only", is_flag=True, help="Only points already computed.")
+def query_cmd(store: str, law, nearest: bool, fmt: str, done_only: bool, **axes) -> None:
+    """Print the points of a store selected by law and by the axes of its model (exact labels; streamed:
+    memory independent of the store)."""
+    from ..errors import InputError
+    from ..store.query import iter_records, write_records
+
+    notes: list[str] = []
     try:   # the selection and every selected chunk are checked here, before any output
-        records = iter_records(store, law=law or None, nu=nu or None, nu_f=nu_f or None, computed_only=done_only)
+        records = iter_records(store, law=law or None, computed_only=done_only, nearest=nearest, notes=notes,
+                               **{k: v for k, v in axes.items() if v})
     except InputError as exc:   # name the options as the user typed them
-        name = {"store": "--store", "law": "--law", "nu": "--nu", "nu_f": "--nu-f"}.get(exc.argument)
+        name = _option_names().get(exc.argument)
         if name is None:
             raise
         fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
+    for note in notes:
+        click.echo(f"bifurcation: note: {note}", err=True)
     write_records(records, fmt, sys.stdout, law_width=records.law_width)
 
 

@@ -6,18 +6,18 @@ import sys
 
 import click
 
+from . import _options as O
 from ._common import echo_json
 
 __all__ = ["COMMANDS"]
 
 
 @click.command("verify")
-@click.option("--store", metavar="PATH", required=True, help="A store written by `bifurcation submit`.")
+@O.STORE
 @click.option("--repair", is_flag=True, help="Recompute exactly the damaged tiles (and restore lost metadata).")
-@click.option("--scheduler", metavar="ADDRESS|SCHEDULER_FILE", default=None,
-              help="With --repair: the Dask scheduler (default as for submit).")
-@click.option("--workers", type=int, default=None, help="With --repair: workers, as for submit.")
-@click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
+@O.SCHEDULER
+@O.WORKERS
+@O.JSON
 def verify_cmd(store: str, repair: bool, scheduler, workers, as_json: bool) -> None:
     """Check every chunk's checksum and that `done` agrees with the data; exit 1 if damage is left."""
     from ..run.repair import verify

@@ -20,6 +20,6 @@ _LAZY = {
     "slip": "cycle",
 }
 
-__all__ = sorted(_LAZY)
+__all__ = ["FIELDS", "LIMIT_FIELDS", "LimitResult", "SlipResult", "Status", "limit", "slip"]
 
 __getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

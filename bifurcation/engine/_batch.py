@@ -23,31 +23,36 @@ __all__ = ["run_batch"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
 _SUCCESS = hy.taylor_outcome.success
-_STOP, _RUNG = EventKind.STOP, EventKind.RUNG
+_STOP, _SET, _STEP = EventKind.STOP, EventKind.SET, EventKind.RUNG
 
 
-def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, max_steps: int) -> dict:
-    """Raw outcomes (arrays over the points) of finite-ν cycles for flat arrays ``nu``, ``nu_f``."""
+def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_steps: int) -> dict:
+    """Raw outcomes (arrays over the points, as ``cycle._scalar_points``) for flat arrays of runtime
+    ``values`` (slot name → values)."""
     ta = c.integrator
     lanes = c.batch_size
-    n_points = nu.size
     n_pieces = c.n_pieces
+    slots = c.slots
+    first_piece = slots.piece0
+    names = list(c.state_names)
     out_time = np.full(n_points, math.nan)
-    out_W = np.full(n_points, math.nan)
-    out_vmax = np.full(n_points, math.nan)
-    out_creep = np.full(n_points, math.nan)
+    out_state = {name: np.full(n_points, math.nan) for name in names}
+    recorded = c.recorder.values   # written by the non-terminal events too
+    out_records = {name: np.full(n_points, math.nan) for name in recorded}
     out_steps = np.zeros(n_points, dtype=np.int64)
     out_status = np.zeros(n_points, dtype=np.int8)
     messages = {}
 
     point = np.full(lanes, -1)
     piece = np.zeros(lanes, dtype=int)
-    creep, vmax = c.recorder.creep, c.recorder.vmax  # written by the non-terminal events too
     steps = np.zeros(lanes, dtype=np.int64)
     hi, lo = (np.array(a) for a in ta.dtime)
     state = ta.state
     pars = ta.pars
     queue = iter(range(n_points))
+    initial = np.asarray(c.initial, dtype=float)
+    slot_values = [(slots.index(name), values[name]) for name in slots.names]
+    alias_record, alias = c.first_alias
 
     def load(lane: int) -> None:
         i = next(queue, -1)
@@ -55,27 +60,32 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
         if i < 0:
             return
         hi[lane] = lo[lane] = 0.0
-        state[:, lane] = 0.0
+        state[:, lane] = initial
         ta.reset_cooldowns(lane)  # the previous point's cooldowns must not reach this one
-        pars[0, lane], pars[1, lane], pars[2, lane] = nu[i], nu_f[i], 1.0
+        for index, column in slot_values:
+            pars[index, lane] = column[i]
         if n_pieces > 1:
-            pars[3:3 + n_pieces, lane] = 0.0
-            pars[3, lane] = 1.0
-        piece[lane], creep[lane], vmax[lane], steps[lane] = 0, math.nan, 0.0, 0
+            pars[first_piece:first_piece + n_pieces, lane] = 0.0
+            pars[first_piece, lane] = 1.0
+        piece[lane], steps[lane] = 0, 0
+        c.recorder.reset(lane)
 
     def finish(lane: int, status: Status, message: str = "") -> None:
         i = point[lane]
-        out_time[i], out_W[i], out_vmax[i] = hi[lane], state[0, lane], vmax[lane]
-        out_creep[i], out_steps[i], out_status[i] = creep[lane], steps[lane], int(status)
+        out_time[i], out_steps[i], out_status[i] = hi[lane], steps[lane], int(status)
+        for k, name in enumerate(names):
+            out_state[name][i] = state[k, lane]
+        for name, column in recorded.items():
+            out_records[name][i] = column[lane]
         if message:
             messages[i] = message
         load(lane)
 
-    kinds, breakpoint_of, at_one = c.kinds, c.breakpoint_of, c.switch_at_one
+    kinds, breakpoint_of = c.kinds, c.breakpoint_of
     n_events = len(kinds)
     # A lane that never gets a point (fewer points than lanes) must still have a finite right side:
     # ν = ν_f = 0 gave 0/0, a NaN time step and a ValueError from heyoka for the whole batch.
-    pars[0, :] = pars[1, :] = 1.0
+    pars[:, :] = 1.0
     for lane in range(lanes):
         load(lane)
     ta.set_dtime(hi, lo)
@@ -95,16 +105,20 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
                     finish(lane, Status.STICK_SLIP)
                     reloaded = True
                     continue
-                if kinds[index] is _RUNG:  # this lane's step ended on a rung: nothing to do
+                if kinds[index] is _STEP:  # this lane's step ended on a rung: nothing to do
                     continue
-                # only the stop, the switches and the rungs are terminal in batch mode
+                if kinds[index] is _SET:
+                    for slot, value in c.sets_of[index]:
+                        pars[slot, lane] = value
+                    continue
+                # only the end, the sets and the switches are terminal in batch mode
                 j = breakpoint_of[index]
                 up = j == piece[lane]
-                pars[3 + piece[lane], lane] = 0.0
+                pars[first_piece + piece[lane], lane] = 0.0
                 piece[lane] += 1 if up else -1
-                pars[3 + piece[lane], lane] = 1.0
-                if up and j == at_one and creep[lane] != creep[lane]:
-                    creep[lane] = hi[lane]
+                pars[first_piece + piece[lane], lane] = 1.0
+                if up and j == alias and recorded[alias_record][lane] != recorded[alias_record][lane]:
+                    recorded[alias_record][lane] = hi[lane]
             elif outcome == _SUCCESS:  # stopped because another lane had an event
                 if steps[lane] >= max_steps:
                     finish(lane, Status.NO_STOP, f"no stop within max_steps = {max_steps}")
@@ -118,6 +132,8 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
                 reloaded = True
         if reloaded:
             ta.set_dtime(hi, lo)
-    return dict(time=out_time, W=out_W, vmax=out_vmax, creep_time=out_creep,
-                duration=out_time - out_creep, steps=out_steps,
-                status=out_status, messages=messages)
+    out = {"time": out_time, **out_state, **out_records, "steps": out_steps, "status": out_status,
+           "messages": messages, "info": c.info}
+    for r in c.first_records:
+        out[f"time_after_{r}"] = out_time - out_records[r]
+    return out

@@ -1,22 +1,13 @@
-"""One compiled Taylor integrator per (law, precision), reused for every (ν, ν_f).
+"""One compiled Taylor integrator per (model, law, precision), reused for every point.
 
-Scaled equations (PHYSICS.md): with U = νW,
-
-    Ẅ = c·t − W + Σ_k s_k g_k(x)/ν,   x = νẆ/ν_f,
-
-where g_k = 1 − Φ on piece k of the law and s_k is a one-hot runtime parameter that selects the piece
-(flipped at a terminal event, so a kink is crossed exactly and never smoothed; the sum is taken with
-``select`` on the parameter, so an unselected piece never enters). c = 1 for a finite-ν
-cycle; c = 0 with ν = 1 turns the same integrator into the ν = 0 flow Ü = −U + g(U̇/ν_f) used by the
-direct limit. Runtime parameters: par[0] = ν, par[1] = ν_f, par[2] = c, par[3 + k] = s_k.
-
-ν_f enters by division, never through a precomputed 1/ν_f or ν/ν_f: just above ν_f = 1/2 the creep
-cycle is ill-conditioned in ν_f (Δ ~ e^{αt0}, t0 ≈ 2π/ω, so d ln Δ/d ln α ≈ 2πα³/ω³ ≈ 700 at
-ν_f = 0.51) and the one systematic rounding of such a constant cost 4e-14 in Δ; roundings made per
-evaluation do not add up that way.
-
-Every event function is O(1) in the scaled variables while the block slips (PHYSICS.md: a switching
-function of size 1e12 spoils the location of other events).
+The model declares the system (``Model.equations``: state, right-hand sides, event functions) and
+what each event does (``Model.events``); this module compiles them with heyoka and records, per
+terminal event index, its action and what it records, so the one event loop (``cycle.run_cycle``
+and ``_batch.run_batch``) serves every model. Runtime parameters are named slots
+(``bifurcation.models.Slots``): the model's ``parameters``, then one one-hot selector per piece of a
+piecewise law. For the single block (docs/physics.md, ``bifurcation.models.single_block``) the slots
+are ν, ν_f and the forcing switch c, and every event function is O(1) in the scaled variables while
+the block slips (a switching function of size 1e12 spoils the location of the other events).
 """
 
 from __future__ import annotations
@@ -28,9 +19,8 @@ import heyoka as hy
 import numpy as np
 
 from ..laws import FrictionLaw
-from ._fading import ladder
 
-__all__ = ["Compiled", "EventKind", "LaneRecorder", "build", "compiled", "fp_info"]
+__all__ = ["COOLDOWN", "Compiled", "EventKind", "LaneRecorder", "build", "compiled", "fp_info"]
 
 _CACHE: dict = {}
 
@@ -43,28 +33,53 @@ COOLDOWN = 1e-12
 
 
 class EventKind(Enum):
-    STOP = "stop"            # U̇ returns to 0: terminal for the cycle
-    MAX_VELOCITY = "max"     # dU̇/dt = 0 from above: a velocity maximum
-    REACH_NU_F = "creep"     # U̇ = ν_f from below (t1), where 1 is not a breakpoint
-    SWITCH = "switch"        # U̇/ν_f crosses a breakpoint of the law
-    RUNG = "rung"            # U̇/ν_f falls through a rung of the law's ladder (_fading): ends a step only
+    """What a terminal event does in the event loop (from the model's ``Event.action``)."""
+
+    STOP = "end"              # the run of this point ends
+    MAX_VELOCITY = "maximum"  # a running maximum of a state variable is updated
+    REACH_NU_F = "first"      # the time of a first occurrence is recorded
+    SWITCH = "switch"         # the piece selector moves one piece up or down
+    SET = "set"               # runtime slots are set to the values the system gives
+    RUNG = "step"             # ends a Taylor step, nothing else (a rung of a ladder: _fading)
+
+
+_KINDS = {kind.value: kind for kind in EventKind}
+_DIRECTIONS = {"negative": "negative", "positive": "positive", "any": "any"}
 
 
 @dataclass(frozen=True)
 class Compiled:
-    """A compiled integrator and the meaning of its terminal events."""
+    """A compiled integrator and the meaning of its terminal events.
+
+    Per terminal event index: ``kinds`` (its ``EventKind``), ``records`` (the raw outcome a "first" or
+    "maximum" event writes, "" otherwise), ``state_of`` (the state index whose maximum a "maximum"
+    event records, -1 otherwise) and ``breakpoint_of`` (the breakpoint of a switch, -1 otherwise).
+    ``first_alias`` maps a breakpoint index to the "first" record its up-crossing also makes (the
+    single block's x = 1 breakpoint is t1); later crossings of it are kept in order (``crossings``).
+    """
 
     law: FrictionLaw
     precision: str
     integrator: object
-    kinds: tuple            # EventKind per terminal event index
-    breakpoint_of: tuple    # breakpoint index per event (-1 where not a switch)
+    kinds: tuple
+    breakpoint_of: tuple
     n_pieces: int
     batch_size: int
     recorder: "LaneRecorder | None" = None  # batch mode: where non-terminal events record
     dtype: type = np.float64                # numpy type of the integrator's numbers
-    switch_at_one: int = -1                 # index of the breakpoint x = 1 (U̇ = ν_f), -1 if none
-    x_checked: float = float("inf")         # the ladder vouches for x = U̇/ν_f up to here (_fading)
+    switch_at_one: int = -1                 # the breakpoint that carries a "first" record (-1 if none)
+    model: object = None
+    slots: object = None
+    records: tuple = ()
+    state_of: tuple = ()
+    first_records: tuple = ()               # every "first" record name of the model
+    max_records: tuple = ()                 # (record name, state index) of every "maximum" event
+    first_alias: tuple = ("", -1)           # (record, breakpoint index) carried by a switch
+    state_names: tuple = ()                 # the system's state variables, in order
+    initial: tuple = ()                     # the model's initial state for this structure
+    sets_of: tuple = ()                     # per terminal event: ((slot index, value), ...) of a "set"
+    max_start: tuple = ()                   # (record, start value) of each maximum from ``initial``
+    info: dict = None                       # the system's facts for ``classify`` (``System.info``)
 
 
 def fp_info(precision: str):
@@ -76,119 +91,130 @@ def fp_info(precision: str):
     raise ValueError(precision)
 
 
-def _system(law: FrictionLaw, num):
-    W, V = hy.make_vars("W", "V")
-    nu, nu_f, c = hy.par[0], hy.par[1], hy.par[2]
-    x = (nu * V) / nu_f
-    pieces = law.pieces
-    if len(pieces) == 1:
-        drop = pieces[0].drop(x, num)
-    else:
-        # select on the one-hot parameter, not a product with it: a piece may be NaN outside its own
-        # interval (log(x) at x = 0, say) and 0·NaN is NaN. The condition is constant over every step,
-        # so this is no state-dependent switch and weakens no event guarantee.
-        drop = hy.select(hy.par[3 + len(pieces) - 1], pieces[-1].drop(x, num), num(0))
-        for k in range(len(pieces) - 2, -1, -1):
-            drop = hy.select(hy.par[3 + k], pieces[k].drop(x, num), drop)
-    rhs = c * hy.time - W + drop / nu
-    # dx/dt = νẄ/ν_f, written without the 1/ν so that it stays O(1) during the slip.
-    dxdt = (nu * (c * hy.time - W) + drop) / nu_f
-    return (W, V), rhs, x, dxdt
-
-
 class LaneRecorder:
-    """Velocity maxima and t1 of each batch lane, recorded by non-terminal event callbacks.
+    """What non-terminal events record per batch lane: running maxima and first times.
 
     In batch mode a terminal event in any lane returns control for all lanes, so only the events
-    that change the integration (the stop, the piece switches) are terminal; the others are recorded
-    here at the exact event time from heyoka's dense output, without leaving the integrator.
+    that change the integration (``end``, ``switch``) are terminal; ``maximum`` and ``first`` events
+    record here at the exact event time from heyoka's dense output, without leaving the integrator.
     """
 
-    def __init__(self, lanes: int) -> None:
-        self.vmax = np.zeros(lanes)
-        self.creep = np.full(lanes, np.nan)
+    def __init__(self, lanes: int, first=(), maxima=()) -> None:
+        self.values = {name: np.full(lanes, np.nan) for name in first}
+        self.values.update({name: np.zeros(lanes) for name, _ in maxima})
+        self.first, self.maxima = tuple(first), tuple(maxima)
 
     def __deepcopy__(self, memo) -> "LaneRecorder":
         # heyoka deep-copies each event callback on construction; all of them must record here.
         return self
 
-    def on_max_velocity(self, ta, time, d_sgn, lane) -> None:
-        times = np.array(ta.time)
-        times[lane] = time
-        ta.update_d_output(times)
-        self.vmax[lane] = max(self.vmax[lane], ta.d_output[1, lane])
+    def reset(self, lane: int) -> None:
+        for name in self.first:
+            self.values[name][lane] = np.nan
+        for name, _ in self.maxima:
+            self.values[name][lane] = 0.0
 
-    def on_reach_nu_f(self, ta, time, d_sgn, lane) -> None:
-        if np.isnan(self.creep[lane]):
-            self.creep[lane] = time
+    def maximum(self, name: str, index: int):
+        values = self.values[name]
+
+        def callback(ta, time, d_sgn, lane) -> None:
+            times = np.array(ta.time)
+            times[lane] = time
+            ta.update_d_output(times)
+            values[lane] = max(values[lane], ta.d_output[index, lane])
+
+        return callback
+
+    def first_time(self, name: str):
+        values = self.values[name]
+
+        def callback(ta, time, d_sgn, lane) -> None:
+            if np.isnan(values[lane]):
+                values[lane] = time
+
+        return callback
 
 
-def _events(law: FrictionLaw, x, dxdt, fp_type, recorder: LaneRecorder | None, rungs=()):
-    """Terminal events (with their kinds and breakpoint indices) and non-terminal events."""
+def _events(model, system, law: FrictionLaw, fp_type, recorder: LaneRecorder | None, slots):
+    """Terminal events with their meanings, and the non-terminal events (batch mode)."""
     batch = recorder is not None
     make = hy.t_event_batch if batch else hy.t_event
     fp = {"fp_type": fp_type} if fp_type is not None else {}
-
     cooldown = fp_type(COOLDOWN) if fp_type is not None else COOLDOWN
+    state_names = [str(v) for v in system.state]
 
-    def ev(eq, direction):
-        return make(eq, direction=direction, cooldown=cooldown, **fp)
+    def direction(name):
+        return getattr(hy.event_direction, _DIRECTIONS[name])
 
-    neg, pos, anyd = (hy.event_direction.negative, hy.event_direction.positive, hy.event_direction.any)
-    events, kinds, bp_of, nt_events = [ev(x, direction=neg)], [EventKind.STOP], [-1], []
-    if batch:
-        nt_events.append(hy.nt_event_batch(dxdt, recorder.on_max_velocity, direction=neg))
-    else:
-        events.append(ev(dxdt, direction=neg))
-        kinds.append(EventKind.MAX_VELOCITY)
-        bp_of.append(-1)
-    if 1.0 not in law.breakpoints:
-        if batch:
-            nt_events.append(hy.nt_event_batch(x - 1.0, recorder.on_reach_nu_f, direction=pos))
-        else:
-            events.append(ev(x - 1.0, direction=pos))
-            kinds.append(EventKind.REACH_NU_F)
-            bp_of.append(-1)
-    for j, b in enumerate(law.breakpoints):
-        events.append(ev(x / b - 1.0, direction=anyd))
-        kinds.append(EventKind.SWITCH)
-        bp_of.append(j)
-    # Terminal in batch mode too: a non-terminal event cannot end a step, and ending the step of the
-    # lane that crosses a rung is the whole point (docs/engine.md, "Friction that fades").
-    for r in rungs:
-        events.append(ev(x / r - 1.0, direction=neg))
-        kinds.append(EventKind.RUNG)
-        bp_of.append(-1)
-    return events, tuple(kinds), tuple(bp_of), nt_events
+    events, kinds, bp_of, records, state_of, sets_of, nt_events = [], [], [], [], [], [], []
+    for event in model.events:
+        if event.name not in system.events:
+            continue
+        found = system.events[event.name]
+        instances = list(found) if event.per_piece else [found]
+        for j, (expression, way) in enumerate(instances):
+            index = state_names.index(event.of) if event.action == "maximum" else -1
+            if batch and not event.terminal:
+                callback = (recorder.maximum(event.records, index) if event.action == "maximum"
+                            else recorder.first_time(event.records))
+                nt_events.append(hy.nt_event_batch(expression, callback, direction=direction(way)))
+                continue
+            events.append(make(expression, direction=direction(way), cooldown=cooldown, **fp))
+            kinds.append(_KINDS[event.action])
+            bp_of.append(j if event.per_piece else -1)
+            records.append(event.records)
+            state_of.append(index)
+            sets = system.sets.get(event.name, ()) if event.action == "set" else ()
+            sets_of.append(tuple((slots.index(k), v) for k, v in sets[j].items()) if sets else ())
+    return events, tuple(kinds), tuple(bp_of), tuple(records), tuple(state_of), tuple(sets_of), nt_events
 
 
-def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> Compiled:
-    """The cached compiled integrator for ``law`` (built on first use in this process)."""
-    key = (law.name, law.formula, precision, batch_size)
+def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1, model=None,
+             structure=None) -> Compiled:
+    """The cached compiled integrator for ``law`` under ``model`` (default: the single block) and the
+    values ``structure`` of its structural axes."""
+    from ..models import get_model
+
+    model = get_model(model)
+    structure = dict(structure or {})
+    key = (model.name, law.name, law.formula, precision, batch_size, tuple(sorted(structure.items())))
     hit = _CACHE.get(key)
     if hit is None:
-        hit = _CACHE[key] = build(law, precision, batch_size)
+        hit = _CACHE[key] = build(law, precision, batch_size, model=model, structure=structure)
     return hit
 
 
-def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> Compiled:
+def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1, model=None,
+          structure=None) -> Compiled:
     """Compile a new integrator for ``law`` (uncached; the benchmark's naive baseline uses this)."""
+    from ..models import get_model
+
+    model = get_model(model)
+    structure = dict(structure or {})
     fp_type, dtype, num = fp_info(precision)
-    (W, V), rhs, x, dxdt = _system(law, num)
+    slots = model.slots(len(law.pieces))
+    system = model.equations(law, slots, num, precision=precision, **structure)
+    names = tuple(str(v) for v in system.state)
     batch = batch_size > 1
-    recorder = LaneRecorder(batch_size) if batch else None
-    steps = ladder(law, precision)
-    events, kinds, bp_of, nt_events = _events(law, x, dxdt, fp_type, recorder, steps.rungs)
-    npars = 3 + (len(law.pieces) if len(law.pieces) > 1 else 0)
+    first = tuple(e.records for e in model.events if e.action == "first")
+    maxima = tuple((e.records, names.index(e.of)) for e in model.events if e.action == "maximum")
+    recorder = LaneRecorder(batch_size, first, maxima) if batch else None
+    events, kinds, bp_of, records, state_of, sets_of, nt_events = _events(model, system, law, fp_type, recorder,
+                                                                          slots)
     kwargs = dict(t_events=events, nt_events=nt_events, compact_mode=precision == "quad")
     if fp_type is not None:
         kwargs["fp_type"] = fp_type
+    n_state = len(system.state)
     if batch:
-        ta = hy.taylor_adaptive_batch([(W, V), (V, rhs)], np.zeros((2, batch_size)),
-                                      pars=np.zeros((npars, batch_size)), **kwargs)
+        ta = hy.taylor_adaptive_batch(list(zip(system.state, system.rhs)), np.zeros((n_state, batch_size)),
+                                      pars=np.zeros((slots.size, batch_size)), **kwargs)
     else:
-        ta = hy.taylor_adaptive([(W, V), (V, rhs)], np.zeros(2, dtype=dtype),
-                                pars=np.zeros(npars, dtype=dtype), **kwargs)
-    at_one = law.breakpoints.index(1.0) if 1.0 in law.breakpoints else -1
-    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder, dtype, at_one,
-                    steps.x_checked)
+        ta = hy.taylor_adaptive(list(zip(system.state, system.rhs)), np.zeros(n_state, dtype=dtype),
+                                pars=np.zeros(slots.size, dtype=dtype), **kwargs)
+    alias = system.first_on_switch
+    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder, dtype, alias[1],
+                    model=model, slots=slots, records=records, state_of=state_of, first_records=first,
+                    max_records=maxima, first_alias=alias, state_names=names, initial=model.start(structure),
+                    sets_of=sets_of,
+                    max_start=tuple((name, dtype(model.start(structure)[i])) for name, i in maxima),
+                    info=dict(system.info))

@@ -1,9 +1,10 @@
-"""One slip cycle: from rest at the static threshold to the stop.
+"""The event loop: one run of a model at one point, from its initial state to its ``end`` event.
 
-The block starts at U = U̇ = 0 when the spring force has just reached the threshold (Ü(0) = 0), slides
-while U̇ > 0 and stops the first time U̇ returns to 0 (PHYSICS.md). Over one period rod and block
-advance by the same amount, so the recurrence time is exactly T = Δ/ν; in the scaled variable
-W = U/ν this is T = W(stop), with no division. The stuck phase is never integrated.
+For the single block (docs/physics.md, ``bifurcation.models.single_block``) a run is one slip cycle:
+the block starts at U = U̇ = 0 when the spring force has just reached the threshold (Ü(0) = 0), slides
+while U̇ > 0 and stops the first time U̇ returns to 0. Over one period rod and block advance by the
+same amount, so the recurrence time is exactly T = Δ/ν; in the scaled variable W = U/ν this is
+T = W(stop), with no division. The stuck phase is never integrated.
 """
 
 from __future__ import annotations
@@ -18,43 +19,63 @@ from ._integrator import Compiled, EventKind, compiled
 from ._validate import check_batch, check_nu, check_nu_f, check_precision, check_work
 from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult, Status
 
-__all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "run_cycle", "slip"]
+__all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "run_cycle", "run_model", "slip"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
-_STOP, _MAX_VELOCITY, _REACH_NU_F, _RUNG = (EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F,
-                                            EventKind.RUNG)
+_STOP, _MAXIMUM, _FIRST, _SET, _STEP = (EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F,
+                                        EventKind.SET, EventKind.RUNG)
 
 
-def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
-              t_max: float = DEFAULT_T_MAX, max_steps: int = DEFAULT_MAX_STEPS) -> dict:
-    """Integrate one cycle with the compiled integrator ``c``; returns a dict of raw outcomes.
+def run_cycle(c: Compiled, values, *, state0=None, t_max: float = DEFAULT_T_MAX,
+              max_steps: int = DEFAULT_MAX_STEPS) -> dict:
+    """Integrate one run with the compiled integrator ``c``; returns a dict of raw outcomes.
 
-    ``forcing = 1`` is a finite-ν cycle in the scaled variables; ``forcing = 0`` with ``nu = 1`` is
-    the ν = 0 flow (the direct limit). Times and positions are returned in the integrator's
-    precision (numpy scalars). This loop runs once per event of every point: it keeps Python work
-    per event to a few integer comparisons.
+    ``values`` maps each runtime slot of the model (``c.slots.names``) to its value here (for the
+    single block: ``nu``, ``nu_f``, ``forcing``; ``forcing = 0`` with ``nu = 1`` is the ν = 0 flow of
+    the direct limit), or is the sequence of those values in slot order. ``state0`` defaults to the model's initial state. Times, the final state (by
+    name) and the records are returned in the integrator's precision (numpy scalars). This loop runs
+    once per event of every point: it keeps Python work per event to a few integer comparisons.
     """
+    if isinstance(values, dict):
+        values = [values[name] for name in c.slots.names]
+    time, state, found, maxima, crossings, steps, status, message = _run(c, values, state0, t_max, max_steps)
+    out = dict(zip(c.state_names, state))
+    out.update(found)
+    out.update(maxima)
+    out.update(time=time, crossings=crossings, steps=steps, status=status, message=message, info=c.info)
+    return out
+
+
+def _run(c: Compiled, values, state0, t_max: float, max_steps: int) -> tuple:
+    """``run_cycle`` without the dict: (time, state, first records, maxima, crossings, steps, status,
+    message), all in its precision, ``state`` the integrator's own buffer (read it before the next run).
+    ``values`` in slot order."""
     ta = c.integrator
     dtype = c.dtype
     ta.time = dtype(0)
     state = ta.state  # views on the integrator's buffers
     pars = ta.pars
-    state[0], state[1] = state0
+    start = c.initial if state0 is None else state0
+    for i, value in enumerate(start):
+        state[i] = value
     # A terminal event's cooldown outlives a reset of time and state: clear it, or a point would
     # depend on the one before it.
     ta.reset_cooldowns()
-    pars[0], pars[1], pars[2] = nu, nu_f, forcing
-    piece = 0  # both starts (rest at x = 0, the manifold at x < first breakpoint) are on piece 0
+    for i, value in enumerate(values):   # the slots in order: parameters[0], parameters[1], ...
+        pars[i] = value
+    piece, first_piece = 0, c.slots.piece0  # every start is on piece 0 (rest at x = 0, the manifold below b1)
     if c.n_pieces > 1:
-        pars[3:] = 0
-        pars[3] = 1
-    kinds, breakpoint_of, at_one = c.kinds, c.breakpoint_of, c.switch_at_one
+        pars[first_piece:] = 0
+        pars[first_piece] = 1
+    kinds, breakpoint_of, records, state_of = c.kinds, c.breakpoint_of, c.records, c.state_of
+    alias_record, alias = c.first_alias
+    found = dict.fromkeys(c.first_records, math.nan)
+    # a running maximum starts at the start's value (the initial state of the model, or state0)
+    maxima = dict(c.max_start) if state0 is None else {name: start[index] for name, index in c.max_records}
+    crossings = []  # later crossings of the breakpoint that carries a "first" record (τ1 of Eq. 16)
     n_events = len(kinds)
     propagate = ta.propagate_until
     t_end = dtype(t_max)
-    creep_time = math.nan
-    crossings = []  # times U̇ crosses ν_f (x = 1) after t1, for τ1 of Eq. (16)
-    vmax = state[1]
     steps = 0
     status = Status.NO_STOP
     message = ""
@@ -73,91 +94,113 @@ def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
         if kind is _STOP:
             status = Status.STICK_SLIP
             break
-        if kind is _MAX_VELOCITY:
-            if state[1] > vmax:
-                vmax = state[1]
-        elif kind is _REACH_NU_F:
-            if creep_time != creep_time:  # NaN: the first time only
-                creep_time = ta.time
-        elif kind is _RUNG:  # the step ended on a rung of the ladder; nothing to record
+        if kind is _MAXIMUM:
+            value = state[state_of[index]]
+            if value > maxima[records[index]]:
+                maxima[records[index]] = value
+        elif kind is _FIRST:
+            if found[records[index]] != found[records[index]]:  # NaN: the first time only
+                found[records[index]] = ta.time
+        elif kind is _STEP:   # the step ended on a rung: nothing to record
             pass
+        elif kind is _SET:
+            for slot, value in c.sets_of[index]:
+                pars[slot] = value
         else:  # a switch at breakpoint j: the upper end of this piece means up, the lower means down
             j = breakpoint_of[index]
             up = j == piece
             if not up and j != piece - 1:  # cannot happen with ordered breakpoints; be explicit
                 status, message = Status.NONFINITE, f"switch event {j} seen in piece {piece}"
                 break
-            pars[3 + piece] = 0
+            pars[first_piece + piece] = 0
             piece = piece + 1 if up else piece - 1
-            pars[3 + piece] = 1
-            if j == at_one:
-                if up and creep_time != creep_time:
-                    creep_time = ta.time
+            pars[first_piece + piece] = 1
+            if j == alias:
+                if up and found[alias_record] != found[alias_record]:
+                    found[alias_record] = ta.time
                 else:
                     crossings.append(ta.time)
-    return dict(time=ta.time, W=state[0], vmax=vmax, creep_time=creep_time,
-                crossings=crossings, steps=steps, status=status, message=message)
+    return ta.time, state, found, maxima, crossings, steps, status, message   # state: the live view
 
 
-def _scalar_points(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, t_max: float, max_steps: int) -> dict:
-    """Raw outcomes for flat arrays of points, one scalar integration each."""
+def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps: int) -> dict:
+    """Raw outcomes for flat arrays of runtime values, one scalar integration each.
+
+    Besides the final state, the records, ``steps`` and ``status``, each "first" record ``r`` gives
+    ``time_after_<r>`` = end time − r, subtracted in the integrator's precision before rounding to
+    float64 (quad keeps the difference exact to ~1e-33).
+    """
     dtype = c.dtype
-    keys = ("time", "W", "vmax", "creep_time")
-    out = {k: np.full(nu.size, math.nan) for k in (*keys, "duration")}
-    out["steps"] = np.zeros(nu.size, dtype=np.int64)
-    out["status"] = np.zeros(nu.size, dtype=np.int8)
+    names, firsts, maxima = c.state_names, c.first_records, [n for n, _ in c.max_records]
+    out = {k: np.full(size, math.nan) for k in ("time", *names, *firsts, *maxima)}
+    for r in firsts:
+        out[f"time_after_{r}"] = np.full(size, math.nan)
+    out["steps"] = np.zeros(size, dtype=np.int64)
+    out["status"] = np.zeros(size, dtype=np.int8)
     messages = {}
-    for i in range(nu.size):
-        raw = run_cycle(c, dtype(nu[i]), dtype(nu_f[i]), t_max=t_max, max_steps=max_steps)
-        for k in keys:
-            out[k][i] = float(raw[k])
-        # Subtract before rounding to float64 (quad keeps the difference exact to ~1e-33).
-        out["duration"][i] = float(raw["time"] - raw["creep_time"])
-        out["steps"][i], out["status"][i] = raw["steps"], int(raw["status"])
-        if raw["message"]:
-            messages[i] = raw["message"]
+    time_out, steps_out, status_out = out["time"], out["steps"], out["status"]
+    state_out = [out[n] for n in names]
+    first_out = [(r, out[r], out[f"time_after_{r}"]) for r in firsts]
+    max_out = [(n, out[n]) for n in maxima]
+    # one row of slot values per point, in the integrator's precision (float64 → real128 is exact)
+    rows = [[dtype(v) for v in row] for row in zip(*(values[name] for name in c.slots.names))]
+    for i in range(size):
+        time, state, found, peaks, _, steps, status, message = _run(c, rows[i], None, t_max, max_steps)
+        time_out[i] = float(time)
+        for column, value in zip(state_out, state):
+            column[i] = float(value)
+        for r, column, after in first_out:
+            column[i] = float(found[r])
+            after[i] = float(time - found[r])
+        for n, column in max_out:
+            column[i] = float(peaks[n])
+        steps_out[i], status_out[i] = steps, int(status)
+        if message:
+            messages[i] = message
     out["messages"] = messages
+    out["info"] = c.info
     return out
 
 
-def _unresolved(status: np.ndarray, messages: dict, x_max: np.ndarray, x_checked: float) -> np.ndarray:
-    """Mark stopped points whose U̇/ν_f went past the ladder's checked range (docs/engine.md)."""
-    beyond = (status == int(Status.STICK_SLIP)) & (x_max > x_checked)
-    for i in np.flatnonzero(beyond):
-        status[i] = int(Status.UNRESOLVED)
-        messages[int(i)] = (f"U̇/ν_f reached {x_max[i]:.3g}, beyond x = {x_checked:.3g} up to which the engine "
-                            "checked that no Taylor step can step over this law's friction; use a larger ν_f")
-    return beyond
+def run_model(model, law, points: dict, *, precision: str = "double", t_max: float = DEFAULT_T_MAX,
+              max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1) -> tuple[dict, dict]:
+    """The model's outputs and messages for flat arrays ``points`` (axis name → values).
 
-
-def _classify(raw: dict, nu: np.ndarray, nu_f: np.ndarray,
-              x_checked: float = math.inf) -> tuple[dict, dict]:
-    """Result fields from raw outcomes: creep vs stick-slip, the stick check, NaN where undefined."""
-    status = raw["status"].copy()
-    messages = dict(raw["messages"])
-    _unresolved(status, messages, nu * raw["vmax"] / nu_f, x_checked)
-    stopped = status == int(Status.STICK_SLIP)
-    creep = stopped & (nu_f > 0.5) & np.isnan(raw["creep_time"])
-    status[creep] = int(Status.CREEP)
-    # Static friction holds |spring force| = |1 + ν(t − W)| ≤ 1 after the stop; else it back-slips.
-    back = stopped & (nu * (raw["W"] - raw["time"]) > 2)
-    for i in np.flatnonzero(back):
-        status[i] = int(Status.NO_STICK)
-        messages[int(i)] = (f"spring force {1 + nu[i] * (raw['time'][i] - raw['W'][i]):.6g} exceeds "
-                            "static friction after the stop: the block would slide back")
-    # stick-slip, creep and no-stick all stopped: the cycle itself is well defined
-    W = np.where(stopped, raw["W"], math.nan)
-    fields = {
-        "delta": nu * W,
-        "period": W,
-        "creep_time": np.where(stopped, raw["creep_time"], math.nan),
-        "slip_duration": np.where(stopped, raw["duration"], math.nan),
-        "stop_time": np.where(stopped, raw["time"], math.nan),
-        "max_velocity": np.where(stopped, nu * raw["vmax"], math.nan),
-        "steps": raw["steps"],
-        "status": status,
-    }
+    The one path of every model: compile (cached), run each point (scalar loop or SIMD batch), then
+    the model's ``classify`` turns raw outcomes into its outputs.
+    """
+    law = resolve_law(law)
+    size = next(iter(points.values())).size if points else 1
+    values = model.runtime(points)
+    structural = [a.name for a in model.structural]
+    if not structural:
+        return _run_group(model, law, values, size, {}, precision, t_max, max_steps, batch)
+    # one compiled system per distinct structure (an N-block chain per N): run each group, scatter back
+    keys = np.stack([np.asarray(points[name]).ravel() for name in structural], axis=1)
+    groups, inverse = np.unique(keys, axis=0, return_inverse=True)
+    fields, messages = {}, {}
+    for g, key in enumerate(groups):
+        where = np.flatnonzero(inverse.ravel() == g)
+        structure = {name: model.axis(name).cast(value) for name, value in zip(structural, key)}
+        part, notes = _run_group(model, law, {k: v[where] for k, v in values.items()}, where.size, structure,
+                                 precision, t_max, max_steps, batch)
+        for name, column in part.items():
+            if name not in fields:
+                fields[name] = np.empty(size, dtype=np.asarray(column).dtype)
+            fields[name][where] = column
+        messages.update({int(where[i]): text for i, text in notes.items()})
     return fields, messages
+
+
+def _run_group(model, law, values, size, structure, precision, t_max, max_steps, batch):
+    c = compiled(law, precision, batch if batch > 1 else 1, model=model, structure=structure)
+    if batch > 1:
+        from ._batch import run_batch
+
+        raw = run_batch(c, values, size, t_max=t_max, max_steps=max_steps)
+    else:
+        raw = _scalar_points(c, values, size, t_max, max_steps)
+    return model.classify(raw, values)
 
 
 def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
@@ -197,14 +240,10 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
     shape = nu_b.shape
     nu_flat = np.ascontiguousarray(nu_b, dtype=float).ravel()
     nu_f_flat = np.ascontiguousarray(nu_f_b, dtype=float).ravel()
-    c = compiled(law, precision, batch)
-    if batch > 1:
-        from ._batch import run_batch
+    from ..models import get_model
 
-        raw = run_batch(c, nu_flat, nu_f_flat, t_max=t_max, max_steps=max_steps)
-    else:
-        raw = _scalar_points(c, nu_flat, nu_f_flat, t_max, max_steps)
-    fields, messages = _classify(raw, nu_flat, nu_f_flat, c.x_checked)
+    fields, messages = run_model(get_model(), law, {"nu": nu_flat, "nu_f": nu_f_flat}, precision=precision,
+                                 t_max=t_max, max_steps=max_steps, batch=batch)
     return SlipResult(nu=nu_flat.reshape(shape), nu_f=nu_f_flat.reshape(shape),
                       **{k: v.reshape(shape) for k, v in fields.items()},
                       messages=messages, law=law.name, precision=precision)

@@ -1,4 +1,4 @@
-"""The ν → 0 limit computed directly, not by extrapolation (PHYSICS.md).
+"""The ν → 0 limit computed directly, not by extrapolation (docs/physics.md).
 
 For ν_f ≤ 1/2 the limit cycle is the orbit of the ν = 0 flow Ü = −U + g(U̇/ν_f) that leaves the fixed
 point along the fast eigen-direction; Δ0 is the displacement along it until U̇ returns to 0. It is
@@ -81,14 +81,15 @@ def _stick_slip_limit(law: FrictionLaw, nu_f: float, precision: str):
     except ValueError as exc:
         return (math.nan,) * 4 + (0, Status.NONFINITE, str(exc))
     # The creep event marks U̇ = ν_f; run_cycle records it and every later crossing of breakpoint 1.
-    raw = run_cycle(c, dtype(1), dtype(nu_f), forcing=0.0, state0=(_to_fp(U, dtype), _to_fp(Ud, dtype)),
-                    t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS)
+    raw = run_cycle(c, {"nu": dtype(1), "nu_f": dtype(nu_f), "forcing": dtype(0)},
+                    state0=(_to_fp(U, dtype), _to_fp(Ud, dtype)), t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS)
     if raw["status"] is not Status.STICK_SLIP:
         return (math.nan,) * 4 + (raw["steps"], raw["status"], raw["message"])
     x_max = float(raw["vmax"]) / nu_f
-    if x_max > c.x_checked:  # past the ladder's range (docs/engine.md, "Friction that fades")
+    x_checked = c.info.get("x_checked", math.inf)
+    if x_max > x_checked:  # past the ladder's range (docs/engine.md, "Friction that fades")
         return (math.nan,) * 4 + (raw["steps"], Status.UNRESOLVED,
-                                  f"U̇/ν_f reached {x_max:.3g}, beyond x = {c.x_checked:.3g} up to which the "
+                                  f"U̇/ν_f reached {x_max:.3g}, beyond x = {x_checked:.3g} up to which the "
                                   "engine checked that no Taylor step can step over this law's friction")
     t_reach = raw["creep_time"]
     crossings = [t for t in raw["crossings"] if t > t_reach] if not math.isnan(t_reach) else []

@@ -1,6 +1,6 @@
 """The fast unstable manifold of the ν = 0 fixed point, as a power series (parameterisation method).
 
-At ν = 0 the equation of motion is Ü = −U + g(U̇/ν_f) (PHYSICS.md) with the fixed point U = U̇ = 0;
+At ν = 0 the equation of motion is Ü = −U + g(U̇/ν_f) (docs/physics.md) with the fixed point U = U̇ = 0;
 linearised, Ü − 2αU̇ + U = 0 with eigenvalues λ± = α ± ω. As ν → 0 the finite-ν trajectory tends to
 the orbit that leaves the fixed point along the fast direction λ = λ+ (Eq. 14 is that orbit on the
 linear piece of Eq. 12). Write it as U(t) = P(s), s = e^{λt}, P(s) = Σ_{n≥1} u_n s^n, u_1 = 1. Then

@@ -34,17 +34,12 @@ class Status(IntEnum):
     NO_STOP = 3        #: did not stop before t_max or max_steps (bounded, never hangs)
     NO_STICK = 4       #: stopped, but the spring force then exceeds static friction (back-slip)
     NONFINITE = 5      #: the integrator produced a non-finite state
-    INVALID = 6        #: the point's input was invalid (never produced by ``slip`` on valid input)
     #: Stopped, but U̇/ν_f went beyond the x up to which the engine checked that no Taylor step can
     #: step over the law's friction (docs/engine.md, "Friction that fades"): no value is given.
     UNRESOLVED = 7
 
     def __str__(self) -> str:  # "stick-slip", as users and the store see it
         return self.name.lower().replace("_", "-")
-
-    @classmethod
-    def parse(cls, text: str) -> "Status":
-        return cls[text.upper().replace("-", "_")]
 
 
 #: Float fields of a slip result, in order.
@@ -94,7 +89,7 @@ class _Fields:
             long_name, units = attrs_of[k]
             attrs = {"long_name": long_name, "units": units}
             if k == "status":
-                attrs.update(flag_values=np.arange(len(Status), dtype=np.int8),
+                attrs.update(flag_values=np.array([int(s) for s in Status], dtype=np.int8),
                              flag_meanings=" ".join(str(s) for s in Status))
             return ("point", flat[k], attrs)
 
@@ -177,7 +172,9 @@ class SlipResult(_Fields):
 
 def status_names(codes) -> np.ndarray:
     """Status codes as strings ("stick-slip", ...), same shape (object array)."""
-    names = np.array([str(s) for s in Status], dtype=object)
+    names = np.full(max(Status) + 1, "", dtype=object)   # codes may have gaps (a retired code stays unused)
+    for s in Status:
+        names[int(s)] = str(s)
     return np.asarray(names[np.asarray(codes)], dtype=object)
 
 

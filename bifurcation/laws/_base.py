@@ -2,7 +2,7 @@
 
 A law is the function Φ of Eq. (2) of Vasconcelos, PRL 76, 4865 (1996), with Φ(0) = 1 and Φ'(0) = −1
 (Eq. 3). The engine never uses Φ itself: it uses the *friction drop* g(x) = 1 − Φ(x), which enters the
-scaled equation of motion as Ẅ = t − W + g(νẆ/ν_f)/ν (PHYSICS.md). At small x the drop must be
+scaled equation of motion as Ẅ = t − W + g(νẆ/ν_f)/ν (docs/physics.md). At small x the drop must be
 written without cancellation (1 − 1/(1+x) is written x/(1+x)), because it is divided by ν.
 
 A law is a tuple of smooth *pieces* on x ≥ 0: piece k holds on [lower_k, lower_{k+1}). The engine

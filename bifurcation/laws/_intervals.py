@@ -142,7 +142,7 @@ def _int_pow(a, n: int, show):
 
 
 def _pow(node, base, power, show):
-    from .formula import _has_x
+    from ._parse import _has_x
 
     constant = not _has_x(node.right)
     if constant and power[0] == power[1] == int(power[0]) and abs(power[0]) <= 1024:
@@ -157,7 +157,7 @@ def _pow(node, base, power, show):
 
 
 def _evaluate(node, x):
-    from .formula import _Bin, _Call, _Name, _Neg, _Num, _show
+    from ._parse import _Bin, _Call, _Name, _Neg, _Num, _show
 
     if isinstance(node, _Num):
         value = mpmath.mpf(node.text)
@@ -202,7 +202,7 @@ def check_intervals(pieces, lowers, text: str) -> None:
     ``pieces`` are the parsed trees of Φ, ``lowers`` their left ends (0 first); the last piece runs to
     ``X_MAX``.
     """
-    from .formula import _refuse
+    from ._parse import _refuse
 
     uppers = [*lowers[1:], X_MAX]
     budget = _BUDGET

@@ -19,7 +19,7 @@ import numpy as np
 from . import figures as F
 from ._math import inline_html
 
-__all__ = ["ReportData", "analyse", "write_report"]
+__all__ = ["ReportData", "analyse", "fit_results", "fit_tables", "stability_reruns", "write_report"]
 
 LAWS = ("piecewise-linear", "carlson-langer")
 FIT_NU_F = (0.2, 0.3, 0.4)
@@ -45,6 +45,7 @@ class ReportData:
     limit_curves: dict = field(default_factory=dict)     # law → (ν_f, Δ0) over (0, 1/2]
     limit_points: dict = field(default_factory=dict)     # law → (ν_f, Δ0): engine limit, Fig. 2 circles
     computed_in_process: list = field(default_factory=list)
+    reruns: list = field(default_factory=list)           # (extrapolations, period_fits) on perturbed data
 
 
 # -- analysis -------------------------------------------------------------------------------------------
@@ -111,10 +112,49 @@ def _limit_curve(law):
     return _engine_limit(law, nu_f)
 
 
+def fit_results(sources, *, in_process=None, delta0=None):
+    """The extrapolations ((law, ν_f) → result) and recurrence-time fits the report shows, from
+    ``sources`` or, for a series they lack, the in-process ``FALLBACK_GRID`` (``in_process`` is told).
+
+    ``delta0``: the direct limits by (law, ν_f), to skip computing them again (the perturbed reruns).
+    """
+    from ..analysis import FALLBACK_GRID, extrapolate_delta, fallback_grid, fit_period
+    from ..errors import InputError
+
+    def along_nu(fn, law, nu_f, **options):
+        try:
+            return fn(sources, law, nu_f, **options)
+        except InputError:   # no store holds this series
+            if in_process is not None:
+                in_process(FALLBACK_GRID)
+            return fn(fallback_grid(), law, nu_f, **options)
+
+    extrapolations, fits = {}, []
+    for law in LAWS:
+        for nu_f in EXTRAPOLATE_NU_F:
+            extrapolations[(law, nu_f)] = along_nu(extrapolate_delta, law, nu_f, direct=delta0 is None)
+        for nu_f in FIT_NU_F:   # Δ0 of T − Δ0/ν: the direct limit the extrapolation already computed
+            d0 = delta0[(law, nu_f)] if delta0 is not None else extrapolations[(law, nu_f)].delta0_direct
+            fits.append(along_nu(fit_period, law, nu_f, delta0=d0))
+    return extrapolations, fits
+
+
+def stability_reruns(sources, extrapolations) -> list:
+    """``fit_results`` on copies of the data perturbed at the size of a change of CPU (``_stable``)."""
+    from ..analysis import fallback_grid
+    from . import _stable
+
+    delta0 = {key: ex.delta0_direct for key, ex in extrapolations.items()}
+    out = []
+    for seed in _stable.SEEDS:
+        perturbed = [_stable.perturb(ds, seed) for ds in sources] or [_stable.perturb(fallback_grid(), seed)]
+        out.append(fit_results(perturbed, delta0=delta0))
+    return out
+
+
 def analyse(sources) -> ReportData:
     """Run every analysis the report shows; what the stores lack is computed in process."""
-    from ..analysis import FALLBACK_GRID, claims_table, extrapolate_delta, fallback_grid, fit_period
-    from ..errors import InputError
+    from ..analysis import claims_table
 
     data = ReportData(sources=list(sources))
 
@@ -122,19 +162,9 @@ def analyse(sources) -> ReportData:
         if what not in data.computed_in_process:
             data.computed_in_process.append(what)
 
-    def along_nu(fn, law, nu_f, **options):
-        try:
-            return fn(data.sources, law, nu_f, **options)
-        except InputError:   # no store holds this series
-            in_process(FALLBACK_GRID)
-            return fn(fallback_grid(), law, nu_f, **options)
-
+    data.extrapolations, data.period_fits = fit_results(data.sources, in_process=in_process)
+    data.reruns = stability_reruns(data.sources, data.extrapolations)
     for law in LAWS:
-        for nu_f in EXTRAPOLATE_NU_F:
-            data.extrapolations[(law, nu_f)] = along_nu(extrapolate_delta, law, nu_f)
-        for nu_f in FIT_NU_F:   # Δ0 of T − Δ0/ν: the direct limit the extrapolation already computed
-            data.period_fits.append(along_nu(fit_period, law, nu_f,
-                                             delta0=data.extrapolations[(law, nu_f)].delta0_direct))
         curves = _decades(_curves(data.sources, law))
         if not any(abs(math.log10(nu / _FIG_NU)) < 1e-6 for nu in curves):
             curves.update(_fallback_curves(law, [1e-3, 1e-6, 1e-9, 1e-12]))
@@ -288,19 +318,11 @@ def _blocks(data: ReportData, files) -> list:
                    "from it combined with the largest covariance error. Below 1/2: the expansion of the "
                    "recurrence-time section with Δ0 free. The direct limit is the engine's ν = 0 orbit (quad; "
                    "its error is |quad − double|)."))
-    rows = []
-    for (law, nu_f), ex in sorted(data.extrapolations.items()):
-        rows.append([law, f"{nu_f:g}", ex.regime, f"{ex.delta0_extrapolated:.10f}", f"{ex.uncertainty:.1e}",
-                     f"{ex.delta0_direct:.15f}", f"{ex.delta0_direct_error:.0e}",
-                     _fmt(ex.paper_value, ".6g") if ex.paper_value is not None else "—",
-                     f"{ex.deviation:+.1e}", "yes" if ex.consistent else "NO"])
-    b.append(("table", ["law", "ν_f", "regime", "extrapolated Δ0", "uncertainty", "direct Δ0", "direct error",
-                        "paper", "extrap. − direct", "consistent"], rows))
+    tables = fit_tables(data.extrapolations, data.period_fits, data.reruns)
+    b.append(("table", *tables["extrapolations"]))
     if ex_cl is not None:
         b.append(("p", "Carlson–Langer at ν_f = 1/2, every model of the ensemble:"))
-        b.append(("table", ["model", "ν ≤", "points", "Δ0", "std. error", "max residual"],
-                  [[m.model, f"{m.nu_max:g}", str(m.n_points), f"{m.delta0:.8f}", f"{m.stderr:.1e}",
-                    f"{m.residual_max:.1e}"] for m in ex_cl.models]))
+        b.append(("table", *tables["ensemble"]))
         naive = "; ".join(f"{k}: {v:.4g}" for k, v in ex_cl.naive.items())
         b.append(("p", f"How a value like {PAPER_CL_HALF:g} arises — extrapolations that assume faster than "
                        "logarithmic "
@@ -314,13 +336,8 @@ def _blocks(data: ReportData, files) -> list:
                    "are chosen by the data (smallest model whose residuals are at the data precision) in each "
                    "window ν ≤ " + ", ".join(_sci(w) for w in DEFAULT_WINDOWS)
                    + "; the uncertainty includes the spread over windows."))
-    b.append(("table", ["law", "ν_f", "r", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "K2",
-                        "terms", "ν ≤", "max |residual|", "max residual/error"],
-              [[f.law, f"{f.nu_f:g}", f"{f.exponent_r:.5f}",
-                f"{f.log_coefficient:.8f} ± {f.log_coefficient_uncertainty:.0e}",
-                f"{f.log_coefficient_expected:.8f}", f"{f.relative_deviation:+.1e}", _fmt(f.C0), _fmt(f.K),
-                _fmt(f.K2, ".4g"), str(len(f.model)), f"{f.nu_max:g}", f"{f.residual_max:.1e}",
-                f"{f.chi_max:.2f}"] for f in data.period_fits]))
+    b.append(("table", *tables["period_fits"]))
+    b.append(("p", _STABLE_NOTE))
     b.append(("h2", "Figures"))
     for name, caption in files:
         b.append(("figure", name, caption))
@@ -338,6 +355,68 @@ def _blocks(data: ReportData, files) -> list:
                 "earthquakes, Phys. Rev. Lett. 76, 4865 (1996), equation numbers as printed there.")
     b.append(("ul", prov))
     return b
+
+
+_STABLE_NOTE = ("Digits: heyoka compiles for the host CPU, so the engine's results differ between machines in "
+                "their last bits (≤ 1e-14 relative). Each fitted number above is printed only to the digits "
+                "that such a change cannot move: the fits were repeated three times on data perturbed by "
+                "2.2e-16 relative (the data error the fits assume) and every digit whose unit is less than twice "
+                "the largest change was dropped; a number with no such digit is replaced by (machine-dependent), "
+                "and a term count that the perturbation changed is marked so. The claims table quotes the same "
+                "fits with fewer digits.")
+
+
+def fit_tables(extrapolations, period_fits, reruns) -> dict:
+    """The extrapolation, ensemble and recurrence-time tables as ``{name: (head, rows)}``, each fitted
+    number cut to its CPU-independent digits (``_stable``) using the perturbed ``reruns``."""
+    from ._stable import spread, stable
+
+    def change(kind, key_or_index, name, model=None):
+        others = []
+        for ex_p, fits_p in reruns:
+            item = ex_p[key_or_index] if kind == "ex" else fits_p[key_or_index]
+            others.append(item.models[model] if model is not None else item)
+        ref = extrapolations[key_or_index] if kind == "ex" else period_fits[key_or_index]
+        return spread(ref.models[model] if model is not None else ref, others, name)
+
+    rows = []
+    for key, ex in sorted(extrapolations.items()):
+        law, nu_f = key
+        c = change("ex", key, "delta0_extrapolated")
+        rows.append([law, f"{nu_f:g}", ex.regime, stable(ex.delta0_extrapolated, c, ".10f"),
+                     stable(ex.uncertainty, change("ex", key, "uncertainty"), ".1e"),
+                     f"{ex.delta0_direct:.15f}", f"{ex.delta0_direct_error:.0e}",
+                     _fmt(ex.paper_value, ".6g") if ex.paper_value is not None else "—",
+                     stable(ex.deviation, c, "+.1e"), "yes" if ex.consistent else "NO"])
+    tables = {"extrapolations": (["law", "ν_f", "regime", "extrapolated Δ0", "uncertainty", "direct Δ0",
+                                  "direct error", "paper", "extrap. − direct", "consistent"], rows)}
+    key = ("carlson-langer", 0.5)
+    if key in extrapolations:
+        ex = extrapolations[key]
+        same = all(len(ex_p[key].models) == len(ex.models) for ex_p, _ in reruns)
+        tables["ensemble"] = (["model", "ν ≤", "points", "Δ0", "std. error", "max residual"],
+                              [[m.model, f"{m.nu_max:g}", str(m.n_points),
+                                stable(m.delta0, change("ex", key, "delta0", i) if same else math.inf, ".8f"),
+                                stable(m.stderr, change("ex", key, "stderr", i) if same else math.inf, ".1e"),
+                                stable(m.residual_max, change("ex", key, "residual_max", i) if same else math.inf,
+                                       ".1e")] for i, m in enumerate(ex.models)])
+    rows = []
+    for i, f in enumerate(period_fits):
+        terms_moved = any(len(fits_p[i].model) != len(f.model) or fits_p[i].nu_max != f.nu_max
+                          for _, fits_p in reruns)
+
+        def st(name, spec, value=None):
+            v = getattr(f, name) if value is None else value
+            return stable(v, change("fit", i, name), spec)
+
+        rows.append([f.law, f"{f.nu_f:g}", f"{f.exponent_r:.5f}",
+                     f"{st('log_coefficient', '.8f')} ± {st('log_coefficient_uncertainty', '.0e')}",
+                     f"{f.log_coefficient_expected:.8f}", st("relative_deviation", "+.1e"), st("C0", ".6g"),
+                     st("K", ".6g"), st("K2", ".4g"), str(len(f.model)) + (" (machine-dependent)" if terms_moved else ""),
+                     f"{f.nu_max:g}", st("residual_max", ".1e"), st("chi_max", ".2f")])
+    tables["period_fits"] = (["law", "ν_f", "r", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "K2",
+                              "terms", "ν ≤", "max |residual|", "max residual/error"], rows)
+    return tables
 
 
 def _versions() -> dict:
@@ -363,6 +442,8 @@ def _markdown(blocks) -> str:
             out.append(f"# {rest[0]}\n")
         elif kind == "h2":
             out.append(f"## {rest[0]}\n")
+        elif kind == "h3":
+            out.append(f"### {rest[0]}\n")
         elif kind == "p":
             out.append(f"{rest[0]}\n")
         elif kind == "ul":
@@ -418,7 +499,7 @@ def _html(blocks, out: Path) -> str:
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
              f"<title>{e(blocks[0][1])}</title><style>{_CSS}</style></head><body>"]
     for kind, *rest in blocks:
-        if kind in ("h1", "h2"):
+        if kind in ("h1", "h2", "h3"):
             parts.append(f"<{kind}>{m(rest[0])}</{kind}>")
         elif kind == "p":
             parts.append(f"<p>{m(rest[0])}</p>")

@@ -1,4 +1,5 @@
-"""Running workflows on Dask: ``submit`` (resumable, fault-tolerant) and the pipeline benchmark."""
+"""Running workflows on Dask: the grid cut into ``tiles``, ``submit`` (resumable, fault-tolerant),
+progress and repair."""
 
 from .submission import WRITERS, Summary, submit
 

@@ -54,7 +54,7 @@ def _finalize(store: str, lock_token: str, entry: dict, *results) -> dict:
 
     computed = sum(r["points"] for r in results if "error" not in r)
     failed = sum(r["points"] for r in results if "error" in r)
-    counts = [0] * len(Status)
+    counts = [0] * (max(Status) + 1)
     for r in results:
         for i, n in enumerate(r.get("counts", ())):
             counts[i] += n
@@ -83,7 +83,7 @@ def run_detached(client, workflow, path: Path, run_id: str, done, lock, command:
     from distributed import fire_and_forget
 
     from ..store.lock import lock_path
-    from ..tiles import iter_tiles
+    from .tiles import iter_tiles
 
     store = str(path.resolve())
     token = lock.token

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..engine.result import Status
 from ..errors import InputError
-from ..tiles import Tile, compute_tile, iter_tiles
+from .tiles import Tile, compute_tile, iter_tiles
 from ..workflow import Workflow, load_workflow
 from .cluster import check_scheduler, check_workers, connect, describe
 from .progress import Progress
@@ -92,7 +92,7 @@ class Summary:
 
 def _report(values: dict) -> list[int]:
     """Status counts of the computed points of a tile (small: what a worker sends back)."""
-    return np.bincount(values["status"][values["done"]].astype(np.int64), minlength=len(Status)).tolist()
+    return np.bincount(values["status"][values["done"]].astype(np.int64), minlength=max(Status) + 1).tolist()
 
 
 def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
@@ -225,7 +225,7 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
         done = np.zeros(workflow.shape, dtype=bool)
     skipped = int(np.count_nonzero(done))
     todo = workflow.n_points - skipped
-    statuses = np.zeros(len(Status), dtype=np.int64)
+    statuses = np.zeros(max(Status) + 1, dtype=np.int64)
     computed = failed = n_tiles = 0
     errors: list[str] = []
     compute_time = 0.0

@@ -1,7 +1,9 @@
-"""The store layout: a Zarr v3 group written and read through xarray.
+"""The store layout: a Zarr v3 group written and read through xarray, read from the model.
 
-Dimensions ``("law", "nu_f", "nu")``; coordinates ``law`` (str: a law name or formula), ``nu_f`` and
-``nu`` (float64, sorted); one chunk per tile (1 × tiles.nu_f × tiles.nu). Data variables:
+Dimensions ``model.dims``: the labels, then the model's axes (for the single block
+``("law", "nu_f", "nu")``); coordinates: the labels (str: a law name or formula) and each axis
+(float64, sorted), with the CF attributes the model declares; one chunk per tile (1 × tiles). One
+data variable per output of the model, then ``done``. The single block's:
 
 =================  =======  ==========  ==============================================================
 name               dtype    fill        meaning
@@ -15,7 +17,8 @@ done               bool     False       the point's values are written (the resu
 A chunk that was never written reads as its fill value, so an unfinished store is a valid dataset.
 Within a tile the data variables are written first and ``done`` last (zarr's local store replaces each
 chunk file atomically), so ``done`` never claims data that is not there. Group attributes carry the
-provenance: workflow text, its sha256 and fingerprint, package versions, command line, UTC time.
+provenance: the model's name, workflow text, its sha256 and fingerprint, package versions, command
+line, UTC time. A store without a ``model`` attribute (written before models) holds the single block.
 """
 
 from __future__ import annotations
@@ -29,10 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..engine.result import FIELD_ATTRS, FIELDS, Status
+from ..engine.result import FIELDS, Status
 
-__all__ = ["DIMS", "FILL", "STORE_FORMAT", "VARIABLES", "command_line", "coordinate_attrs", "provenance",
-           "variable_attrs"]
+__all__ = ["DIMS", "FILL", "STORE_FORMAT", "VARIABLES", "command_line", "coordinate_attrs", "fills",
+           "provenance", "store_model", "variable_attrs", "variables"]
 
 DIMS = ("law", "nu_f", "nu")
 #: Bumped when the layout changes; a store of another format is refused.
@@ -44,23 +47,51 @@ FILL = {**{name: np.nan for name in FIELDS}, "steps": 0, "status": int(Status.NO
 _PACKAGES = ("bifurcation", "heyoka", "numpy", "dask", "distributed", "zarr", "xarray")
 
 
-def variable_attrs(name: str) -> dict:
+def _model(model):
+    from ..models import get_model
+
+    return get_model(model)
+
+
+def variables(model=None) -> dict:
+    """The data variables of ``model``'s store (name → dtype) in write order: outputs, then ``done``."""
+    spec = _model(model)
+    out = {o.name: np.dtype(o.dtype) for o in spec.outputs if not o.per_event}
+    if any(o.per_event for o in spec.outputs):
+        raise NotImplementedError(f"model {spec.name}: per-event outputs need a catalog layout (docs/models.md)")
+    out["done"] = np.dtype("bool")
+    return out
+
+
+def fills(model=None) -> dict:
+    """Fill value per data variable of ``model``'s store (what a point never computed reads as)."""
+    return {**{o.name: o.fill for o in _model(model).outputs}, "done": False}
+
+
+def store_model(attrs: dict) -> str:
+    """The model name a store's attributes record (stores written before models: the single block)."""
+    from ..models import DEFAULT_MODEL
+
+    return str(attrs.get("model", DEFAULT_MODEL))
+
+
+def variable_attrs(name: str, model=None) -> dict:
     if name == "done":
         return {"long_name": "point computed and written (resume mask)", "units": "1"}
-    long_name, units = FIELD_ATTRS[name]
-    attrs = {"long_name": long_name, "units": units}
+    spec = _model(model)
+    output = spec.output(name)
+    attrs = {"long_name": output.long_name, "units": output.units}
     if name == "status":
-        attrs["flag_values"] = [int(s) for s in Status]
-        attrs["flag_meanings"] = " ".join(str(s) for s in Status)
+        flags = (Status.NOT_COMPUTED, *spec.statuses)
+        attrs["flag_values"] = [int(s) for s in flags]
+        attrs["flag_meanings"] = " ".join(str(s) for s in flags)
     return attrs
 
 
-def coordinate_attrs() -> dict:
-    return {
-        "law": {"long_name": "friction law Φ (a name of bifurcation.law_names() or a formula in x)"},
-        "nu_f": {"long_name": "friction velocity ν_f, Eq. (2) of Vasconcelos PRL 76, 4865 (1996)", "units": "1"},
-        "nu": {"long_name": "pulling speed ν, Eq. (5) of Vasconcelos PRL 76, 4865 (1996)", "units": "1"},
-    }
+def coordinate_attrs(model=None) -> dict:
+    spec = _model(model)
+    return {spec.labels.name: {"long_name": spec.labels.long_name},
+            **{axis.name: axis.attrs() for axis in spec.axes}}
 
 
 def _version(package: str) -> str:
@@ -74,9 +105,10 @@ def provenance(workflow, command: str | None = None) -> dict:
     """Group attributes of a new store for ``workflow``."""
     return {
         "bifurcation_store": STORE_FORMAT,
+        "model": workflow.model,
         "title": workflow.name,
         "description": workflow.description,
-        "source": "Vasconcelos, First-order phase transition in a model for earthquakes, PRL 76, 4865 (1996)",
+        "source": workflow.spec.source,
         "workflow_toml": workflow.text,
         "workflow_sha256": workflow.sha256,
         "workflow_fingerprint": workflow.fingerprint,

@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .layout import DIMS, FILL, STORE_FORMAT, VARIABLES, coordinate_attrs, provenance, utc_now, variable_attrs
+from .layout import (STORE_FORMAT, coordinate_attrs, fills, provenance, store_model, utc_now, variable_attrs,
+                     variables)
 
 __all__ = ["StoreReplacedError", "check_store", "chunk_codecs", "create_store", "open_store", "read_attrs",
            "read_done", "record_submit", "store_kind", "write_tile"]
@@ -125,16 +126,20 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     if kind == "store":
         _clear(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    shape, chunks = workflow.shape, (1, *workflow.tiles)
+    model = workflow.spec
+    shape, chunks, dims = workflow.shape, (1, *workflow.tiles), model.dims
     data_vars, encoding = {}, {}
-    for name, dtype in VARIABLES.items():
+    fill = fills(model)
+    for name, dtype in variables(model).items():
         # one lazy dask chunk: nothing is computed (compute=False), only the metadata is written
-        data_vars[name] = (DIMS, da.full(shape, FILL[name], dtype=dtype, chunks=shape), variable_attrs(name))
+        data_vars[name] = (dims, da.full(shape, fill[name], dtype=dtype, chunks=shape),
+                           variable_attrs(name, model))
         encoding[name] = {"chunks": chunks, "compressors": chunk_codecs()}
-    coords_attrs = coordinate_attrs()
-    coords = {"law": ("law", np.array(workflow.laws, dtype=object), coords_attrs["law"]),
-              "nu_f": ("nu_f", np.array(workflow.nu_f, dtype=np.float64), coords_attrs["nu_f"]),
-              "nu": ("nu", np.array(workflow.nu, dtype=np.float64), coords_attrs["nu"])}
+    coords_attrs = coordinate_attrs(model)
+    label = model.labels.name
+    coords = {label: (label, np.array(workflow.laws, dtype=object), coords_attrs[label])}
+    for axis, values in workflow.grid:
+        coords[axis] = (axis, np.array(values, dtype=model.axis(axis).dtype), coords_attrs[axis])
     for name in coords:   # the coordinates carry a checksum too
         encoding[name] = {"compressors": chunk_codecs()}
     attrs = provenance(workflow, command)
@@ -181,7 +186,7 @@ def open_store(path, **kwargs):
 
 
 def read_done(path) -> np.ndarray:
-    """The (law, ν_f, ν) done mask of the store at ``path``."""
+    """The (label, *axes) done mask of the store at ``path``."""
     import zarr
 
     with _quiet():
@@ -215,7 +220,8 @@ def _arrays(path: str, run_id: str) -> dict:
             group = zarr.open_group(path, mode="r+", use_consolidated=False)
             # every chunk is written, also one that equals the fill value (all-NaN creep_time): a
             # missing chunk of a done tile then always means damage (integrity.verify)
-            arrays = {name: group[name].with_config({"write_empty_chunks": True}) for name in VARIABLES}
+            arrays = {name: group[name].with_config({"write_empty_chunks": True})
+                      for name in variables(store_model(group.attrs))}
         _WRITERS[key] = arrays
         while len(_WRITERS) > _WRITERS_MAX:
             _WRITERS.popitem(last=False)
@@ -232,12 +238,12 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
     region = tile.region
     if tile.todo is not None:
         keep = ~np.asarray(tile.todo, dtype=bool)
-        values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in VARIABLES}
+        values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in arrays}
     with _quiet():
-        for name in VARIABLES:   # VARIABLES ends with "done"
+        for name, array in arrays.items():   # in write order: "done" last
             if name == "done":
                 _check_run(str(path), run_id)   # again just before done: nothing claims a foreign tile
-            arrays[name][region] = np.asarray(values[name], dtype=VARIABLES[name])[None]
+            array[region] = np.asarray(values[name], dtype=array.dtype)[None]
 
 
 def record_submit(path, entry: dict) -> None:

@@ -1,5 +1,5 @@
 """Errata of Vasconcelos, PRL 76, 4865 (1996), as read in our OCR copy, found by checking each closed
-form against the exact piecewise solution (``bifurcation.reference``, dps 40).
+form against the exact piecewise solution (``bifurcation.theory.reference``, dps 40).
 
 ``cause`` says whether the printed paper is wrong ("paper") or only the OCR text ("OCR"); where we cannot
 tell from the OCR alone it says so. tests/test_theory.py reproduces these numbers of ``evidence``: the

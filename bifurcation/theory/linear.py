@@ -2,7 +2,7 @@ r"""Closed forms of Vasconcelos, PRL 76, 4865 (1996), Eqs. (6)–(18), with the 
 
 Frame: U is measured from the position where the block starts; Eq. (6), Ü − 2αU̇ + U = νt with
 U(0) = U̇(0) = Ü(0) = 0, holds while U̇ ≤ ν_f. α = 1/(2ν_f), ω = √|α² − 1|. Every formula here was
-checked against the exact piecewise solution of ``bifurcation.reference`` (tests/test_theory.py);
+checked against the exact piecewise solution of ``bifurcation.theory.reference`` (tests/test_theory.py);
 where the printed equation is wrong the corrected one is implemented and the printed one is recorded
 in ``bifurcation.theory.errata.ERRATA``.
 

@@ -1,4 +1,9 @@
-r"""Workflows: a study over a (law, ν_f, ν) grid, written as a TOML file.
+r"""Workflows: a study over a model's grid (labels × its axes), written as a TOML file.
+
+The model (``[model] name``, default ``single-block``) declares the axes: one ``[grid.<axis>]`` table
+per axis and one ``[tiles]`` key per axis, with the bounds the model declares. The schema below is
+the single block's (axes ``nu_f`` and ``nu``); ``bifurcation.models.get_model(name).axes`` lists
+another model's.
 
 Schema (every key is checked; unknown keys, wrong types and impossible values are refused with an
 ``InputError`` naming the dotted key, e.g. ``grid.nu.log.per_decade``)::
@@ -6,6 +11,9 @@ Schema (every key is checked; unknown keys, wrong types and impossible values ar
     [study]
     name = "critical-point"          # required; letters, digits, . _ -  (default store results/<name>.zarr)
     description = "..."              # optional
+
+    [model]                          # optional
+    name = "single-block"            # a name of bifurcation.models.model_names()
 
     [engine]
     laws = ["piecewise-linear", "carlson-langer"]   # required; names of bifurcation.law_names()
@@ -15,11 +23,11 @@ Schema (every key is checked; unknown keys, wrong types and impossible values ar
     max_steps = 200000               # optional: bound on the Taylor steps of one cycle (>= 1)
     batch = 8                        # optional: heyoka SIMD lanes (1..64, double only; default 1)
 
-    [grid.nu]                        # pulling speed ν of Eq. (5); at least one of values / log
+    [grid.nu]                        # pulling speed ν of Eq. (5); at least one of values / ranges / log
     values = [1e-9]                  # explicit points, kept exactly as written
     log = { start = 1e-3, stop = 1e-15, per_decade = 4 }   # or num = 49 instead of per_decade
 
-    [grid.nu_f]                      # friction velocity ν_f of Eq. (2); at least one of values / ranges
+    [grid.nu_f]                      # friction velocity ν_f of Eq. (2)
     values = [0.2, 0.3, 0.4, 0.5]
     ranges = [{ start = 0.45, stop = 0.55, num = 101 }]    # evenly spaced, both ends included
 
@@ -32,13 +40,12 @@ computed in decimal arithmetic and rounded once, so a range that passes through 
 ``0.4`` (the float a user types) and a log axis from 1e-3 to 1e-15 passes through exactly 1e-9. A log
 axis has at least ``per_decade`` points per decade and always includes both ends.
 
-Bounds (one set for the whole package, ``bifurcation.bounds``): ν ∈ [1e-20, 1], ν_f ∈ [1e-4, 10],
-``max_steps`` ≤ 10^7, ``t_max`` ≤ 1e9; tiles of 1 … 4096 points a side and at most 2^16 points; the
-grid's size limits (points per axis, points in all) are in ``workflow._limits`` and are checked from
-the counts of the ranges before any point is computed.
+Bounds come from the model's axes (for the single block the one set of ``bifurcation.bounds``:
+ν ∈ [1e-20, 1], ν_f ∈ [1e-4, 10]); ``max_steps`` ≤ 10^7, ``t_max`` ≤ 1e9; tiles of 1 … 4096 points a
+side and at most 2^16 points, at most 10^9 points in a grid.
 
 Two workflows are the *same study* when their ``fingerprint`` agrees: the sha256 of what determines
-the numbers and the store layout (laws, precision, bounds, grid, tiles) — not of the text, so comments,
+the numbers and the store layout (model, laws, precision, bounds, grid, tiles) — not of the text, so comments,
 formatting, the name and the description may change without invalidating a store.
 """
 
@@ -46,8 +53,10 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import re
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -55,7 +64,7 @@ from ..bounds import NU_BOUNDS, NU_F_BOUNDS, check_max_steps, check_t_max
 from ..engine._validate import PRECISIONS, check_batch, check_precision
 from ..engine.result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX
 from ..errors import InputError
-from ..laws import resolve_law
+from ..models import DEFAULT_MODEL, get_model
 from ._axes import linear_points, log_count, log_points, union
 from ._limits import MAX_POINTS, check_declared_size
 from ._toml import Table, as_number, check_range
@@ -65,40 +74,62 @@ __all__ = ["MAX_POINTS", "NU_BOUNDS", "NU_F_BOUNDS", "PRECISIONS", "TILE_MAX", "
 
 TILE_MAX = 4096
 TILE_MAX_POINTS = 1 << 16
-DEFAULT_TILES = (64, 64)
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 _NAME_MAX = 100
 #: Most points of one log or linear range (``num``): a typo such as 1e9 is refused, not allocated.
 _RANGE_POINTS_MAX = 100_000
 #: Most SIMD lanes: far above any vector unit's width (AVX-512 holds 8 doubles); more is a typo.
 _BATCH_MAX = 64
+_ENGINE_KEYS = ("precision", "t_max", "max_steps", "batch")
 
 
 def _set(obj, name, value) -> None:
     object.__setattr__(obj, name, value)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Workflow:
-    """A validated study: laws × ν_f × ν points, engine options and the tile (chunk) shape.
+    """A validated study: labels (laws) × the model's axes, engine options and the tile (chunk) shape.
 
-    Build one with ``load_workflow(path)``, ``parse_workflow(text)`` or directly (``nu`` and ``nu_f``
-    are any sequences; they are sorted and deduplicated). Checked on construction.
+    Build one with ``load_workflow(path)``, ``parse_workflow(text)`` or directly, giving each axis of
+    the model as a keyword (``Workflow(name="s", laws=["carlson-langer"], nu=[1e-9], nu_f=[0.4])``;
+    any sequences, sorted and deduplicated) or as ``grid={"nu": [...], ...}``. Axis points are
+    attributes (``w.nu``); ``w.grid`` holds them as ``((axis, points), ...)`` in the model's order.
+    ``tiles`` is a tuple in axis order or a mapping axis → size. Checked on construction.
     """
 
     name: str
     laws: tuple[str, ...]
-    nu: tuple[float, ...]
-    nu_f: tuple[float, ...]
+    grid: tuple
+    model: str = DEFAULT_MODEL
     description: str = ""
     precision: str = "double"
     t_max: float = DEFAULT_T_MAX
     max_steps: int = DEFAULT_MAX_STEPS
     batch: int = 1                           # heyoka SIMD lanes (see bifurcation.slip)
-    tiles: tuple[int, int] = DEFAULT_TILES   # (nu_f, nu)
+    tiles: tuple = ()                        # chunk shape, one size per axis
     source: str | None = field(default=None, compare=False, repr=False)
 
-    def __post_init__(self) -> None:
+    def __init__(self, name, laws, *, model=None, grid=None, description="", precision="double",
+                 t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS, batch=1, tiles=None, source=None,
+                 **axes) -> None:
+        spec = get_model(model)
+        points = dict(grid or {})
+        for key, value in axes.items():
+            if key in points:
+                raise InputError(f"grid.{key}", value, "is given twice", "give each axis once")
+            points[key] = value
+        for key in points:
+            if key not in spec.dims[1:]:
+                raise InputError(f"grid.{key}", points[key], f"is not an axis of model {spec.name!r}",
+                                 f"give the axes {', '.join(spec.dims[1:])}")
+        for k, v in (("name", name), ("laws", laws), ("model", spec.name), ("description", description),
+                     ("precision", precision), ("t_max", t_max), ("max_steps", max_steps), ("batch", batch),
+                     ("source", source)):
+            _set(self, k, v)
+        self._check(spec, points, tiles)
+
+    def _check(self, spec, points, tiles) -> None:
         if not isinstance(self.name, str) or not _NAME.match(self.name):
             raise InputError("study.name", self.name, "is not a valid study name",
                              "use letters, digits, '.', '_' and '-' (it names the default store)")
@@ -107,7 +138,7 @@ class Workflow:
                              f"use at most {_NAME_MAX} characters (it names the default store)")
         if not isinstance(self.description, str):
             raise InputError("study.description", self.description, "is not a string", "write it in quotes")
-        _set(self, "laws", _check_laws(self.laws))
+        _set(self, "laws", _check_labels(spec, self.laws))
         _engine_check("engine.precision", check_precision, self.precision)
         _set(self, "t_max", check_t_max("engine.t_max", as_number("engine.t_max", self.t_max)))
         check_max_steps("engine.max_steps", self.max_steps)
@@ -115,33 +146,48 @@ class Workflow:
         if self.batch > _BATCH_MAX:
             raise InputError("engine.batch", self.batch, f"is more than {_BATCH_MAX} lanes",
                              "give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
-        _set(self, "nu", _check_axis("grid.nu", self.nu, NU_BOUNDS))
-        _set(self, "nu_f", _check_axis("grid.nu_f", self.nu_f, NU_F_BOUNDS))
-        tiles = tuple(self.tiles)
-        if len(tiles) != 2:
-            raise InputError("tiles", self.tiles, "is not a (nu_f, nu) pair", "give two tile sizes")
-        for key, size in zip(("tiles.nu_f", "tiles.nu"), tiles):
-            if isinstance(size, bool) or not isinstance(size, int):
-                raise InputError(key, size, "is not an integer", "give a whole number such as 64")
-            check_range(key, size, 1, TILE_MAX)
-        if tiles[0] * tiles[1] > TILE_MAX_POINTS:
-            raise InputError("tiles", f"{tiles[0]} x {tiles[1]}", f"has more than {TILE_MAX_POINTS} points",
-                             "use smaller tiles so that one task stays small in memory")
-        _set(self, "tiles", tiles)
+        grid = []
+        for axis in spec.axes:
+            if axis.name not in points:
+                raise InputError(f"grid.{axis.name}", None, "is missing",
+                                 f"add a table [grid.{axis.name}] ({axis.long_name})")
+            grid.append((axis.name, _check_axis(f"grid.{axis.name}", points[axis.name], axis)))
+        _set(self, "grid", tuple(grid))
+        _set(self, "tiles", _check_tiles(spec, tiles))
         if self.n_points > MAX_POINTS:
             raise InputError("grid", self.shape, f"has {self.n_points} points, more than {MAX_POINTS}",
                              "split the study into several workflows")
 
+    def __getattr__(self, name: str):
+        # the axes as attributes (w.nu, w.nu_f), and the labels by their dimension name (w.law);
+        # only called for names that are not fields
+        grid = self.__dict__.get("grid", ())
+        for axis, values in grid:
+            if axis == name:
+                return values
+        if "model" in self.__dict__ and name == get_model(self.__dict__["model"]).labels.name:
+            return self.__dict__["laws"]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
     # -- derived -------------------------------------------------------------------------------
     @property
-    def shape(self) -> tuple[int, int, int]:
-        """(laws, ν_f, ν): the shape of the store's arrays."""
-        return (len(self.laws), len(self.nu_f), len(self.nu))
+    def spec(self):
+        """The ``bifurcation.models.Model`` of this study."""
+        return get_model(self.model)
+
+    @property
+    def axes(self) -> dict:
+        """Axis name → points, in the model's order."""
+        return dict(self.grid)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """(laws, *axes): the shape of the store's arrays."""
+        return (len(self.laws), *(len(values) for _, values in self.grid))
 
     @property
     def n_points(self) -> int:
-        law, nu_f, nu = self.shape
-        return law * nu_f * nu
+        return math.prod(self.shape)
 
     @property
     def text(self) -> str:
@@ -157,10 +203,12 @@ class Workflow:
     def fingerprint(self) -> str:
         """sha256 of what determines the numbers and the store layout (see the module docstring)."""
         canonical = dict(laws=list(self.laws), precision=self.precision, t_max=repr(self.t_max),
-                         max_steps=self.max_steps, nu=[repr(x) for x in self.nu],
-                         nu_f=[repr(x) for x in self.nu_f], tiles=list(self.tiles))
+                         max_steps=self.max_steps, tiles=list(self.tiles),
+                         **{axis: [repr(x) for x in values] for axis, values in self.grid})
         if self.batch != 1:  # batch results equal scalar ones to rounding only; 1 keeps old fingerprints
             canonical["batch"] = self.batch
+        if self.model != DEFAULT_MODEL:   # the single block's stores predate models: keep their prints
+            canonical["model"] = self.model
         return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()
 
     @property
@@ -172,29 +220,19 @@ class Workflow:
         def floats(xs):
             return "[" + ", ".join(repr(x) for x in xs) + "]"
 
-        return "\n".join([
-            "[study]",
-            f"name = {json.dumps(self.name)}",
-            f"description = {json.dumps(self.description, ensure_ascii=False)}",
-            "",
-            "[engine]",
-            "laws = [" + ", ".join(json.dumps(law, ensure_ascii=False) for law in self.laws) + "]",
-            f"precision = {json.dumps(self.precision)}",
-            f"t_max = {self.t_max!r}",
-            f"max_steps = {self.max_steps}",
-            f"batch = {self.batch}",
-            "",
-            "[grid.nu]",
-            f"values = {floats(self.nu)}",
-            "",
-            "[grid.nu_f]",
-            f"values = {floats(self.nu_f)}",
-            "",
-            "[tiles]",
-            f"nu_f = {self.tiles[0]}",
-            f"nu = {self.tiles[1]}",
-            "",
-        ])
+        lines = ["[study]", f"name = {json.dumps(self.name)}",
+                 f"description = {json.dumps(self.description, ensure_ascii=False)}", ""]
+        if self.model != DEFAULT_MODEL:
+            lines += ["[model]", f"name = {json.dumps(self.model)}", ""]
+        key = self.spec.labels.workflow_key
+        lines += ["[engine]",
+                  f"{key} = [" + ", ".join(json.dumps(law, ensure_ascii=False) for law in self.laws) + "]",
+                  f"precision = {json.dumps(self.precision)}", f"t_max = {self.t_max!r}",
+                  f"max_steps = {self.max_steps}", f"batch = {self.batch}", ""]
+        for axis, values in self.grid:
+            lines += [f"[grid.{axis}]", f"values = {floats(values)}", ""]
+        lines += ["[tiles]", *(f"{axis} = {size}" for (axis, _), size in zip(self.grid, self.tiles)), ""]
+        return "\n".join(lines)
 
 
 def _engine_check(key: str, check, value, *args):
@@ -205,29 +243,32 @@ def _engine_check(key: str, check, value, *args):
         raise InputError(key, value, exc.problem, exc.fix) from None
 
 
-def _check_laws(laws) -> tuple[str, ...]:
+def _check_labels(spec, laws) -> tuple[str, ...]:
+    labels = spec.labels
+    key = f"engine.{labels.workflow_key}"
     if isinstance(laws, str) or not laws:
-        raise InputError("engine.laws", laws, "is not a non-empty list of laws",
-                         "write laws = [\"carlson-langer\"] (names or formulas in x)")
+        raise InputError(key, laws, f"is not a non-empty list of {labels.workflow_key}",
+                         f"write {labels.workflow_key} = [\"{labels.example}\"]")
     out, seen = [], {}
     for i, law in enumerate(laws):
-        key = f"engine.laws[{i}]"
+        item = f"{key}[{i}]"
         if not isinstance(law, str):
-            raise InputError(key, law, "is not a string", "write a law name or formula in quotes")
+            raise InputError(item, law, "is not a string", "write a law name or formula in quotes")
         try:
-            resolved = resolve_law(law)
+            labels.resolve(law)
+            identity = labels.identity(law)
         except InputError as exc:
-            raise InputError(key, law, exc.problem, exc.fix) from None
-        text = law.strip()
-        identity = (resolved.name, resolved.formula)
+            raise InputError(item, law, exc.problem, exc.fix) from None
         if identity in seen:
-            raise InputError(key, law, f"repeats engine.laws[{seen[identity]}]", "list each law once")
+            raise InputError(item, law, f"repeats {key}[{seen[identity]}]", "list each one once")
         seen[identity] = i
-        out.append(text)
+        out.append(law.strip())
     return tuple(out)
 
 
-def _check_axis(key: str, values, bounds) -> tuple[float, ...]:
+def _check_axis(key: str, values, axis) -> tuple:
+    if isinstance(values, (str, bytes, Mapping)):
+        raise InputError(key, values, "is not a sequence of numbers", "give a list of numbers")
     try:
         points = [as_number(key, v) for v in values]
     except TypeError:
@@ -235,8 +276,34 @@ def _check_axis(key: str, values, bounds) -> tuple[float, ...]:
     if not points:
         raise InputError(key, [], "is empty", "give at least one point")
     for x in points:
-        check_range(key, x, *bounds)
-    return union(points)
+        check_range(key, x, *axis.bounds)
+        if axis.dtype == "int64" and x != int(x):
+            raise InputError(key, x, "is not a whole number", f"give whole numbers for {axis.symbol}")
+    out = union(points)
+    return tuple(int(x) for x in out) if axis.dtype == "int64" else out
+
+
+def _check_tiles(spec, tiles) -> tuple[int, ...]:
+    names = [a.name for a in spec.axes]
+    if tiles is None:
+        tiles = tuple(a.default_tile for a in spec.axes)
+    elif isinstance(tiles, Mapping):
+        unknown = [k for k in tiles if k not in names]
+        if unknown:
+            raise InputError(f"tiles.{unknown[0]}", tiles[unknown[0]], "is not an axis of the model",
+                             f"use only {', '.join(names)} in [tiles]")
+        tiles = tuple(tiles.get(a.name, a.default_tile) for a in spec.axes)
+    tiles = tuple(tiles)
+    if len(tiles) != len(names):
+        raise InputError("tiles", tiles, f"is not a ({', '.join(names)}) tuple", f"give {len(names)} tile sizes")
+    for name, size in zip(names, tiles):
+        if isinstance(size, bool) or not isinstance(size, int):
+            raise InputError(f"tiles.{name}", size, "is not an integer", "give a whole number such as 64")
+        check_range(f"tiles.{name}", size, 1, TILE_MAX)
+    if math.prod(tiles) > TILE_MAX_POINTS:
+        raise InputError("tiles", " x ".join(map(str, tiles)), f"has more than {TILE_MAX_POINTS} points",
+                         "use smaller tiles so that one task stays small in memory")
+    return tiles
 
 
 # -- TOML ------------------------------------------------------------------------------------------
@@ -253,24 +320,34 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
     except tomllib.TOMLDecodeError as exc:
         raise InputError("workflow", source if source is not None else _short(text),
                          f"is not valid TOML ({exc})", "fix the syntax; see workflows/*.toml for examples") from None
-    root = Table(data, "", ("study", "engine", "grid", "tiles"))
+    root = Table(data, "", ("study", "model", "engine", "grid", "tiles"))
     check_declared_size(data)   # before any point is made
     study = root.table("study", ("name", "description"))
-    engine = root.table("engine", ("laws", "precision", "t_max", "max_steps", "batch"))
-    grid = root.table("grid", ("nu", "nu_f"))
-    tiles = root.table("tiles", ("nu_f", "nu"), required=False)
+    model_table = root.table("model", ("name",), required=False)
+    model_name = model_table.string("name", DEFAULT_MODEL) if model_table is not None else DEFAULT_MODEL
+    try:
+        spec = get_model(model_name)
+    except InputError as exc:
+        raise InputError("model.name", model_name, exc.problem, exc.fix) from None
+    key = spec.labels.workflow_key
+    axis_names = tuple(a.name for a in spec.axes)
+    engine = root.table("engine", (key, *_ENGINE_KEYS))
+    grid = root.table("grid", axis_names)
+    tiles = root.table("tiles", axis_names, required=False)
 
-    laws = engine.array("laws", fix="write laws = [\"carlson-langer\"] (names or formulas in x)")
+    laws = engine.array(key, fix=f"write {key} = [\"{spec.labels.example}\"]")
     # Workflow checks the engine options and tiles (with the same dotted keys) on construction
-    options = {name: engine.raw(name) for name in ("precision", "t_max", "max_steps", "batch") if engine.has(name)}
+    options = {name: engine.raw(name) for name in _ENGINE_KEYS if engine.has(name)}
     if tiles is not None:
-        options["tiles"] = (tiles.raw("nu_f", DEFAULT_TILES[0]), tiles.raw("nu", DEFAULT_TILES[1]))
+        options["tiles"] = {name: tiles.raw(name) for name in axis_names if tiles.has(name)}
+    axes = {axis.name: _axis_points(grid.table(axis.name, ("values", "ranges", "log")), axis)
+            for axis in spec.axes}
     return Workflow(
         name=study.string("name", fix="add name = \"my-study\" to [study]"),
         description=study.string("description", ""),
         laws=tuple(laws),
-        nu=_nu_axis(grid.table("nu", ("values", "log"))),
-        nu_f=_nu_f_axis(grid.table("nu_f", ("values", "ranges"))),
+        model=spec.name,
+        grid=axes,
         source=text,
         **options,
     )
@@ -302,15 +379,31 @@ def _values(table: Table, bounds) -> list[float]:
     return [float(v) for v in values]
 
 
-def _nu_axis(table: Table) -> tuple[float, ...]:
-    if not (table.has("values") or table.has("log")):
-        raise InputError("grid.nu", table.data, "has no points", "give values = [...] and/or log = {...}")
-    groups = [_values(table, NU_BOUNDS)] if table.has("values") else []
+def _axis_points(table: Table, axis) -> tuple[float, ...]:
+    """The points of ``[grid.<axis>]``: the union of ``values``, linear ``ranges`` and one ``log``."""
+    if not any(table.has(k) for k in ("values", "ranges", "log")):
+        raise InputError(table.key, table.data, "has no points",
+                         "give values = [...], ranges = [{ start, stop, num }] and/or "
+                         "log = { start, stop, per_decade }")
+    bounds = axis.bounds
+    groups = [_values(table, bounds)] if table.has("values") else []
+    if table.has("ranges"):
+        for i, item in enumerate(table.array("ranges", fix="write ranges = [{ start = 0.05, stop = 0.95, num = 19 }]")):
+            r = Table(item, f"{table.key}.ranges[{i}]", ("start", "stop", "num"))
+            start, stop = r.number("start"), r.number("stop")
+            check_range(r.path("start"), start, *bounds)
+            check_range(r.path("stop"), stop, *bounds)
+            if not start < stop:
+                raise InputError(r.path("stop"), stop, f"is not above start = {start!r}", "give start < stop")
+            groups.append(linear_points(start, stop, r.integer("num", low=2, high=_RANGE_POINTS_MAX)))
     log = table.table("log", ("start", "stop", "per_decade", "num"), required=False)
     if log is not None:
         start, stop = log.number("start"), log.number("stop")
-        check_range(log.path("start"), start, *NU_BOUNDS)
-        check_range(log.path("stop"), stop, *NU_BOUNDS)
+        check_range(log.path("start"), start, *bounds)
+        check_range(log.path("stop"), stop, *bounds)
+        for end, value in (("start", start), ("stop", stop)):
+            if value <= 0:
+                raise InputError(log.path(end), value, "is not > 0", "a log axis needs positive ends")
         if start == stop:
             raise InputError(log.path("stop"), stop, "equals start", "give two different ends")
         if log.has("per_decade") == log.has("num"):
@@ -321,22 +414,4 @@ def _nu_axis(table: Table) -> tuple[float, ...]:
         else:
             num = log_count(start, stop, log.integer("per_decade", high=1000))
         groups.append(log_points(start, stop, num))
-    return union(*groups)
-
-
-def _nu_f_axis(table: Table) -> tuple[float, ...]:
-    if not (table.has("values") or table.has("ranges")):
-        raise InputError("grid.nu_f", table.data, "has no points",
-                         "give values = [...] and/or ranges = [{start, stop, num}]")
-    groups = [_values(table, NU_F_BOUNDS)] if table.has("values") else []
-    if table.has("ranges"):
-        for i, item in enumerate(table.array("ranges", fix="write ranges = [{ start = 0.05, stop = 0.95, num = 19 }]")):
-            r = Table(item, f"grid.nu_f.ranges[{i}]", ("start", "stop", "num"))
-            start, stop = r.number("start"), r.number("stop")
-            check_range(r.path("start"), start, *NU_F_BOUNDS)
-            check_range(r.path("stop"), stop, *NU_F_BOUNDS)
-            if not start < stop:
-                raise InputError(r.path("stop"), stop, f"is not above start = {start!r}",
-                                 "give start < stop")
-            groups.append(linear_points(start, stop, r.integer("num", low=2, high=_RANGE_POINTS_MAX)))
     return union(*groups)

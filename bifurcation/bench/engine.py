@@ -5,7 +5,7 @@ piecewise-linear law at U̇ = ν_f):
 - scipy ``solve_ivp`` DOP853 at rtol = atol = 1e-13, with a Python right-hand side;
 - naive heyoka: a new integrator compiled for every point.
 Each method's error is measured against independent references: the exact piecewise mpmath solution
-(``bifurcation.reference``) for the piecewise-linear law, heyoka real128 runs for Carlson–Langer.
+(``bifurcation.theory.reference``) for the piecewise-linear law, heyoka real128 runs for Carlson–Langer.
 Timings are wall-clock on one core after a warm-up; they are reported, never asserted.
 """
 
@@ -77,20 +77,20 @@ def dop853_cycle(law: str, nu: float, nu_f: float, rtol: float = 1e-13) -> float
 
 
 def _naive_heyoka(law: str, nu: float, nu_f: float) -> float:
-    from .engine._integrator import build
-    from .engine.cycle import run_cycle
-    from .laws import resolve_law
+    from ..engine._integrator import build
+    from ..engine.cycle import run_cycle
+    from ..laws import resolve_law
 
     c = build(resolve_law(law))
-    return nu * float(run_cycle(c, nu, nu_f)["W"])
+    return nu * float(run_cycle(c, {"nu": nu, "nu_f": nu_f, "forcing": 1.0})["W"])
 
 
 def _reference(law: str, nu: float, nu_f: float) -> float:
     if law == "piecewise-linear":
-        from .reference import piecewise_linear_exact
+        from ..theory.reference import piecewise_linear_exact
 
         return float(piecewise_linear_exact(nu, nu_f, dps=30)["delta"])
-    from .engine import slip
+    from ..engine import slip
 
     return float(slip(law, nu=nu, nu_f=nu_f, precision="quad").delta)
 
@@ -102,7 +102,7 @@ def _timed(fn, *args):
 
 
 def _engine_grid(law: str, points: int, batch: int = 1) -> dict:
-    from .engine import slip
+    from ..engine import slip
 
     nu, nu_f = _grid(points)
     slip(law, nu=[1e-9] * batch, nu_f=0.3, batch=batch)  # warm-up: compile once, as a worker does
@@ -113,7 +113,7 @@ def _engine_grid(law: str, points: int, batch: int = 1) -> dict:
 
 
 def _compare(law: str, subset: int) -> dict:
-    from .engine import slip
+    from ..engine import slip
 
     pts = _subset(subset)
     out = {}
@@ -176,7 +176,7 @@ def run_bench(points: int = 2000, subset: int = 12, pipeline_points: int = 0, ec
                 f"{m['max_rel_error']:12.2e} {m['median_rel_error']:9.2e}")
         report["laws"][law] = {"grid": grid, "grid_batch8": batched, "subset": cmp_}
     if pipeline_points:
-        from .run.bench import bench_pipeline
+        from .pipeline import bench_pipeline
 
         say(f"\n== pipeline: {pipeline_points} points, 2 workers, store writes included")
         # Above 1e5 points the one-core engine run would take minutes: time the pipeline alone there.

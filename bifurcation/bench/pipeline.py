@@ -31,7 +31,7 @@ def bench_workflow(points: int, *, law: str = "carlson-langer", tiles=(128, 64))
     n_nu_f = max(2, math.ceil(points / n_nu))
     return Workflow(name=f"bench-{points}", laws=(law,), nu=log_points(1e-3, 1e-15, n_nu),
                     nu_f=linear_points(1e-3, 0.999, n_nu_f), tiles=tuple(tiles),
-                    description="bifurcation.run.bench grid")
+                    description="bifurcation.bench.pipeline grid")
 
 
 def _peak_rss() -> int:
@@ -54,7 +54,7 @@ def bench_pipeline(points: int = 100_000, workers: int = 2, *, law: str = "carls
     from distributed import Client, LocalCluster
 
     from ..engine.cycle import slip
-    from .submission import submit
+    from ..run.submission import submit
 
     for module in ("dask.array", "xarray", "zarr"):   # process start-up, like the cluster start, is not timed
         importlib.import_module(module)

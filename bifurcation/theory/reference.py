@@ -16,7 +16,7 @@ Nothing here uses heyoka or the engine: these are the yardsticks the engine is t
     (Eq. 14 continued through the frictionless piece). Eq. (18) itself is in ``bifurcation.theory``,
     which is tested against this module and so is not imported here.
 
-Frame (PHYSICS.md): U is measured from the start position, Ü = νt − U + 1 − Φ(U̇/ν_f),
+Frame (docs/physics.md): U is measured from the start position, Ü = νt − U + 1 − Φ(U̇/ν_f),
 U(0) = U̇(0) = 0, and the cycle ends when U̇ first returns to 0. α = 1/(2ν_f).
 
 Inputs ν, ν_f may be floats (taken as the exact binary numbers, the same the engine sees), decimal
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import mpmath
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["carlson_langer_mp", "limit_orbit_exact", "piecewise_linear_exact"]
 
@@ -268,7 +268,7 @@ def limit_orbit_exact(nu_f, dps: int = 40) -> dict:
 def carlson_langer_mp(nu, nu_f, dps: int = 30, t_max=200) -> dict:
     """Slip cycle for the Carlson–Langer law, Eq. (19), by ``mpmath.odefun`` (Taylor series).
 
-    Solved in the scaled variables U = νW of PHYSICS.md, so W is O(1) early in the cycle:
+    Solved in the scaled variables U = νW of docs/physics.md, so W is O(1) early in the cycle:
     Ẅ = t − W + g(νẆ/ν_f)/ν with g(x) = x/(1 + x), i.e. Ẅ = t − W + Ẇ/(ν_f + νẆ), W(0) = Ẇ(0) = 0.
     The stop (Ẇ back to 0), the creep time (νẆ = ν_f) and the maximum velocity (Ẅ = 0) are found by
     bracketing on a grid and ``findroot`` on the dense Taylor solution.

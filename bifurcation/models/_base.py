@@ -1,0 +1,314 @@
+"""The model contract: what a model declares, and what the engine, workflows, store and reports read.
+
+A model is a frozen declaration (``Model``), in the spirit of heyoka's model factories (the equations
+as ``[(variable, rhs)]`` built on demand) and scipy's ``METHODS`` registry (a name → implementation
+table behind one documented contract). Everything downstream of a model reads its declaration:
+
+- the **workflow** schema (``[model] name``, one ``[grid.<axis>]`` per ``Axis``, ``[tiles]`` keys),
+- the **tiles** and the **store** (dimensions ``(labels.name, *axes)``, one variable per ``Output``
+  with its CF attributes, ``status`` flag values from ``statuses``),
+- **queries** and the CLI (one option per axis, matched with ``bifurcation.store.labels``),
+- the **engine** (state, equations, events, runtime parameter slots, how raw outcomes become
+  statuses and fields).
+
+See docs/models.md for the contract in prose with the single block as the example.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..engine.result import Status
+
+__all__ = ["ACTIONS", "Axis", "Event", "Labels", "Model", "Output", "Slots", "StateVar", "System"]
+
+#: What an event does when it fires (``Event.action``):
+#: ``end``     terminal: the run of this point ends here (the single block's stop);
+#: ``switch``  terminal: the piece selector of the friction law moves up or down one piece;
+#: ``maximum`` records the running maximum of the output named by ``Event.records``;
+#: ``first``   records the time of its first occurrence into ``Event.records``;
+#: ``set``     terminal: sets runtime slots to the values ``System.sets[name][instance]`` gives (a load
+#:             history's step, say: the event function is t − t_k);
+#: ``step``    terminal: ends the Taylor step there and does nothing else (a rung of a ladder that keeps
+#:             a step from stepping over friction that fades).
+#: ``maximum`` and ``first`` events are terminal in scalar mode (exact time and state at the event)
+#: and non-terminal callbacks in batch mode (a terminal event stops every SIMD lane).
+ACTIONS = ("end", "first", "maximum", "set", "step", "switch")
+_SCALES = ("linear", "log")
+_DTYPES = ("float64", "int64", "int8", "bool")
+
+
+@dataclass(frozen=True)
+class Axis:
+    """A numeric parameter axis of a study: one ``[grid.<name>]`` table, one store dimension.
+
+    ``bounds`` are the closed range a workflow accepts (the range the engine is checked on).
+    ``scale`` says how values are spaced and compared when a query asks for the nearest label
+    (``log``: by ratio). ``structural`` axes change the compiled system itself (the number of blocks
+    of a chain, say): the engine compiles one integrator per value; the others are runtime
+    parameters (``parameter``: the name of the runtime slot the axis sets, its own name by default).
+    """
+
+    name: str                         # identifier: TOML key, store dimension, Python keyword
+    symbol: str                       # as printed: "ν_f"
+    long_name: str                    # CF long_name
+    bounds: tuple[float, float]
+    units: str = "1"
+    scale: str = "linear"
+    example: float = 1.0              # shown in error messages ("such as 0.4")
+    default_tile: int = 64
+    dtype: str = "float64"            # "int64" for counts (blocks, seeds)
+    structural: bool = False
+    parameter: str | None = None      # runtime slot set by this axis (default: ``name``)
+
+    def __post_init__(self) -> None:
+        if not self.name.isidentifier():
+            raise ValueError(f"axis name {self.name!r} is not an identifier")
+        if self.scale not in _SCALES:
+            raise ValueError(f"axis {self.name}: scale {self.scale!r} is not one of {_SCALES}")
+        lo, hi = self.bounds
+        if not (lo < hi) or (self.scale == "log" and lo <= 0):
+            raise ValueError(f"axis {self.name}: bounds {self.bounds} are not an increasing (positive for log) pair")
+        if self.dtype not in ("float64", "int64"):
+            raise ValueError(f"axis {self.name}: dtype {self.dtype!r} is not float64 or int64")
+
+    def cast(self, value):
+        """``value`` as this axis's Python type (int for counts)."""
+        return int(value) if self.dtype == "int64" else float(value)
+
+    @property
+    def slot(self) -> str:
+        return self.parameter or self.name
+
+    @property
+    def option(self) -> str:
+        """The CLI option of this axis: ``--nu-f``."""
+        return "--" + self.name.replace("_", "-")
+
+    def attrs(self) -> dict:
+        """CF attributes of the store coordinate."""
+        return {"long_name": self.long_name, "units": self.units, "symbol": self.symbol,
+                "scale": self.scale, "valid_min": self.bounds[0], "valid_max": self.bounds[1]}
+
+
+@dataclass(frozen=True)
+class Labels:
+    """The categorical leading dimension of a model (the friction law of the single block).
+
+    ``resolve(text)`` validates a label (raising ``InputError``); ``identity(text)`` is what two
+    labels must share to be the same (a formula's parsed expression, not its text), so
+    ``1/(1+x/2)**2`` and ``1/(1+x/2)^2`` are one law in workflows and queries alike.
+    """
+
+    name: str                                   # store dimension and record key: "law"
+    long_name: str
+    workflow_key: str                           # the [engine] key listing them: "laws"
+    resolve: Callable[[str], object]
+    identity: Callable[[str], object]
+    example: str = ""
+
+
+@dataclass(frozen=True)
+class StateVar:
+    """One state variable of the integrated system (scaled as the engine integrates it)."""
+
+    name: str
+    long_name: str
+
+
+@dataclass(frozen=True)
+class Event:
+    """An event of the integration: its ``action`` (``ACTIONS``), what it records, why it exists.
+
+    ``per_piece`` events are declared once and instantiated per breakpoint of the law.
+    """
+
+    name: str
+    action: str
+    description: str
+    records: str = ""        # raw outcome written by a "first" or "maximum" event
+    per_piece: bool = False
+    of: str = ""             # the state variable whose running maximum a "maximum" event records
+
+    def __post_init__(self) -> None:
+        if self.action not in ACTIONS:
+            raise ValueError(f"event {self.name}: action {self.action!r} is not one of {ACTIONS}")
+        if self.action in ("first", "maximum") and not self.records:
+            raise ValueError(f"event {self.name}: a {self.action!r} event must name what it records")
+        if self.action == "maximum" and not self.of:
+            raise ValueError(f"event {self.name}: a 'maximum' event must name the state variable (of=...)")
+
+    @property
+    def terminal(self) -> bool:
+        """Terminal in batch mode too (it changes the integration, not just a record)."""
+        return self.action in ("end", "set", "step", "switch")
+
+
+@dataclass(frozen=True)
+class Output:
+    """A result of one point: a store variable with its CF attributes and fill value.
+
+    ``per_event`` outputs are catalogs (one value per event of a run, ragged across runs); a store
+    format for them is the business of the model that first declares one (see docs/models.md).
+    """
+
+    name: str
+    long_name: str
+    units: str = "1"
+    dtype: str = "float64"
+    fill: float | int | bool = math.nan
+    per_event: bool = False
+
+    def __post_init__(self) -> None:
+        if self.dtype not in _DTYPES:
+            raise ValueError(f"output {self.name}: dtype {self.dtype!r} is not one of {_DTYPES}")
+
+
+class Slots:
+    """Named runtime parameter slots: ``slots.index("nu_f")`` instead of a magic ``par[1]``.
+
+    The model's ``parameters`` come first, in order; a law with several pieces adds one one-hot
+    selector per piece after them (``piece(k)``).
+    """
+
+    def __init__(self, names: tuple[str, ...], n_pieces: int = 1) -> None:
+        self.names = tuple(names)
+        self._index = {name: i for i, name in enumerate(self.names)}
+        self.n_pieces = n_pieces
+        self.piece0 = len(self.names)
+        self.size = len(self.names) + (n_pieces if n_pieces > 1 else 0)
+
+    def index(self, name: str) -> int:
+        return self._index[name]
+
+    def piece(self, k: int) -> int:
+        """The slot of the one-hot selector of piece ``k`` (only for laws of several pieces)."""
+        return self.piece0 + k
+
+    def par(self, name: str):
+        """The heyoka runtime parameter of slot ``name``."""
+        import heyoka as hy
+
+        return hy.par[self._index[name]]
+
+    def piece_par(self, k: int):
+        import heyoka as hy
+
+        return hy.par[self.piece(k)]
+
+
+@dataclass(frozen=True)
+class System:
+    """What ``Model.equations`` returns: heyoka state variables, their right-hand sides, and one
+    event expression (with its heyoka direction name: "negative", "positive" or "any") per declared
+    event, instantiated per piece for ``per_piece`` events: ``events[name]`` is
+    ``(expression, direction)`` or a list of them; a name left out is not registered."""
+
+    state: tuple
+    rhs: tuple
+    events: Mapping
+    #: ``(record, breakpoint index)``: the up-crossing of that breakpoint's switch is also the "first"
+    #: event ``record`` (declared absent from ``events``: one event function, not two at one x);
+    #: its later crossings are kept in order (``crossings`` of the raw outcomes).
+    first_on_switch: tuple = ("", -1)
+    #: For each "set" event: one ``{slot name: value}`` per instance (what it sets when it fires).
+    sets: Mapping = field(default_factory=dict)
+    #: Facts about this compiled system that ``classify`` needs (passed as ``raw["info"]``), e.g. the
+    #: range of the state a ladder of events vouches for.
+    info: Mapping = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Model:
+    """A model's declaration (see the module docstring and docs/models.md).
+
+    ``equations(law, slots, num, *, precision, **structure)`` builds the system for a resolved label
+    (``num`` makes a constant in the integrator's ``precision``, "double" or "quad"; ``structure``
+    holds the values of the ``structural`` axes, e.g. ``n=64`` blocks: the engine compiles one system
+    per distinct value). ``classify(raw, points)`` turns the engine's raw outcomes (arrays
+    over the points: the recorded outcomes, ``time``, the final state by name, ``steps``, ``status``
+    and ``messages``) into the model's ``outputs`` and messages; ``points`` maps every runtime
+    parameter to its per-point values. ``fixed`` sets the runtime slots no axis sets.
+    """
+
+    name: str
+    title: str
+    description: str
+    source: str
+    labels: Labels
+    axes: tuple[Axis, ...]
+    parameters: tuple[str, ...]
+    state: tuple[StateVar, ...]
+    events: tuple[Event, ...]
+    outputs: tuple[Output, ...]
+    statuses: tuple[Status, ...]
+    equations: Callable
+    classify: Callable
+    fixed: Mapping = field(default_factory=dict)
+    initial_state: tuple = ()
+    checkpoint: bool = False      # a run long enough to checkpoint its state between chunks of work
+    #: ``initial_state`` for a structural value (an N-block chain's 2N zeros), if it depends on one.
+    initial: Callable | None = None
+
+    def __post_init__(self) -> None:
+        names = [self.labels.name, *(a.name for a in self.axes)]
+        if len(set(names)) != len(names):
+            raise ValueError(f"model {self.name}: dimension names {names} repeat")
+        slots = set(self.parameters)
+        for axis in self.axes:
+            if not axis.structural and axis.slot not in slots:
+                raise ValueError(f"model {self.name}: axis {axis.name} sets no runtime parameter")
+        unset = slots - {a.slot for a in self.axes if not a.structural} - set(self.fixed)
+        if unset:
+            raise ValueError(f"model {self.name}: runtime parameters {sorted(unset)} set by no axis")
+        outputs = [o.name for o in self.outputs]
+        if len(set(outputs)) != len(outputs) or "done" in outputs:
+            raise ValueError(f"model {self.name}: outputs {outputs} repeat or use the reserved name 'done'")
+        if not self.initial_state:
+            object.__setattr__(self, "initial_state", (0.0,) * len(self.state))
+
+    # -- derived ---------------------------------------------------------------------------------
+    @property
+    def dims(self) -> tuple[str, ...]:
+        """Store dimensions: the labels, then the axes in order."""
+        return (self.labels.name, *(a.name for a in self.axes))
+
+    def axis(self, name: str) -> Axis:
+        for a in self.axes:
+            if a.name == name:
+                return a
+        raise KeyError(name)
+
+    def output(self, name: str) -> Output:
+        for o in self.outputs:
+            if o.name == name:
+                return o
+        raise KeyError(name)
+
+    @property
+    def float_outputs(self) -> tuple[str, ...]:
+        return tuple(o.name for o in self.outputs if o.dtype == "float64" and not o.per_event)
+
+    def slots(self, n_pieces: int = 1) -> Slots:
+        return Slots(self.parameters, n_pieces)
+
+    @property
+    def structural(self) -> tuple[Axis, ...]:
+        return tuple(a for a in self.axes if a.structural)
+
+    def start(self, structure: Mapping) -> tuple:
+        """The initial state for the structural values ``structure``."""
+        return tuple(self.initial(**structure)) if self.initial is not None else tuple(self.initial_state)
+
+    def runtime(self, points: Mapping) -> dict:
+        """Per-point values of every runtime parameter from the axes' ``points`` and ``fixed``."""
+        size = np.size(next(iter(points.values()))) if points else 1
+        out = {name: np.full(size, float(value)) for name, value in self.fixed.items()}
+        for axis in self.axes:
+            if not axis.structural:
+                out[axis.slot] = np.asarray(points[axis.name], dtype=float).ravel()
+        return out
