@@ -44,7 +44,7 @@ class ChainLoop:
 
     def __init__(self, law: FrictionLaw, n: int, ell: float, nu: float, nu_f: float, ends: str,
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
-                 t_max: float = 1e5, max_steps: int = 1_000_000) -> None:
+                 t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False) -> None:
         from ...engine._integrator import fp_info
 
         _, dtype, _ = fp_info(precision)
@@ -65,6 +65,10 @@ class ChainLoop:
             self.bond = self._bonds(self.u)
         # the largest window that is still "partial" (its outside neighbours distinct)
         self.partial_max = n - 2 if self.periodic else n - 1
+        #: how often each way of starting a block happened (tests check that every path is exercised)
+        self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
+        if full_window:   # integrate the whole chain every event (the tests' check of the windows)
+            self.partial_max = 0
 
     # -- chain geometry ---------------------------------------------------------------------------
     def _laplacian(self, a: np.ndarray) -> np.ndarray:
@@ -165,6 +169,7 @@ class ChainLoop:
             if isinstance(outcome, str):
                 return False, outcome
             kind, k = outcome
+            self.counts[kind] += 1
             if kind == "window":
                 self._start(k)
             else:
@@ -247,6 +252,7 @@ class ChainLoop:
                     return f"non-finite state at t = {float(self.t + ta.time):.17g}"
                 if ta.time >= t_end and tau_far <= t_left:
                     self._commit(wi, idx, m, pieces)
+                    self.counts["far"] += 1
                     return ("grow", far)
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
                         f"or max_steps = {self.max_steps} (steps = {steps})")
@@ -256,6 +262,7 @@ class ChainLoop:
                 if pars[p0 + j]:                 # a stop
                     if self._overloaded(ta, wi, j, m, a):
                         state[m + j] = 0         # σ ≥ 1 at V = 0: it keeps slipping
+                        self.counts["overloaded"] += 1
                         continue
                     pars[p0 + j] = 0
                     state[m + j] = 0
