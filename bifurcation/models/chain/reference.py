@@ -45,7 +45,11 @@ def _drop_series(law: str, piece: int, x: list, k: int, g: list, aux: list) -> N
 
 
 def _poly(c: list, s):
-    return mpmath.polyval(c[::-1], s)
+    """Σ c_k s^k by Horner's rule."""
+    acc = c[-1]
+    for a in reversed(c[:-1]):
+        acc = acc * s + a
+    return acc
 
 
 def _first_root(c: list, h, want, subdivisions: int, bits: int):
