@@ -26,6 +26,7 @@ _LAZY = {
     "open_store": "store",
     "resolve_law": "laws",
     "slip": "engine",
+    "submit": "run",
 }
 
 __all__ = sorted(_LAZY)

@@ -233,7 +233,7 @@ def test_bad_batch():
 def test_a_point_does_not_depend_on_the_points_before_it():
     # Regression: heyoka's terminal-event cooldowns survive a reset of time and state; without
     # clearing them, the direct limit of a list failed from its second entry on.
-    nu_f = [1e-6, 0.01, 0.3, 0.5, 0.6]
+    nu_f = [1e-4, 0.01, 0.3, 0.5, 0.6]
     many = bf.limit("carlson-langer", nu_f=nu_f)
     one_by_one = [bf.limit("carlson-langer", nu_f=v).delta0.item() for v in nu_f]
     assert many.delta0.tolist() == one_by_one

@@ -77,6 +77,33 @@ def test_html_is_self_contained(report):
     assert 'url(' not in page
 
 
+def test_html_has_no_raw_tex(report):
+    """Exponents and subscripts are <sup>/<sub> in the page (no network, no script), never raw TeX."""
+    page = report[1]["html"].read_text(encoding="utf-8")
+    text = re.sub(r'src="[^"]*"', "", page)
+    assert "<sup>" in text and "<sub>" in text
+    for raw in ("^{", "_{", "^(", "_(", "^−", "^-"):
+        assert raw not in text, raw
+    # the Markdown keeps the plain-text form a Markdown reader shows as typed
+    assert "e^{πα/ω}" in report[1]["markdown"].read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("text, html", [
+    ("e^{πα/ω}", "e<sup>πα/ω</sup>"),
+    ("K ν^−(α−ω)² + …", "K ν<sup>−(α−ω)²</sup> + …"),
+    ("ν^(1−r)", "ν<sup>1−r</sup>"),
+    ("Σ_(k≤2) a_k ε^k", "Σ<sub>k≤2</sub> a<sub>k</sub> ε<sup>k</sup>"),
+    ("U̇_max at ν_f = 1/2", "U̇<sub>max</sub> at ν<sub>f</sub> = 1/2"),
+    ("nu_f slip_duration a<b & c", "nu_f slip_duration a&lt;b &amp; c"),   # names and escaping
+    ("(1 + ω/α)^{(1 + α/ω)/2}", "(1 + ω/α)<sup>(1 + α/ω)/2</sup>"),
+    ("x^{unbalanced", "x^{unbalanced"),
+])
+def test_inline_math(text, html):
+    from bifurcation.report._math import inline_html
+
+    assert inline_html(text) == html
+
+
 def test_claims_table_in_report(report):
     data, files, _ = report
     assert tuple(c.key for c in data.claims) == CLAIM_KEYS

@@ -10,7 +10,7 @@ import click
 
 from ..errors import InputError
 
-__all__ = ["Group", "echo_json", "fail", "number"]
+__all__ = ["Group", "echo_json", "fail", "format_value", "number"]
 
 
 def fail(message: str) -> None:
@@ -19,8 +19,43 @@ def fail(message: str) -> None:
     sys.exit(2)
 
 
+def _repeated_option(command: click.Command, args: list[str]) -> str | None:
+    """The first option of ``command`` that takes one value but appears twice in ``args``, if any."""
+    single = {}
+    for param in command.params:
+        if isinstance(param, click.Option) and not param.multiple and not param.count:
+            for opt in param.opts:
+                single[opt] = param.name
+    seen: dict[str, str] = {}
+    for i, arg in enumerate(args):
+        if arg == "--":
+            break
+        opt, eq, value = arg.partition("=")
+        name = single.get(opt)
+        if name is None:
+            continue
+        if not eq:
+            value = args[i + 1] if i + 1 < len(args) else ""
+        if name in seen:
+            return f"{opt} is given twice ({seen[name]} and {value}): give it once"
+        seen[name] = value
+    return None
+
+
 class Group(click.Group):
-    """A command group whose usage and input errors are one line and exit with status 2."""
+    """A command group whose usage and input errors are one line and exit with status 2.
+
+    An option that takes one value and is given twice is refused (click would silently keep the last).
+    Ctrl-C ends with status 130 and says what is kept.
+    """
+
+    def resolve_command(self, ctx, args):
+        name, command, rest = super().resolve_command(ctx, args)
+        if command is not None:
+            problem = _repeated_option(command, rest)
+            if problem:
+                raise click.UsageError(problem)
+        return name, command, rest
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         try:
@@ -28,9 +63,10 @@ class Group(click.Group):
                                 complete_var=complete_var, standalone_mode=False, **extra)
         except click.exceptions.Exit as exc:
             sys.exit(exc.exit_code)
-        except click.exceptions.Abort:
-            click.echo("bifurcation: aborted", err=True)
-            sys.exit(1)
+        except (click.exceptions.Abort, KeyboardInterrupt):
+            click.echo("bifurcation: interrupted. A submit keeps every finished tile in its store: submit "
+                       "the same workflow again to resume.", err=True)
+            sys.exit(130)
         except click.UsageError as exc:
             fail(" ".join(exc.format_message().split()))
         except InputError as exc:
@@ -48,6 +84,17 @@ def _clean(obj):
     if isinstance(obj, (list, tuple)):
         return [_clean(v) for v in obj]
     return obj
+
+
+def format_value(value) -> str:
+    """A value for people: floats in their shortest exact form (``1e-09``, not
+    ``1.0000000000000001e-09``; every digit printed is significant and the float reads back the
+    same), a missing value as ``—``."""
+    if value is None:
+        return "—"
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else "—" if math.isnan(value) else repr(value)
+    return str(value)
 
 
 def echo_json(obj) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._common import echo_json, number
+from ._common import echo_json, format_value, number
 
 __all__ = ["COMMANDS"]
 
@@ -32,8 +32,8 @@ def _print_point(record: dict, keys, as_json: bool) -> None:
         echo_json(record)
         return
     for k in keys:
-        v = record.get(k)
-        click.echo(f"{k:18s} {v:.17g}" if isinstance(v, float) else f"{k:18s} {v}")
+        if k in record:
+            click.echo(f"{k:18s} {format_value(record[k])}")
 
 
 @click.command("slip")

@@ -35,13 +35,16 @@ def _numbers(name: str):
               show_default=True,
               help="Who writes finished tiles: the workers (store on a filesystem all workers share) "
                    "or this process (no shared filesystem needed).")
+@click.option("--dashboard", is_flag=True,
+              help="Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
-def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer: str, as_json: bool) -> None:
+def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer: str, dashboard: bool,
+               as_json: bool) -> None:
     """Compute the missing points of WORKFLOW (a TOML file) on Dask into a Zarr store."""
     from ..run import submit
 
     summary = submit(workflow, store=store, scheduler=scheduler, workers=workers, new_store=new_store,
-                     writer=writer)
+                     writer=writer, dashboard=dashboard)
     if as_json:
         echo_json(summary.to_dict())
     else:
@@ -61,18 +64,18 @@ def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer
 @click.option("--format", "fmt", type=click.Choice(["table", "csv", "json"]), default="table", show_default=True)
 @click.option("--done-only", is_flag=True, help="Only points already computed.")
 def query_cmd(store: str, law, nu, nu_f, fmt: str, done_only: bool) -> None:
-    """Print the points of a store selected by law, ν and ν_f."""
+    """Print the points of a store selected by law, ν and ν_f (streamed: memory independent of the store)."""
     from ..errors import InputError
-    from ..query import format_records, query
+    from ..query import iter_records, write_records
 
-    try:
-        records = query(store, law=law or None, nu=nu or None, nu_f=nu_f or None, computed_only=done_only)
+    try:   # the selection and every selected chunk are checked here, before any output
+        records = iter_records(store, law=law or None, nu=nu or None, nu_f=nu_f or None, computed_only=done_only)
     except InputError as exc:   # name the options as the user typed them
         name = {"store": "--store", "law": "--law", "nu": "--nu", "nu_f": "--nu-f"}.get(exc.argument)
         if name is None:
             raise
         fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
-    click.echo(format_records(records, fmt))
+    write_records(records, fmt, sys.stdout, law_width=records.law_width)
 
 
 COMMANDS = [submit_cmd, query_cmd]

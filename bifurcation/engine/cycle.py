@@ -15,7 +15,7 @@ import numpy as np
 
 from ..laws import FrictionLaw, resolve_law
 from ._integrator import Compiled, EventKind, compiled
-from ._validate import check_batch, check_nu, check_nu_f, check_precision
+from ._validate import check_batch, check_nu, check_nu_f, check_precision, check_work
 from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult, Status
 
 __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "run_cycle", "slip"]
@@ -176,6 +176,7 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
     """
     law = resolve_law(law)
     check_precision(precision)
+    check_work(t_max, max_steps)
     nu_b, nu_f_b = np.broadcast_arrays(check_nu(nu), check_nu_f(nu_f))
     batch = check_batch(batch, precision)
     shape = nu_b.shape

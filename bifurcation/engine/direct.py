@@ -27,8 +27,18 @@ __all__ = ["LIMIT_FIELDS", "LimitResult", "limit"]
 
 LIMIT_FIELDS = ("delta0", "max_velocity0", "slip_duration0", "tau1", "creep_coefficient", "stop_time0")
 
+#: Long names and units of the limit fields (the xarray view of a ``LimitResult``).
+LIMIT_FIELD_ATTRS = {
+    "delta0": ("slip Δ0 of one cycle in the limit ν → 0 (0 in creep)", "F0/k"),
+    "max_velocity0": ("maximum block velocity along the limit orbit", "V0 = F0/sqrt(mk)"),
+    "slip_duration0": ("time from U̇ = ν_f to the stop (τ2 of Eq. 17)", "sqrt(m/k)"),
+    "tau1": ("time between the two crossings of U̇ = ν_f (Eq. 16)", "sqrt(m/k)"),
+    "creep_coefficient": ("lim Δ/ν as ν → 0 for ν_f > 1/2 (Eq. 10, corrected)", "F0/k / V0"),
+    "stop_time0": ("t0 of Eq. (9) for ν_f > 1/2", "sqrt(m/k)"),
+}
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, repr=False)
 class LimitResult(_Fields):
     """ν → 0 limit per ν_f.
 
@@ -51,6 +61,8 @@ class LimitResult(_Fields):
     messages: dict
     law: str
     precision: str
+
+    _AXES = ("nu_f",)
 
     def keys(self):
         return ("nu_f", *LIMIT_FIELDS, "steps", "status")

@@ -61,10 +61,72 @@ FIELD_ATTRS = {
 
 
 class _Fields:
-    """Key access, status names and records for the result dataclasses (which define ``keys``)."""
+    """Key access, status names, records, xarray/pandas views and short reprs for the result dataclasses
+    (which define ``keys`` and ``_AXES``, the input fields that label the points)."""
+
+    _AXES: tuple = ()
 
     def __getitem__(self, key: str):
         return getattr(self, key)
+
+    @property
+    def shape(self) -> tuple:
+        return np.shape(self.status)
+
+    def to_xarray(self):
+        """The points as an ``xarray.Dataset`` with one dimension ``point`` (flattened C order).
+
+        The inputs (``_AXES``) are coordinates; ``status`` keeps its int8 codes with CF
+        ``flag_values``/``flag_meanings``; every field has ``long_name`` and ``units``.
+        """
+        import xarray as xr
+
+        from .direct import LIMIT_FIELD_ATTRS
+
+        attrs_of = {**FIELD_ATTRS, **LIMIT_FIELD_ATTRS, **_AXIS_ATTRS}
+        flat = {k: np.asarray(self[k]).ravel() for k in self.keys()}
+        n = flat["status"].size
+
+        def var(k):
+            long_name, units = attrs_of[k]
+            attrs = {"long_name": long_name, "units": units}
+            if k == "status":
+                attrs.update(flag_values=np.arange(len(Status), dtype=np.int8),
+                             flag_meanings=" ".join(str(s) for s in Status))
+            return ("point", flat[k], attrs)
+
+        coords = {k: var(k) for k in self._AXES}
+        data = {k: var(k) for k in self.keys() if k not in self._AXES}
+        messages = [self.messages.get(i, "") for i in range(n)]
+        if any(messages):
+            data["message"] = ("point", np.array(messages, dtype=object), {"long_name": "why the status"})
+        return xr.Dataset(data, coords=coords, attrs={"law": self.law, "precision": self.precision})
+
+    def to_dataframe(self):
+        """The points as a ``pandas.DataFrame``, one row per point, statuses as names."""
+        import pandas as pd
+
+        frame = pd.DataFrame({k: np.asarray(self[k]).ravel() for k in self.keys()})
+        frame["status"] = status_names(frame["status"].to_numpy())
+        frame.insert(0, "law", self.law)
+        return frame
+
+    def _status_counts(self) -> dict:
+        names, counts = np.unique(status_names(np.asarray(self.status).ravel()), return_counts=True)
+        return {str(k): int(v) for k, v in zip(names, counts)}
+
+    def __repr__(self) -> str:
+        return (f"{type(self).__name__}(law={self.law!r}, precision={self.precision!r}, "
+                f"shape={self.shape}, statuses={self._status_counts()})")
+
+    def _repr_html_(self) -> str:  # notebooks: a title line and the first rows as a table
+        from html import escape
+
+        frame = self.to_dataframe()
+        more = f"<p>… {len(frame) - 20} more rows</p>" if len(frame) > 20 else ""
+        return (f"<p><b>{escape(type(self).__name__)}</b> law <code>{escape(self.law)}</code>, "
+                f"{escape(self.precision)} precision, {len(frame)} points, "
+                f"{escape(str(self._status_counts()))}</p>" + frame.head(20).to_html(index=False) + more)
 
     def status_names(self) -> np.ndarray:
         """Status codes as strings ("stick-slip", ...), same shape."""
@@ -75,7 +137,14 @@ class _Fields:
         return records(self)
 
 
-@dataclass(frozen=True)
+#: Long names and units of the inputs that label the points of a result.
+_AXIS_ATTRS = {
+    "nu": ("pulling speed ν", "V0 = F0/sqrt(mk)"),
+    "nu_f": ("friction velocity ν_f", "V0 = F0/sqrt(mk)"),
+}
+
+
+@dataclass(frozen=True, repr=False)
 class SlipResult(_Fields):
     """Arrays of one broadcast shape: the float ``FIELDS``, ``steps`` (int64) and ``status`` (int8 codes).
 
@@ -96,6 +165,8 @@ class SlipResult(_Fields):
     messages: dict
     law: str
     precision: str
+
+    _AXES = ("nu", "nu_f")
 
     def keys(self):
         return ("nu", "nu_f", *FIELDS, "steps", "status")

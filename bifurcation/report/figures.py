@@ -191,6 +191,10 @@ def figure_period(fits) -> Figure:
         ax.set_ylabel("T − Δ0/ν  [√(m/k)]")
         ax.set_title(_LAW_TITLE[law])
         ax.grid(alpha=0.25, lw=0.5, which="both")
+        # Headroom for the legend: the data keep the lower 60 % of the (log) height, the legend's six
+        # lines the top, so no legend text lies over the steepest (ν_f = 0.4) series.
+        low, high = ax.get_ylim()
+        ax.set_ylim(low, low * (high / low) ** (1 / 0.6))
         ax.legend(loc="upper left", frameon=False, fontsize=6.5)
         res.axhspan(-1, 1, color="0.85", zorder=0)
         res.axhline(0, color="0.5", lw=0.6)

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from . import figures as F
+from ._math import inline_html
 
 __all__ = ["ReportData", "analyse", "write_report"]
 
@@ -333,7 +334,8 @@ def _blocks(data: ReportData, files) -> list:
                     f"written by bifurcation {a.get('version_bifurcation', '?')}")
     prov += [f"computed in process (no store held it): {c}" for c in data.computed_in_process]
     prov.append("Direct ν → 0 limits: bifurcation.limit (engine), quad precision; closed forms: "
-                "bifurcation.theory; paper text: the OCR copy in the project's seed.")
+                "bifurcation.theory; paper: G. L. Vasconcelos, First-order phase transition in a model for "
+                "earthquakes, Phys. Rev. Lett. 76, 4865 (1996), equation numbers as printed there.")
     b.append(("ul", prov))
     return b
 
@@ -382,30 +384,53 @@ _CSS = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 
         "color:#222}"
         "table{border-collapse:collapse;font-size:0.85em;margin:0.6em 0}"
         "td,th{border:1px solid #ccc;padding:3px 6px;vertical-align:top}th{background:#f2f2f2}"
-        "figure{margin:1.2em 0}img{max-width:100%}figcaption{font-size:0.9em;color:#444}")
+        "figure{margin:1.2em 0}img{max-width:100%}figcaption{font-size:0.9em;color:#444}"
+        ".card{border:1px solid #ddd;border-radius:4px;padding:0.5em 0.9em;margin:0.7em 0}"
+        ".card h3{font-size:1em;margin:0.1em 0 0.4em}.card dl{margin:0;display:grid;"
+        "grid-template-columns:10em 1fr;gap:0.25em 0.8em;font-size:0.92em}.card dt{color:#555}"
+        ".card dd{margin:0}.tag{font-size:0.8em;border-radius:3px;padding:1px 6px;margin-left:0.6em;"
+        "background:#eee}")
+
+#: A table whose cells average more characters than this reads better as one card per row.
+_CARD_CELL_CHARS = 45
+
+
+def _table_html(head, rows) -> str:
+    m = inline_html
+    cells = [str(c) for r in rows for c in r]
+    if len(head) < 4 or not cells or sum(map(len, cells)) / len(cells) < _CARD_CELL_CHARS:
+        return ("<table><tr>" + "".join(f"<th>{m(h)}</th>" for h in head) + "</tr>"
+                + "".join("<tr>" + "".join(f"<td>{m(c)}</td>" for c in r) + "</tr>" for r in rows)
+                + "</table>")
+    # one card per row: the first column as its title, a verdict-like last column as a tag
+    tagged = head[-1].lower() in ("verdict", "cause")
+    out = []
+    for r in rows:
+        title = f"<h3>{m(r[0])}" + (f'<span class="tag">{m(r[-1])}</span>' if tagged else "") + "</h3>"
+        body = head[1:-1] if tagged else head[1:]
+        items = "".join(f"<dt>{m(h)}</dt><dd>{m(c)}</dd>" for h, c in zip(body, r[1:]))
+        out.append(f'<div class="card">{title}<dl>{items}</dl></div>')
+    return "".join(out)
 
 
 def _html(blocks, out: Path) -> str:
-    e = html.escape
+    e, m = html.escape, inline_html
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
              f"<title>{e(blocks[0][1])}</title><style>{_CSS}</style></head><body>"]
     for kind, *rest in blocks:
         if kind in ("h1", "h2"):
-            parts.append(f"<{kind}>{e(rest[0])}</{kind}>")
+            parts.append(f"<{kind}>{m(rest[0])}</{kind}>")
         elif kind == "p":
-            parts.append(f"<p>{e(rest[0])}</p>")
+            parts.append(f"<p>{m(rest[0])}</p>")
         elif kind == "ul":
-            parts.append("<ul>" + "".join(f"<li>{e(i)}</li>" for i in rest[0]) + "</ul>")
+            parts.append("<ul>" + "".join(f"<li>{m(i)}</li>" for i in rest[0]) + "</ul>")
         elif kind == "table":
-            head, rows = rest
-            parts.append("<table><tr>" + "".join(f"<th>{e(h)}</th>" for h in head) + "</tr>"
-                         + "".join("<tr>" + "".join(f"<td>{e(str(c))}</td>" for c in r) + "</tr>" for r in rows)
-                         + "</table>")
+            parts.append(_table_html(*rest))
         elif kind == "figure":
             name, caption = rest
             data = base64.b64encode((out / name).read_bytes()).decode("ascii")
             parts.append(f'<figure><img alt="{e(name)}" src="data:image/png;base64,{data}">'
-                         f"<figcaption>{e(caption)}</figcaption></figure>")
+                         f"<figcaption>{m(caption)}</figcaption></figure>")
     parts.append("</body></html>")
     return "\n".join(parts) + "\n"
 

@@ -67,13 +67,18 @@ def describe(target) -> str:
 
 
 @contextmanager
-def connect(target, workers: int | None = None):
-    """A ``distributed.Client`` for ``target`` (from ``check_scheduler``); closes what it started."""
+def connect(target, workers: int | None = None, *, dashboard: bool = False):
+    """A ``distributed.Client`` for ``target`` (from ``check_scheduler``); closes what it started.
+
+    ``dashboard``: the embedded cluster serves Dask's dashboard (bokeh) on port 8787, or the next free
+    one; an existing scheduler serves its own (``client.dashboard_link``).
+    """
     from distributed import Client, LocalCluster
 
     if target is None:
         n = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=":8787" if dashboard else None,
                                silence_logs=logging.ERROR)
         try:
             with Client(cluster, set_as_default=False) as client:

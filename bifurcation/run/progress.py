@@ -1,38 +1,94 @@
-"""Progress of a submit: a one-line counter on a terminal, or a user callback."""
+"""Progress of a submit, for a terminal, a batch log or a notebook.
+
+On a terminal a tqdm bar (points, rate, ETA); anywhere else (a batch job's log, a pipe, a notebook's
+captured stderr) a plain line every ``interval`` seconds and one at the end, so a log shows how far a
+study is without a terminal; or a user callback.
+"""
 
 from __future__ import annotations
 
 import sys
 import time
 
-__all__ = ["Progress"]
+__all__ = ["Progress", "format_eta"]
+
+#: Seconds between two plain progress lines when stderr is not a terminal.
+LOG_INTERVAL = 30.0
+
+
+def format_eta(seconds: float) -> str:
+    """``"42 s"``, ``"12 min"``, ``"3.2 h"``: an ETA to read at a glance."""
+    if seconds != seconds or seconds == float("inf"):
+        return "unknown"
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
 
 
 class Progress:
-    """``progress`` None: a counter on stderr if it is a terminal; True / False: force on / off; a
-    callable: called as ``progress(points_done, points_total)`` after every finished tile."""
+    """How a submit reports progress.
 
-    def __init__(self, progress, total: int, stream=None) -> None:
+    Parameters
+    ----------
+    progress : None, bool or callable
+        None: a bar if ``stream`` is a terminal, else plain lines every ``interval`` seconds;
+        True: the bar (or lines, off a terminal); False: nothing; a callable: called as
+        ``progress(points_done, points_total)`` after every finished tile, nothing printed.
+    total : int
+        Points to compute.
+    """
+
+    def __init__(self, progress, total: int, stream=None, interval: float = LOG_INTERVAL) -> None:
         self.stream = stream or sys.stderr
         self.callback = progress if callable(progress) else None
-        if progress is None:
-            progress = bool(getattr(self.stream, "isatty", lambda: False)())
-        self.show = bool(progress) and self.callback is None
-        self.total, self.done, self.start, self.last = total, 0, time.perf_counter(), 0.0
+        self.show = progress is not False and self.callback is None
+        tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.total, self.done, self.interval = total, 0, interval
+        self.start = self.last = time.perf_counter()
+        self.bar = None
+        if self.show and tty:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, unit=" points", file=self.stream, dynamic_ncols=True,
+                            desc="bifurcation", smoothing=0.1)
+
+    def begin(self) -> None:
+        """Start the clock of the rate and the ETA (when the first task goes out, not at start-up)."""
+        self.start = self.last = time.perf_counter()
+
+    def note(self, text: str) -> None:
+        """One line of what the submit is doing (starting a cluster, waiting for workers)."""
+        if self.show:
+            (self.bar.write if self.bar is not None else self._line)(f"bifurcation: {text}")
+
+    def _line(self, text: str) -> None:
+        self.stream.write(text + "\n")
+        self.stream.flush()
+
+    def status_line(self) -> str:
+        elapsed = time.perf_counter() - self.start
+        rate = self.done / elapsed if elapsed > 0 else 0.0
+        eta = (self.total - self.done) / rate if rate > 0 else float("nan")
+        percent = 100 * self.done / self.total if self.total else 100.0
+        return (f"bifurcation: {self.done}/{self.total} points ({percent:.1f}%), {rate:.0f} points/s, "
+                f"{elapsed:.1f} s elapsed, ETA {format_eta(eta)}")
 
     def update(self, points: int) -> None:
         self.done += points
         if self.callback is not None:
             self.callback(self.done, self.total)
-        now = time.perf_counter()
-        if self.show and (now - self.last > 0.1 or self.done >= self.total):
-            self.last = now
-            percent = 100 * self.done / self.total if self.total else 100
-            self.stream.write(f"\rbifurcation: {self.done}/{self.total} points ({percent:.0f}%), "
-                              f"{now - self.start:.1f} s ")
-            self.stream.flush()
+        elif self.bar is not None:
+            self.bar.update(points)
+        elif self.show:
+            now = time.perf_counter()
+            if now - self.last >= self.interval:
+                self.last = now
+                self._line(self.status_line())
 
     def close(self) -> None:
-        if self.show and self.last:
-            self.stream.write("\n")
-            self.stream.flush()
+        if self.bar is not None:
+            self.bar.close()
+        elif self.show and self.done:
+            self._line(self.status_line())

@@ -71,8 +71,9 @@ class Summary:
             f"points: {self.points} in the grid, {self.computed} computed, {self.skipped} skipped "
             f"(already done), {self.failed} failed",
             f"statuses of computed points: {statuses}",
-            f"wall time {self.wall_time:.2f} s ({self.compute_time:.2f} s computing), "
-            f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}",
+            (f"wall time {self.wall_time:.2f} s ({self.compute_time:.2f} s computing), "
+             f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}")
+            if self.tiles else "nothing to compute: every point of the grid is already done",
         ]
         lines += [f"error: {e}" for e in self.errors]
         if self.failed:
@@ -95,7 +96,8 @@ def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
 
 
 def submit(workflow, store=None, scheduler=None, workers=None, progress=None, new_store: bool = False, *,
-           writer: str = "workers", retries: int = 3, command: str | None = None) -> Summary:
+           writer: str = "workers", retries: int = 3, command: str | None = None, only=None,
+           dashboard: bool = False) -> Summary:
     """Compute the missing points of ``workflow`` into ``store``; returns a ``Summary``.
 
     Parameters
@@ -112,11 +114,30 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     workers : int, optional
         Embedded: the number of worker processes. With a scheduler: wait for that many workers.
     progress : None, bool or callable
-        See ``bifurcation.run.progress.Progress`` (default: a counter on stderr if it is a terminal).
+        See ``bifurcation.run.progress.Progress`` (default: a bar on a terminal, else a plain line
+        every 30 s and one at the end, on stderr).
     writer : {"workers", "client"}
         Who writes finished tiles (``WRITERS``).
     retries : int
         Retries of a task that raises.
+    only : list of region tuples, optional
+        Compute only the points of these (law, ν_f, ν) regions that are not done (``verify --repair``).
+    dashboard : bool
+        Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one); its link
+        is printed with the progress.
+
+    Examples
+    --------
+    A script that starts the embedded cluster must guard its entry point (Dask starts worker
+    processes that re-import the script)::
+
+        from bifurcation import submit
+
+        if __name__ == "__main__":
+            print(submit("workflows/paper-fig3.toml", workers=2))
+
+    One submit writes a store at a time: a second one (or ``--new-store``) on a store being written
+    is refused naming the running one (``bifurcation.store.lock``).
     """
     started = time.perf_counter()
     if not isinstance(workflow, Workflow):
@@ -128,10 +149,38 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     if writer not in WRITERS:
         raise InputError("writer", writer, "is not a writer", f"use one of {', '.join(WRITERS)}")
     path = Path(store) if store is not None else workflow.default_store
-    from ..store import check_store, create_store, read_done, record_submit, store_kind
+    from ..store import store_kind
     from ..store.layout import command_line
+    from ..store.lock import StoreLock
 
-    kind = store_kind(path)
+    if store_kind(path) == "other":
+        raise InputError("--store", str(path), "exists and is not a bifurcation store",
+                         "choose another --store path (it is never overwritten)")
+    command = command if command is not None else command_line()
+    existed = path.exists()
+    lock = StoreLock(path).acquire(command=command)   # one writer per store (store.lock)
+    try:
+        return _submit_locked(workflow, path, target, workers, progress, new_store, writer, retries, command,
+                              started, only, dashboard)
+    finally:
+        lock.release()
+        if not existed:
+            _remove_if_empty(path)
+
+
+def _remove_if_empty(path: Path) -> None:
+    """Remove the directory a refused or failed first submit made for its lock, if nothing else is in it."""
+    try:
+        path.rmdir()
+    except OSError:
+        pass
+
+
+def _submit_locked(workflow, path, target, workers, progress, new_store, writer, retries, command, started,
+                   only, dashboard) -> Summary:
+    from ..store import check_store, create_store, record_submit, store_kind
+
+    kind = store_kind(path)   # again, under the lock
     if kind == "other":
         raise InputError("--store", str(path), "exists and is not a bifurcation store",
                          "choose another --store path (it is never overwritten)")
@@ -139,26 +188,36 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     attrs = None
     if not fresh:
         attrs = check_store(path, workflow)   # refuses another workflow: nothing is written
-        done = read_done(path)
+        done = _read_done(path)
+        if only is not None:   # verify --repair: only these regions are to compute
+            keep = np.ones_like(done)
+            for region in only:
+                keep[region] = done[region]
+            done = keep
     else:
         done = np.zeros(workflow.shape, dtype=bool)
     skipped = int(np.count_nonzero(done))
     todo = workflow.n_points - skipped
-    command = command if command is not None else command_line()
     statuses = np.zeros(len(Status), dtype=np.int64)
     computed = failed = n_tiles = 0
     errors: list[str] = []
     compute_time = 0.0
     cluster_name = "nothing to compute"
+    progress = Progress(progress, todo)
     if todo:   # fresh stores always have work; the cluster comes first so a bad one writes nothing
-        with connect(target, workers) as client:
+        progress.note(f"{todo} points to compute ({skipped} already done); connecting to "
+                      f"{describe(target)}" + (f" of {workers} workers" if workers and target is None else ""))
+        with connect(target, workers, dashboard=dashboard) as client:
+            if dashboard or target is not None:
+                progress.note(f"dashboard: {client.dashboard_link}")
             if fresh:
                 attrs = create_store(path, workflow, command=command, overwrite=new_store)
             cluster_name = describe(target)
             run_id = str(attrs["run_id"])
             t0 = time.perf_counter()
+            progress.begin()
             computed, failed, n_tiles = _run(client, workflow, path, run_id, done, statuses, errors,
-                                             Progress(progress, todo), writer, retries)
+                                             progress, writer, retries)
             compute_time = time.perf_counter() - t0
     wall = time.perf_counter() - started
     summary = Summary(study=workflow.name, store=str(path), points=workflow.n_points, computed=computed,
@@ -169,6 +228,18 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,
                          "wall_time": round(wall, 3), "cluster": cluster_name})
     return summary
+
+
+def _read_done(path: Path) -> np.ndarray:
+    """The done mask; a mask that cannot be read is damage: one line and the repair command."""
+    from ..store import read_done
+    from ..store.integrity import repair_command
+
+    try:
+        return read_done(path)
+    except Exception as exc:  # noqa: BLE001 — a missing or corrupt done array, whatever zarr raises
+        raise InputError("--store", str(path), f"has a damaged done mask ({type(exc).__name__})",
+                         f"run `{repair_command(path)}`") from None
 
 
 def _window(client) -> int:

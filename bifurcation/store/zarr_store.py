@@ -6,6 +6,7 @@ tasks or the coordinator) only write the chunks of their own tile.
 
 from __future__ import annotations
 
+import json
 import shutil
 import warnings
 from collections import OrderedDict
@@ -17,8 +18,24 @@ import numpy as np
 from ..errors import InputError
 from .layout import DIMS, FILL, STORE_FORMAT, VARIABLES, coordinate_attrs, provenance, utc_now, variable_attrs
 
-__all__ = ["check_store", "create_store", "open_store", "read_attrs", "read_done", "record_submit",
-           "store_kind", "write_tile"]
+__all__ = ["StoreReplacedError", "check_store", "chunk_codecs", "create_store", "open_store", "read_attrs",
+           "read_done", "record_submit", "store_kind", "write_tile"]
+
+class StoreReplacedError(RuntimeError):
+    """The store at a run's path is no longer the one the run created (its ``run_id`` changed)."""
+
+
+def chunk_codecs() -> list:
+    """The bytes-to-bytes codecs of every array: zstd, then a CRC-32C of the compressed chunk.
+
+    CRC-32C (Castagnoli) detects every single-bit error and every burst of up to 32 bits in the
+    stored chunk, and a truncated chunk (its last 4 bytes are no longer the checksum of the rest), so a
+    damaged chunk fails to decode instead of reading as numbers (``bifurcation verify``).
+    """
+    from zarr.codecs import Crc32cCodec, ZstdCodec
+
+    return [ZstdCodec(), Crc32cCodec()]
+
 
 _WRITERS: OrderedDict = OrderedDict()   # (path, run_id) → {name: zarr.Array}, per process
 _WRITERS_MAX = 4
@@ -31,19 +48,32 @@ def _quiet():
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message=".*Consolidated metadata.*")
         warnings.filterwarnings("ignore", message=".*does not have a Zarr V3 specification.*")
+        # the one-writer lock file (store.lock) lives in the store's directory
+        warnings.filterwarnings("ignore", message=".*is not recognized as a component of a Zarr hierarchy.*")
         yield
 
 
 def _inspect(path) -> tuple[str, dict | None]:
     """``(store_kind, attrs)`` from one read of the attributes (attrs None unless a store)."""
     path = Path(path)
-    if not path.exists():
+    if not path.exists() or _only_lock(path):
         return "missing", None
     try:
         attrs = read_attrs(path)
     except Exception:
         return "other", None
     return ("store", attrs) if attrs.get("bifurcation_store") == STORE_FORMAT else ("other", None)
+
+
+def _only_lock(path: Path) -> bool:
+    """A directory that holds nothing but the lock (a submit that died before creating the store)."""
+    from .lock import LOCK_NAME
+
+    try:
+        names = [p.name for p in path.iterdir()] if path.is_dir() else []
+    except OSError:
+        return False
+    return bool(names) and all(name.startswith(LOCK_NAME) for name in names)
 
 
 def store_kind(path) -> str:
@@ -93,23 +123,38 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     if kind == "store" and not overwrite:
         raise InputError("--store", str(path), "already exists", "pass --new-store to replace it")
     if kind == "store":
-        shutil.rmtree(path)
+        _clear(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     shape, chunks = workflow.shape, (1, *workflow.tiles)
     data_vars, encoding = {}, {}
     for name, dtype in VARIABLES.items():
         # one lazy dask chunk: nothing is computed (compute=False), only the metadata is written
         data_vars[name] = (DIMS, da.full(shape, FILL[name], dtype=dtype, chunks=shape), variable_attrs(name))
-        encoding[name] = {"chunks": chunks}
+        encoding[name] = {"chunks": chunks, "compressors": chunk_codecs()}
     coords_attrs = coordinate_attrs()
     coords = {"law": ("law", np.array(workflow.laws, dtype=object), coords_attrs["law"]),
               "nu_f": ("nu_f", np.array(workflow.nu_f, dtype=np.float64), coords_attrs["nu_f"]),
               "nu": ("nu", np.array(workflow.nu, dtype=np.float64), coords_attrs["nu"])}
     attrs = provenance(workflow, command)
     ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
+    # "a" into a directory that holds only the writer's lock (checked above: no store, nothing else)
+    mode = "a" if path.exists() else "w-"
     with _quiet():
-        ds.to_zarr(str(path), mode="w-", compute=False, encoding=encoding, zarr_format=3, consolidated=True)
+        ds.to_zarr(str(path), mode=mode, compute=False, encoding=encoding, zarr_format=3, consolidated=True)
     return attrs
+
+
+def _clear(path: Path) -> None:
+    """Delete the store at ``path`` but keep its directory and the lock its writer holds."""
+    from .lock import LOCK_NAME
+
+    for entry in path.iterdir():
+        if entry.name.startswith(LOCK_NAME):
+            continue
+        if entry.is_dir() and not entry.is_symlink():
+            shutil.rmtree(entry)
+        else:
+            entry.unlink()
 
 
 def open_store(path, **kwargs):
@@ -133,17 +178,34 @@ def read_done(path) -> np.ndarray:
         return np.asarray(zarr.open_group(str(path), mode="r", use_consolidated=False)["done"][...], dtype=bool)
 
 
+def _check_run(path: str, run_id: str) -> None:
+    """Refuse to write unless the store at ``path`` is still the one ``run_id`` created.
+
+    Read from ``zarr.json`` at every tile write, never cached: a store replaced under the same path
+    (``--new-store`` of another run, a deleted and recreated directory) must not receive this run's
+    tiles, and cached array handles would write into the new store's chunk files.
+    """
+    try:
+        found = json.loads((Path(path) / "zarr.json").read_bytes())["attributes"].get("run_id")
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        found = None
+    if found != run_id:
+        raise StoreReplacedError(f"store {path} is not the one this run created (run_id {run_id[:12]} "
+                                 f"≠ {str(found)[:12]}): tile not written")
+
+
 def _arrays(path: str, run_id: str) -> dict:
     import zarr
 
+    _check_run(path, run_id)
     key = (path, run_id)
     arrays = _WRITERS.get(key)
     if arrays is None:
         with _quiet():
             group = zarr.open_group(path, mode="r+", use_consolidated=False)
-            if group.attrs.get("run_id") != run_id:   # the store was replaced under this path
-                raise RuntimeError(f"store {path} is not the one this run created (run_id changed)")
-            arrays = {name: group[name] for name in VARIABLES}
+            # every chunk is written, also one that equals the fill value (all-NaN creep_time): a
+            # missing chunk of a done tile then always means damage (integrity.verify)
+            arrays = {name: group[name].with_config({"write_empty_chunks": True}) for name in VARIABLES}
         _WRITERS[key] = arrays
         while len(_WRITERS) > _WRITERS_MAX:
             _WRITERS.popitem(last=False)
@@ -163,6 +225,8 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
         values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in VARIABLES}
     with _quiet():
         for name in VARIABLES:   # VARIABLES ends with "done"
+            if name == "done":
+                _check_run(str(path), run_id)   # again just before done: nothing claims a foreign tile
             arrays[name][region] = np.asarray(values[name], dtype=VARIABLES[name])[None]
 
 

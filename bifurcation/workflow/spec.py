@@ -32,9 +32,10 @@ computed in decimal arithmetic and rounded once, so a range that passes through 
 ``0.4`` (the float a user types) and a log axis from 1e-3 to 1e-15 passes through exactly 1e-9. A log
 axis has at least ``per_decade`` points per decade and always includes both ends.
 
-Bounds: ν ∈ [1e-20, 1] (the engine is checked against real128 down to 1e-20; above 1 the block is
-not slowly driven), ν_f ∈ [1e-4, 10] (the paper's range is (0, 1); ν_f > 1/2 is creep
-as ν → 0), tiles of 1 … 4096 points a side and at most 2^16 points, at most 10^9 points in a grid.
+Bounds (one set for the whole package, ``bifurcation.bounds``): ν ∈ [1e-20, 1], ν_f ∈ [1e-4, 10],
+``max_steps`` ≤ 10^7, ``t_max`` ≤ 1e9; tiles of 1 … 4096 points a side and at most 2^16 points; the
+grid's size limits (points per axis, points in all) are in ``workflow._limits`` and are checked from
+the counts of the ranges before any point is computed.
 
 Two workflows are the *same study* when their ``fingerprint`` agrees: the sha256 of what determines
 the numbers and the store layout (laws, precision, bounds, grid, tiles) — not of the text, so comments,
@@ -50,6 +51,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..bounds import NU_BOUNDS, NU_F_BOUNDS, check_max_steps, check_t_max
 from ..engine._validate import PRECISIONS, check_batch, check_precision
 from ..engine.result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX
 from ..errors import InputError
@@ -60,8 +62,6 @@ from ._toml import Table, as_number, check_range
 __all__ = ["MAX_POINTS", "NU_BOUNDS", "NU_F_BOUNDS", "PRECISIONS", "TILE_MAX", "TILE_MAX_POINTS",
            "Workflow", "load_workflow", "parse_workflow"]
 
-NU_BOUNDS = (1e-20, 1.0)
-NU_F_BOUNDS = (1e-4, 10.0)
 TILE_MAX = 4096
 TILE_MAX_POINTS = 1 << 16
 MAX_POINTS = 10**9
@@ -105,12 +105,8 @@ class Workflow:
             raise InputError("study.description", self.description, "is not a string", "write it in quotes")
         _set(self, "laws", _check_laws(self.laws))
         _engine_check("engine.precision", check_precision, self.precision)
-        _set(self, "t_max", as_number("engine.t_max", self.t_max))
-        if self.t_max <= 0:
-            raise InputError("engine.t_max", self.t_max, "must be > 0", "give a positive time such as 1e5")
-        if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) or self.max_steps < 1:
-            raise InputError("engine.max_steps", self.max_steps, "is not a positive integer",
-                             "give a whole number of steps such as 200000")
+        _set(self, "t_max", check_t_max("engine.t_max", as_number("engine.t_max", self.t_max)))
+        check_max_steps("engine.max_steps", self.max_steps)
         _set(self, "batch", _engine_check("engine.batch", check_batch, self.batch, self.precision))
         if self.batch > _BATCH_MAX:
             raise InputError("engine.batch", self.batch, f"is more than {_BATCH_MAX} lanes",

@@ -1,0 +1,56 @@
+"""The one set of bounds on the model's parameters and on the work of one cycle.
+
+Every entry point reads these: ``slip`` and ``limit`` (``engine._validate``), workflows
+(``workflow.spec``), and ``query`` (which checks the labels a user asks for). A value outside them is
+refused with the same message everywhere, never computed into a plausible-looking status.
+
+* ν ∈ [1e-20, 1]: the engine is checked against real128 down to ν = 1e-20 (tests/test_precision.py);
+  above ν = 1 the block is not slowly driven (Vasconcelos, PRL 76, 4865 (1996), Eq. 5).
+* ν_f ∈ [1e-4, 10]: the paper's range is (0, 1); ν_f > 1/2 is creep as ν → 0. Below 1e-4 the
+  shortest time between events (~ln 2 / (2α)) nears the event cooldown (``engine._integrator``).
+* ``max_steps`` ≤ 10^7 Taylor steps and ``t_max`` ≤ 10^9 time units per cycle: a cycle of the
+  default grid takes ≤ 10^4 steps (``Status.NO_STOP`` beyond the defaults 2·10^5, 10^5); 10^7 steps are
+  about a minute of one core, so one point can never hold a worker for hours (``max_steps = 1e18`` was
+  accepted and never ended).
+"""
+
+from __future__ import annotations
+
+__all__ = ["MAX_STEPS_MAX", "NU_BOUNDS", "NU_F_BOUNDS", "T_MAX_MAX", "check_max_steps", "check_t_max",
+           "in_bounds_fix"]
+
+NU_BOUNDS = (1e-20, 1.0)
+NU_F_BOUNDS = (1e-4, 10.0)
+MAX_STEPS_MAX = 10**7
+T_MAX_MAX = 1e9
+
+
+def in_bounds_fix(name: str) -> str:
+    """The fix of an out-of-bounds ``nu`` / ``nu_f``: the bounds and an example."""
+    low, high = NU_BOUNDS if name == "nu" else NU_F_BOUNDS
+    example = "1e-9" if name == "nu" else "0.4"
+    return f"give a value in [{low:g}, {high:g}] such as {example} (bifurcation.bounds)"
+
+
+def check_max_steps(key: str, value) -> int:
+    """``max_steps``: an integer in [1, ``MAX_STEPS_MAX``]."""
+    from .errors import InputError
+
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise InputError(key, value, "is not a positive integer", "give a whole number of steps such as 200000")
+    if value > MAX_STEPS_MAX:
+        raise InputError(key, value, f"is more than {MAX_STEPS_MAX:.0e} steps per cycle (bifurcation.bounds)",
+                         "give at most 10000000; a cycle that needs more ends as no-stop")
+    return value
+
+
+def check_t_max(key: str, value: float) -> float:
+    """``t_max``: a time in (0, ``T_MAX_MAX``]."""
+    from .errors import InputError
+
+    if not value > 0:
+        raise InputError(key, value, "must be > 0", "give a positive time such as 1e5")
+    if value > T_MAX_MAX:
+        raise InputError(key, value, f"is more than {T_MAX_MAX:.0e} time units per cycle (bifurcation.bounds)",
+                         "give at most 1e9; a cycle that needs more ends as no-stop")
+    return value

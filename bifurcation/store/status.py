@@ -1,0 +1,159 @@
+"""How far a study is: ``bifurcation status --store S``, read from the store alone.
+
+Nothing but the store is needed (no cluster, no submitting process): the ``done`` mask gives the
+progress per label of the first axis, ``status`` the outcomes, the lock file who is writing, and the
+modification times of the ``done`` chunks (each written last by its tile's writer) the rate and the ETA.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import asdict, dataclass, field
+from datetime import datetime
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["StudyStatus", "study_status"]
+
+#: Outcomes that are results, not failures (any other status of a done point is counted as a failure).
+_RESULTS = ("stick-slip", "creep")
+#: The rate is measured over the tiles finished in this many seconds before the newest one.
+_RATE_WINDOW = 300.0
+
+
+@dataclass(frozen=True)
+class StudyStatus:
+    """Progress of the study in one store. Times are seconds since the epoch."""
+
+    store: str
+    study: str
+    axis: str                     # the first dimension: progress is given per label of it
+    points: int
+    done: int
+    per_label: dict               # label → {"points", "done", "statuses": {name: count}}
+    statuses: dict                # status name → count, over the done points
+    failed: int                   # done points whose status is not a result (no-stop, nonfinite, …)
+    writer: dict | None           # the lock holder while a submit writes the store, else None
+    last_write: float | None      # newest tile completion
+    rate: float | None            # points/s over the recent tiles (None: too few to tell)
+    eta: float | None             # seconds to finish at that rate, while a writer is active
+    submits: list = field(default_factory=list)
+
+    @property
+    def complete(self) -> bool:
+        return self.done == self.points
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    def __str__(self) -> str:
+        from ..run.progress import format_eta
+
+        percent = 100.0 * self.done / self.points if self.points else 100.0
+        width = max([len(self.axis)] + [len(str(k)) for k in self.per_label])
+        lines = [f"study {self.study} ({self.store}): {self.done}/{self.points} points done ({percent:.1f}%), "
+                 f"{self.failed} failed",
+                 f"  {self.axis:{width}s}  {'done/points':>17s}  {'%':>6s}  outcomes"]
+        for label, row in self.per_label.items():
+            share = 100.0 * row["done"] / row["points"] if row["points"] else 100.0
+            outcomes = ", ".join(f"{k} {v}" for k, v in row["statuses"].items()) or "-"
+            count = f"{row['done']}/{row['points']}"
+            lines.append(f"  {str(label):{width}s}  {count:>17s}  {share:6.1f}  {outcomes}")
+        if self.writer is not None:
+            rate = "rate not known yet" if self.rate is None else f"{self.rate:.0f} points/s"
+            eta = "" if self.eta is None else f", ETA {format_eta(self.eta)}"
+            lines.append(f"being written by {self.writer['describe']}: {rate}{eta}")
+        elif self.complete:
+            lines.append("complete")
+        else:
+            lines.append(f"no submit is writing it: submit the same workflow again to compute the "
+                         f"{self.points - self.done} remaining points")
+        return "\n".join(lines)
+
+
+def _chunk_files(array_dir: Path, meta: dict) -> dict:
+    """Chunk grid index → modification time, for the chunk files of one array that exist."""
+    encoding = meta.get("chunk_key_encoding", {"name": "default"})
+    separator = encoding.get("configuration", {}).get("separator", "/")
+    prefix = "c" + separator if encoding.get("name", "default") == "default" else ""
+    out = {}
+    root = array_dir
+    for file in root.rglob("*"):
+        if not file.is_file() or file.name == "zarr.json":
+            continue
+        key = file.relative_to(root).as_posix().replace("/", separator)
+        if not key.startswith(prefix):
+            continue
+        try:
+            index = tuple(int(p) for p in key[len(prefix):].split(separator))
+        except ValueError:
+            continue
+        out[index] = file.stat().st_mtime
+    return out
+
+
+def _since(text: str) -> float | None:
+    try:
+        return datetime.fromisoformat(text).timestamp()
+    except (TypeError, ValueError):
+        return None
+
+
+def study_status(path) -> StudyStatus:
+    """The progress of the study in the store at ``path`` (``InputError`` if it is not a store)."""
+    import zarr
+
+    from .lock import holder
+    from .zarr_store import _quiet, check_store
+
+    path = Path(path)
+    attrs = check_store(path, None)
+    with _quiet():
+        group = zarr.open_group(str(path), mode="r", use_consolidated=False)
+        done = np.asarray(group["done"][...], dtype=bool)
+        status = np.asarray(group["status"][...])
+    meta = json.loads((path / "done" / "zarr.json").read_text(encoding="utf-8"))
+    dims = meta.get("dimension_names") or [f"dim_{i}" for i in range(done.ndim)]
+    names = (group["status"].attrs.get("flag_meanings") or "").split()
+    name_of = (lambda code: names[code] if 0 <= code < len(names) else f"code {code}")
+
+    def outcomes(mask, where=()) -> dict:
+        codes, counts = np.unique(status[where][mask], return_counts=True)
+        return {name_of(int(c)): int(n) for c, n in zip(codes, counts)}
+
+    labels = np.asarray(group[dims[0]][...]) if dims[0] in group else np.arange(done.shape[0])
+    per_label = {}
+    for i, label in enumerate(labels):
+        key = label.item() if hasattr(label, "item") else label
+        per_label[str(key)] = {"points": int(done[i].size), "done": int(done[i].sum()),
+                               "statuses": outcomes(done[i], i)}
+    statuses = outcomes(done)
+    failed = sum(n for k, n in statuses.items() if k not in _RESULTS)
+
+    # completion times: one per done chunk (the tile's writer writes done last)
+    chunks = tuple(meta["chunk_grid"]["configuration"]["chunk_shape"])
+    finished = []
+    for index, mtime in _chunk_files(path / "done", meta).items():
+        block = tuple(slice(i * c, (i + 1) * c) for i, c in zip(index, chunks))
+        n = int(done[block].sum())
+        if n:
+            finished.append((mtime, n))
+    finished.sort()
+    last = finished[-1][0] if finished else None
+    found = holder(path)
+    writer = None if found is None else {"describe": found.describe(), "run": found.run, "host": found.host,
+                                         "pid": found.pid, "since": found.since}
+    rate = eta = None
+    if finished and found is not None:
+        start = _since(found.since) or finished[0][0]
+        recent = [(t, n) for t, n in finished if t >= max(start, last - _RATE_WINDOW)]
+        span = time.time() - (min(t for t, _ in recent) if len(recent) > 1 else start) if recent else 0.0
+        if recent and span > 0:
+            rate = sum(n for _, n in recent) / span
+            eta = (done.size - int(done.sum())) / rate if rate > 0 else None
+    return StudyStatus(store=str(path), study=str(attrs.get("title", "?")), axis=dims[0], points=int(done.size),
+                       done=int(done.sum()), per_label=per_label, statuses=statuses, failed=failed,
+                       writer=writer, last_write=last, rate=rate, eta=eta,
+                       submits=list(attrs.get("submits", [])))
