@@ -36,25 +36,30 @@ def test_table_output_with_u0():
     assert "hypocentre" in res.output and "status complete" in res.output
 
 
-@pytest.mark.parametrize("extra,needle", [
-    (["--n", "0", "--amplitude", "0.1", "--events", "3"], "n=0"),
-    (["--n", "3", "--amplitude", "0.1", "--events", "3", "--ell", "-1"], "ell=-1"),
-    (["--n", "3", "--u0", "0,0", "--events", "3"], "u0="),
-    (["--n", "3", "--u0", "0,nan,0", "--events", "3"], "u0="),
-    (["--n", "3", "--u0", "-2,0,0", "--events", "3"], "≥ 1 at t = 0"),
-    (["--n", "3", "--amplitude", "0.1", "--events", "0"], "events=0"),
-    (["--n", "3", "--amplitude", "0.1", "--events", "3", "--ends", "open"], "ends='open'"),
-    (["--n", "3", "--amplitude", "nan", "--events", "3"], "amplitude"),
-    (["--n", "3", "--events", "3"], "amplitude"),
-    (["--n", "3", "--amplitude", "0.1", "--events", "3", "--nu", "nan"], "nu=nan"),
-    (["--n", "3", "--amplitude", "0.1", "--events", "3", "--nu-f", "-1"], "nu_f=-1"),
-    (["--n", "3", "--amplitude", "0.1", "--events", "3", "--law", "friction"], "law='friction'"),
-    (["--n", "3", "--u0", "a,b,c", "--events", "3"], "--u0"),
-    (["--n", "3", "--u0", "0,0,0", "--amplitude", "0.1", "--events", "3"], "u0"),
+_DEFAULTS = {"--law": "carlson-langer", "--ell": "1", "--nu": "1e-6", "--nu-f": "0.3", "--n": "3",
+             "--amplitude": "0.1", "--events": "3"}
+
+
+@pytest.mark.parametrize("change,needle", [
+    ({"--n": "0"}, "n=0"),
+    ({"--ell": "-1"}, "ell=-1"),
+    ({"--amplitude": None, "--u0": "0,0"}, "u0="),
+    ({"--amplitude": None, "--u0": "0,nan,0"}, "u0="),
+    ({"--amplitude": None, "--u0": "-2,0,0"}, "≥ 1 at t = 0"),
+    ({"--events": "0"}, "events=0"),
+    ({"--ends": "open"}, "ends='open'"),
+    ({"--amplitude": "nan"}, "amplitude"),
+    ({"--amplitude": None}, "amplitude"),
+    ({"--nu": "nan"}, "nu=nan"),
+    ({"--nu-f": "-1"}, "nu_f=-1"),
+    ({"--law": "friction"}, "law='friction'"),
+    ({"--amplitude": None, "--u0": "a,b,c"}, "--u0"),
+    ({"--u0": "0,0,0"}, "u0"),
 ])
-def test_bad_input_is_one_line_exit_2(extra, needle):
-    # later options win in click, so the overriding values are appended after BASE
-    res = CliRunner().invoke(cli, BASE + extra)
+def test_bad_input_is_one_line_exit_2(change, needle):
+    opts = {**_DEFAULTS, **change}
+    args = ["chain"] + [x for k, v in opts.items() if v is not None for x in (k, v)]
+    res = CliRunner().invoke(cli, args)
     assert res.exit_code == 2, res.output
     lines = [line for line in res.output.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("bifurcation: error:"), res.output
