@@ -1,30 +1,33 @@
-"""Compiled Taylor integrators for a window of M consecutive blocks of a Burridge–Knopoff chain.
+"""Compiled Taylor integrators for a *window*: M positions holding any set of blocks of the chain.
 
 Scaled, per-segment variables (docs/chain.md): at the start of a segment (time t_s) every block j of
 the window has its stress σ_j(t_s) and its displacement is written U_j = U_j(t_s) + ν w_j, V_j = ν v_j,
 τ = t − t_s, so that
 
-    (σ_j − 1)/ν = d_j/ν + ℓ²(w_{j+1} − 2w_j + w_{j−1}) − w_j + τ,      d_j = σ_j(t_s) − 1,
+    (σ_j − 1)/ν = d_j/ν + ℓ²(coupling) − w_j + τ,      d_j = σ_j(t_s) − 1,
     ẇ_j = p_j v_j,   v̇_j = p_j [(σ_j − 1)/ν + g(ν v_j/ν_f)/ν],         g = 1 − Φ,
 
 p_j = 1 for a slipping block and 0 for a stuck one (a runtime parameter, flipped at events). The
-blocks outside the window are stuck during the segment, so their w is 0: the ghosts of the two end
-blocks are 0 (a stuck outside neighbour), w_0 / w_{M−1} themselves (a free end of the chain), or the
-other end of the window (the window is the whole periodic chain). At a segment start w = 0 and all
-terms are as small as the motion itself, so relative precision holds block by block at any ν
-(the single block's creep trap; docs/chain.md, "Precision").
+window holds the blocks that slipped in the event *and their chain neighbours*; every other block
+is stuck for the whole segment (w = 0). Position i of the window is coupled to positions i ± 1
+(mod M) through runtime bond parameters b_i ∈ {0, 1} (1 where the two blocks are neighbours in the
+chain), and to itself through s_i ∈ {0, 1, 2} (the ghosts of free chain ends, U_0 ≡ U_1):
+
+    coupling_i = b_{i−1} w_{i−1} + b_i w_{i+1} + (s_i − 2) w_i.
+
+So one compiled integrator per window size serves any set of clusters anywhere in the chain, free or
+periodic. At a segment start w = 0 and every term is as small as the motion itself, so relative
+precision holds block by block at any ν (docs/chain.md, "Precision").
 
 Terminal events (all O(1) in the scaled state, exact, never smoothed):
-  * per block, one stop/start event: ``select(p_j, x_j, −q_j (σ_j − 1)/ν)`` downwards: a slipping block
-    stops when x_j = νv_j/ν_f returns to 0, a stuck one starts when σ_j reaches 1 (q_j scales the
-    stress to O(1));
-  * per block and breakpoint of the law, ``x_j/b − 1`` either way (the piece is switched at the event);
-  * the start of each outside neighbour of the window (σ reaching 1), switched off by a parameter.
-Non-terminal events record each velocity maximum (dx_j/dt = 0 from above) at its exact time.
+  * per position, one stop/start event ``select(p_i, x_i, −q_i (σ_i − 1)/ν)`` downwards: a slipping
+    block stops when x_i = νv_i/ν_f returns to 0, a stuck one starts when σ_i reaches 1 (q_i scales
+    the stress to O(1));
+  * per position and breakpoint of the law, ``x_i/b − 1`` either way (the piece is switched there).
+Non-terminal events record each velocity maximum (dx_i/dt = 0 from above) at its exact time.
 
-Runtime parameters: 0 ν, 1 ν_f, 2 ℓ², 3 ring closure r, 4/5 free left/right end f_L/f_R, 6/7 left/right
-neighbour active, 8/9 d of the left/right neighbour, 10/11 their q, then per block p (M), d (M), q (M)
-and, for laws with K > 1 pieces, one-hot piece selectors (K × M, piece-major).
+Runtime parameters: 0 ν, 1 ν_f, 2 ℓ², then per position p (M), d (M), q (M), b (M), s (M) and, for
+laws with K > 1 pieces, one-hot piece selectors (K × M, piece-major).
 """
 
 from __future__ import annotations
@@ -37,9 +40,11 @@ import numpy as np
 from ...engine._integrator import COOLDOWN, fp_info
 from ...laws import FrictionLaw
 
-__all__ = ["N_GLOBAL", "WindowIntegrator", "window_integrator"]
+__all__ = ["ENERGY_SCALE", "N_GLOBAL", "WindowIntegrator", "window_integrator"]
 
-N_GLOBAL = 12
+N_GLOBAL = 3
+#: the energy integrals are carried as ENERGY_SCALE/M times their value (see ``_build``)
+ENERGY_SCALE = 0.1
 _CACHE: dict = {}
 
 
@@ -72,7 +77,7 @@ class WindowIntegrator:
 
     m: int
     integrator: object
-    event_kind: tuple      # per terminal event: "block", "switch", "left", "right"
+    event_kind: tuple      # per terminal event: "block" (stop or start) or "switch"
     event_block: tuple     # block index (or -1)
     event_break: tuple     # breakpoint index (or -1)
     n_pieces: int
@@ -86,14 +91,11 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool) -> WindowInte
     w = [hy.make_vars(f"w{j}") for j in range(m)]
     v = [hy.make_vars(f"v{j}") for j in range(m)]
     par = hy.par
-    nu, nu_f, l2, ring, f_left, f_right = (par[k] for k in range(6))
-    a_left, a_right, d_left, d_right, q_left, q_right = (par[k] for k in range(6, 12))
-    p = [par[N_GLOBAL + j] for j in range(m)]
-    d = [par[N_GLOBAL + m + j] for j in range(m)]
-    q = [par[N_GLOBAL + 2 * m + j] for j in range(m)]
+    nu, nu_f, l2 = par[0], par[1], par[2]
+    p, d, q, bond, selfc = ([par[N_GLOBAL + k * m + j] for j in range(m)] for k in range(5))
     pieces = law.pieces
     k_pieces = len(pieces)
-    sel = [[par[N_GLOBAL + 3 * m + k * m + j] for j in range(m)] for k in range(k_pieces)] if k_pieces > 1 else None
+    sel = [[par[N_GLOBAL + (5 + k) * m + j] for j in range(m)] for k in range(k_pieces)] if k_pieces > 1 else None
     zero, one = num(0), num(1)
 
     def drop(j, x):
@@ -112,9 +114,8 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool) -> WindowInte
     neg, anyd = hy.event_direction.negative, hy.event_direction.any
     diss_terms, disp_terms = [], []
     for j in range(m):
-        left = w[j - 1] if j > 0 else ring * w[m - 1] + f_left * w[0]
-        right = w[j + 1] if j < m - 1 else ring * w[0] + f_right * w[m - 1]
-        load = l2 * (left - num(2) * w[j] + right) - w[j] + hy.time    # (σ_j − 1)/ν − d_j/ν
+        coupling = bond[j - 1] * w[j - 1] + bond[j] * w[(j + 1) % m] + (selfc[j] - num(2)) * w[j]
+        load = l2 * coupling - w[j] + hy.time          # (σ_j − 1)/ν − d_j/ν
         x = (nu * v[j]) / nu_f
         g = drop(j, x)
         rhs_w.append(hy.select(p[j], v[j], zero))
@@ -130,18 +131,15 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool) -> WindowInte
         if energy:
             diss_terms.append(hy.select(p[j], (one - g) * v[j], zero))
             disp_terms.append(w[j])
-    # outside neighbours: σ − 1 = d + ν(ℓ² w_end + τ); their own outside neighbour is stuck (w = 0)
-    events.append(hy.t_event(hy.select(a_left, -q_left * (d_left / nu + l2 * w[0] + hy.time), one),
-                             direction=neg, cooldown=cooldown, **fp))
-    kinds.append("left"), blocks.append(-1), breaks.append(-1)
-    events.append(hy.t_event(hy.select(a_right, -q_right * (d_right / nu + l2 * w[m - 1] + hy.time), one),
-                             direction=neg, cooldown=cooldown, **fp))
-    kinds.append("right"), blocks.append(-1), breaks.append(-1)
     eqs = [(w[j], rhs_w[j]) for j in range(m)] + [(v[j], rhs_v[j]) for j in range(m)]
     if energy:
         diss, disp = hy.make_vars("diss", "disp")
-        eqs += [(diss, hy.sum(diss_terms)), (disp, hy.sum(disp_terms))]
-    npars = N_GLOBAL + 3 * m + (k_pieces * m if k_pieces > 1 else 0)
+        # heyoka controls the error against the largest state component: unscaled, these integrals
+        # (~10·M times a velocity or displacement) loosened the steps for every block, and a stop
+        # was missed. ENERGY_SCALE/M keeps them of the size of one block's variables.
+        c = num(ENERGY_SCALE / m)
+        eqs += [(diss, c * hy.sum(diss_terms)), (disp, c * hy.sum(disp_terms))]
+    npars = N_GLOBAL + 5 * m + (k_pieces * m if k_pieces > 1 else 0)
     # compact mode: compile time grows ~linearly in M (1.5 s at M = 64, 3.4 s at 1024) instead of
     # minutes; each window size is compiled once per process.
     ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs), dtype=dtype), pars=np.zeros(npars, dtype=dtype),

@@ -4,15 +4,16 @@ Algorithm (docs/chain.md, "Event algorithm"):
 
 1. All blocks stuck: the stress grows as νt, so the next failure is the block with the largest σ,
    at t + (1 − max σ)/ν. Jump there (σ_j += 1 − max σ, the failing block set to σ = 1 exactly).
-2. Integrate a *window* of M consecutive blocks (M a power of two, or the whole chain) that holds
-   every block that slipped in this event, stuck blocks inside it included, with the compiled window
-   integrator (``_integrator``) in per-segment scaled variables. The two outside neighbours have start
-   events; every other block is far: stuck, with σ growing as ντ, so its failure time −d_j/ν is known
-   in closed form and bounds the segment.
+2. Integrate a *window*: the set S of blocks that slipped in this event and their chain neighbours
+   (stuck ones included), packed into M positions (M a power of two ≥ |S|, or |S| for the whole
+   chain) of the compiled window integrator (``_integrator``), in per-segment scaled variables.
+   Every block outside S is stuck and none of its neighbours moves, so its stress grows as ντ and
+   its failure time −d_j/ν is known in closed form: the first of them bounds the segment.
 3. A stop (x_j → 0) sticks a block, a switch flips its friction piece; both continue the segment.
-   A start (of a stuck window block, an outside neighbour, or a far block at its bound) *commits*
-   the segment to the global state (σ, U updated exactly from the scaled increments) and starts a new
-   segment from w = 0 with the starting block at σ = 1 exactly, in a larger window if it is outside.
+   A start (of a stuck block of S, or of a block outside S at its bound) *commits* the segment to
+   the global state (σ, U updated exactly from the scaled increments), adds the block and its
+   neighbours to S and starts a new segment from w = 0 with the starting block at σ = 1 exactly.
+   Several clusters far apart share one window, so the cost follows the blocks that slip, not N.
 4. When no block slips, the event ends; the catalog records it.
 
 The global state is the stress σ_j itself (never recomputed from U and νt, which grow without
@@ -27,7 +28,7 @@ import heyoka as hy
 import numpy as np
 
 from ...laws import FrictionLaw
-from ._integrator import N_GLOBAL, window_integrator
+from ._integrator import ENERGY_SCALE, N_GLOBAL, window_integrator
 from .result import ChainStatus
 
 __all__ = ["ChainLoop"]
@@ -63,12 +64,10 @@ class ChainLoop:
         if energy:
             self.y = -self.u.copy()                # stretch of the pulling springs νt − U_j
             self.bond = self._bonds(self.u)
-        # the largest window that is still "partial" (its outside neighbours distinct)
-        self.partial_max = n - 2 if self.periodic else n - 1
+        #: integrate the whole chain every event (the tests' check of the windows)
+        self.force_full = full_window
         #: how often each way of starting a block happened (tests check that every path is exercised)
         self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
-        if full_window:   # integrate the whole chain every event (the tests' check of the windows)
-            self.partial_max = 0
 
     # -- chain geometry ---------------------------------------------------------------------------
     def _laplacian(self, a: np.ndarray) -> np.ndarray:
@@ -81,16 +80,38 @@ class ChainLoop:
     def _bonds(self, a: np.ndarray) -> np.ndarray:
         return np.roll(a, -1) - a if self.periodic else np.diff(a)
 
-    def _place(self, lo: int, hi: int, at_least: int) -> tuple[int, int]:
-        """(start, size) of a window covering the unwrapped block range [lo, hi]."""
-        span = hi - lo + 1
-        m = _pow2_at_least(max(span, at_least))
-        if m > self.partial_max or span > self.partial_max:
-            return 0, self.n
-        a = lo - (m - span) // 2
+    def _neighbours(self, j: int) -> tuple[int, ...]:
+        n = self.n
+        if self.periodic:
+            return tuple({(j - 1) % n, (j + 1) % n} - {j})
+        return tuple(k for k in (j - 1, j + 1) if 0 <= k < n)
+
+    def _right(self, j: int) -> int:
+        if self.periodic:
+            return (j + 1) % self.n
+        return j + 1 if j + 1 < self.n else -1
+
+    def _layout(self, members: set) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
+        """Window positions of the blocks of S: (chain index per position, M, bonds, self couplings)."""
+        n = self.n
+        if self.force_full:
+            members = set(range(n))
+        k = len(members)
+        idx = sorted(members)
+        if self.periodic and k < n:   # start the cyclic order after a gap: no bond wraps the order
+            gap = next(j for j in range(n) if j not in members)
+            idx = sorted(members, key=lambda j: (j - gap) % n)
+        m = n if k == n else _pow2_at_least(k)
+        bond = np.zeros(m)
+        for i in range(k):
+            nxt = i + 1 if i + 1 < k else (0 if k == m else -1)
+            if nxt >= 0 and self._right(idx[i]) == idx[nxt]:
+                bond[i] = 1
+        selfc = np.zeros(m)
         if not self.periodic:
-            a = min(max(a, 0), self.n - m)
-        return a, m
+            for i, j in enumerate(idx):
+                selfc[i] = (j == 0) + (j == n - 1)
+        return np.array(idx, dtype=np.int64), m, bond, selfc
 
     # -- the run ------------------------------------------------------------------------------------
     def run(self, k: int) -> dict:
@@ -100,7 +121,8 @@ class ChainLoop:
         for _ in range(k):
             ok, message = self._event(cat)
             if not ok:
-                status = ChainStatus.NONFINITE if message.startswith("non-finite") else ChainStatus.NO_STOP
+                status = (ChainStatus.NONFINITE if message.startswith("non-finite") else
+                          ChainStatus.BACK_SLIP if message.startswith("back-slip") else ChainStatus.NO_STOP)
                 break
         return dict(catalog=cat, status=status, message=message)
 
@@ -115,12 +137,10 @@ class ChainLoop:
             self.y += jump
         t_start = self.t
         self.slipping[h], self.vel[h], self.piece[h] = True, 0, 0
-        touched = [h]
         self._touched = {h}
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
                        work=dtype(0), diss=dtype(0), elastic=dtype(0))
-        a, m = self._place(h, h, 1)
-        ok, message = self._segments(a, m)
+        ok, message = self._segments({h, *self._neighbours(h)})
         ev = self.ev
         cat["t_start"].append(t_start)
         cat["hypocentre"].append(h)
@@ -133,114 +153,88 @@ class ChainLoop:
             cat["driver_work"].append(ev["work"])
             cat["dissipation"].append(ev["diss"])
             cat["elastic_change"].append(ev["elastic"])
-        del touched
         if not ok:
             for f in cat:   # an unfinished event is not catalogued
                 if cat[f]:
                     cat[f].pop()
         return ok, message
 
-    def _indices(self, a: int, m: int) -> np.ndarray:
-        return np.arange(a, a + m) % self.n
-
-    def _segments(self, a: int, m: int) -> tuple[bool, str]:
+    def _segments(self, members: set) -> tuple[bool, str]:
         """Integrate the event from its first failure until every block is stuck."""
-        n, nu = self.n, self.nu
         while True:
-            idx = self._indices(a, m)
-            full = m == self.n
-            if full:
-                left = right = -1
-            else:
-                left = -1 if (not self.periodic and a == 0) else (a - 1) % n
-                right = -1 if (not self.periodic and a + m == n) else (a + m) % n
-            # blocks already at the threshold start now (simultaneous failures)
-            for j in idx:
+            # blocks of S already at the threshold start now (simultaneous failures)
+            for j in list(members):
                 if not self.slipping[j] and self.sigma[j] >= 1:
                     self._start(j)
-            grow = [k for k in (left, right) if k >= 0 and self.sigma[k] >= 1]
-            if grow:
-                a, m = self._grow(a, m, grow[0])
-                continue
+                    members.update(self._neighbours(j))
+            idx, m, bond, selfc = self._layout(members)
             wi = window_integrator(self.law, m, self.precision, self.energy)
-            outcome = self._integrate(wi, idx, a, m, left, right, full)
+            outcome = self._integrate(wi, idx, bond, selfc)
             if outcome is None:
                 return True, ""
             if isinstance(outcome, str):
                 return False, outcome
-            kind, k = outcome
+            kind, j = outcome
             self.counts[kind] += 1
-            if kind == "window":
-                self._start(k)
-            else:
-                self._start(k)
-                a, m = self._grow(a, m, k)
+            if kind == "window" and any(k not in members for k in self._neighbours(j)):
+                self.counts["grow"] += 1
+            self._start(j)
+            members.add(j)
+            members.update(self._neighbours(j))
 
     def _start(self, j: int) -> None:
         self.sigma[j] = 1   # the start event located σ_j = 1; rounding of the commit is dropped
         self.slipping[j], self.vel[j], self.piece[j] = True, 0, 0
         self._touched.add(int(j))
 
-    def _grow(self, a: int, m: int, k: int) -> tuple[int, int]:
-        lo, hi = a, a + m - 1
-        if self.periodic:   # unwrap k next to the window, the shorter way round
-            k = min((k + s for s in (-self.n, 0, self.n)), key=lambda kk: max(lo, kk) - min(hi, kk))
-        return self._place(min(lo, k), max(hi, k), 2 * m)
-
-    def _integrate(self, wi, idx, a, m, left, right, full):
-        """One or more segments in this window; returns None (event over), an error string, or the
-        block that starts: ("window", j) inside, ("grow", j) outside."""
+    def _integrate(self, wi, idx, bond, selfc):
+        """Segments in this window until the event ends (None), an error (a string), or a block starts:
+        ("window", j) of S, ("far", j) outside S."""
         dtype, nu = self.dtype, self.nu
         ta = wi.integrator
+        m, k = wi.m, idx.size
         pars, state = ta.pars, ta.state
         pars[0], pars[1], pars[2] = nu, self.nu_f, self.l2
-        periodic = self.periodic
-        pars[3] = 1 if (full and periodic) else 0
-        pars[4] = 1 if (not periodic and a == 0) else 0
-        pars[5] = 1 if (not periodic and a + m == self.n) else 0
-        for side, nb in ((0, left), (1, right)):
-            if nb >= 0:
-                d = self.sigma[nb] - 1
-                pars[6 + side], pars[8 + side] = 1, d
-                pars[10 + side] = 1 / max(dtype(1), abs(d) / nu)
-            else:
-                pars[6 + side], pars[8 + side], pars[10 + side] = 0, 0, 1
-        d = self.sigma[idx] - 1
-        slip = self.slipping[idx]
-        pars[N_GLOBAL:N_GLOBAL + m] = slip
-        pars[N_GLOBAL + m:N_GLOBAL + 2 * m] = d
+        base = N_GLOBAL
+        # padding positions: stuck, σ = −999 (a constant like −1e100 spoils heyoka's step control);
+        # a start of one (only after τ = 1e3/ν) is ignored below
+        d = np.full(m, dtype(-1e3))
+        d[:k] = self.sigma[idx] - 1
+        slip = np.zeros(m, dtype=bool)
+        slip[:k] = self.slipping[idx]
         q = np.abs(d) / nu
         q[q < 1] = 1
-        pars[N_GLOBAL + 2 * m:N_GLOBAL + 3 * m] = 1 / q
+        pars[base:base + m] = slip
+        pars[base + m:base + 2 * m] = d
+        pars[base + 2 * m:base + 3 * m] = 1 / q
+        pars[base + 3 * m:base + 4 * m] = bond
+        pars[base + 4 * m:base + 5 * m] = selfc
         k_pieces = wi.n_pieces
-        pieces = self.piece[idx]
+        pieces = np.zeros(m, dtype=np.int64)
+        pieces[:k] = self.piece[idx]
         if k_pieces > 1:
-            base = N_GLOBAL + 3 * m
-            pars[base:base + k_pieces * m] = 0
-            pars[base + pieces * m + np.arange(m)] = 1
+            pbase = base + 5 * m
+            pars[pbase:pbase + k_pieces * m] = 0
+            pars[pbase + pieces * m + np.arange(m)] = 1
         state[:] = 0
-        state[m:2 * m] = self.vel[idx]
+        state[m:m + k] = self.vel[idx]
         ta.time = dtype(0)
         ta.reset_cooldowns()
         rec = wi.recorder
         rec.vmax = self.ev["vmax"]
-        # far blocks: stuck, σ grows as ντ: the first of them fails at τ = (1 − σ)/ν
-        if full:
+        # blocks outside S: stuck, σ grows as ντ: the first of them fails at τ = (1 − σ)/ν
+        if k == self.n:
             tau_far, far = math.inf, -1
         else:
             masked = self.sigma.copy()
             masked[idx] = -np.inf
-            for nb in (left, right):
-                if nb >= 0:
-                    masked[nb] = -np.inf
             far = int(np.argmax(masked))
-            tau_far = (1 - masked[far]) / nu if masked[far] > -np.inf else math.inf
+            tau_far = (1 - masked[far]) / nu
         t_left = dtype(self.t_max) - self.ev["duration"]
         t_end = min(tau_far, t_left)
         kinds, blocks, breaks = wi.event_kind, wi.event_block, wi.event_break
         n_events = len(kinds)
         slipping = int(slip.sum())
-        p0 = N_GLOBAL
         steps = self.ev["steps"]
         while True:
             outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=max(self.max_steps - steps, 1))
@@ -251,74 +245,81 @@ class ChainLoop:
                 if outcome == _NONFINITE:
                     return f"non-finite state at t = {float(self.t + ta.time):.17g}"
                 if ta.time >= t_end and tau_far <= t_left:
-                    self._commit(wi, idx, m, pieces)
-                    self.counts["far"] += 1
-                    return ("grow", far)
+                    self._commit(wi, idx, pieces)
+                    return self._back_slip() or ("far", far)
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
                         f"or max_steps = {self.max_steps} (steps = {steps})")
-            kind = kinds[index]
             j = blocks[index]
-            if kind == "block":
-                if pars[p0 + j]:                 # a stop
-                    if self._overloaded(ta, wi, j, m, a):
+            if j >= k:
+                continue
+            if kinds[index] == "block":
+                if pars[base + j]:               # a stop
+                    if self._overloaded(ta, j, m):
                         state[m + j] = 0         # σ ≥ 1 at V = 0: it keeps slipping
                         self.counts["overloaded"] += 1
                         continue
-                    pars[p0 + j] = 0
+                    pars[base + j] = 0
                     state[m + j] = 0
                     slipping -= 1
                     if slipping == 0:
                         self.ev["steps"] = steps
-                        self._commit(wi, idx, m, pieces)
-                        return None
-                else:                            # a stuck block of the window starts
+                        self._commit(wi, idx, pieces)
+                        return self._back_slip()
+                else:                            # a stuck block of S starts
                     self.ev["steps"] = steps
-                    self._commit(wi, idx, m, pieces)
-                    return ("window", int(idx[j]))
-            elif kind == "switch":
+                    self._commit(wi, idx, pieces)
+                    return self._back_slip() or ("window", int(idx[j]))
+            else:                                # a switch of the friction piece
                 b = breaks[index]
                 pc = pieces[j]
-                base = N_GLOBAL + 3 * m
-                pars[base + pc * m + j] = 0
+                pbase = base + 5 * m
+                pars[pbase + pc * m + j] = 0
                 pc = pc + 1 if b == pc else pc - 1
-                pars[base + pc * m + j] = 1
+                pars[pbase + pc * m + j] = 1
                 pieces[j] = pc
-            else:                                # an outside neighbour starts
-                self.ev["steps"] = steps
-                self._commit(wi, idx, m, pieces)
-                return ("grow", left if kind == "left" else right)
 
-    def _overloaded(self, ta, wi, j, m, a) -> bool:
+    def _back_slip(self):
+        """An error message if a slipping block moves backwards (a stop event was missed), else None."""
+        v = self.vel[self.slipping]
+        if v.size and v.min() < -1e-9 * max(1.0, float(np.abs(v).max())):
+            j = int(np.flatnonzero(self.slipping)[np.argmin(v)])
+            return (f"back-slip: block {j} has velocity {float(self.nu * v.min()):.3g} < 0 at t = "
+                    f"{float(self.t):.17g} without a stop event")
+        return None
+
+    def _overloaded(self, ta, j, m) -> bool:
         """σ_j ≥ 1 at a stop (only at rounding level): the block cannot stick."""
         pars, w = ta.pars, ta.state
-        l2 = pars[2]
-        lft = w[j - 1] if j > 0 else pars[3] * w[m - 1] + pars[4] * w[0]
-        rgt = w[j + 1] if j < m - 1 else pars[3] * w[0] + pars[5] * w[m - 1]
-        load = pars[N_GLOBAL + m + j] / pars[0] + l2 * (lft - 2 * w[j] + rgt) - w[j] + ta.time
-        return load >= 0
+        b = N_GLOBAL
+        coupling = (pars[b + 3 * m + j - 1 if j else b + 4 * m - 1] * w[j - 1] + pars[b + 3 * m + j] * w[(j + 1) % m]
+                    + (pars[b + 4 * m + j] - 2) * w[j])
+        return pars[b + m + j] / pars[0] + pars[2] * coupling - w[j] + ta.time >= 0
 
-    def _commit(self, wi, idx, m, pieces) -> None:
+    def _commit(self, wi, idx, pieces) -> None:
         """Fold the segment's scaled increments into the global state (exact up to rounding)."""
         ta = wi.integrator
         nu, tau = self.nu, ta.time
         state, pars = ta.state, ta.pars
+        m, k = wi.m, idx.size
         dw = np.zeros(self.n, dtype=self.dtype)
-        dw[idx] = state[:m]
-        self.vel[idx] = state[m:2 * m]
-        self.slipping[idx] = pars[N_GLOBAL:N_GLOBAL + m] != 0
-        self.piece[idx] = pieces
+        dw[idx] = state[:k]
+        self.vel[idx] = state[m:m + k]
+        self.slipping[idx] = pars[N_GLOBAL:N_GLOBAL + k] != 0
+        self.piece[idx] = pieces[:k]
         if self.energy:
             dy = nu * (tau - dw)
             db = nu * self._bonds(dw)
             self.ev["elastic"] += np.sum(self.y * dy + dy * dy / 2) + \
                 self.l2 * np.sum(self.bond * db + db * db / 2)
-            self.ev["work"] += nu * (np.sum(self.y) * tau + nu * self.n * tau * tau / 2 - nu * state[2 * m + 1])
-            self.ev["diss"] += nu * state[2 * m]
+            unscale = m / self.dtype(ENERGY_SCALE)
+            self.ev["work"] += nu * (np.sum(self.y) * tau + nu * self.n * tau * tau / 2
+                                     - nu * state[2 * m + 1] * unscale)
+            self.ev["diss"] += nu * state[2 * m] * unscale
             self.y += dy
             self.bond += db
         self.sigma += nu * (self.l2 * self._laplacian(dw) - dw + tau)
-        self.u[idx] += nu * state[:m]
-        self.ev["potency"] += nu * np.sum(state[:m])
+        self.u[idx] += nu * state[:k]
+        self.ev["potency"] += nu * np.sum(state[:k])
         self.ev["duration"] += tau
         self.ev["vmax"] = max(self.ev["vmax"], wi.recorder.vmax)
         self.t += tau

@@ -33,6 +33,9 @@ class ChainStatus(IntEnum):
 
     COMPLETE = 1    #: all requested events computed
     NO_STOP = 3     #: an event did not end before its time or step bound (the catalog holds the rest)
+    #: a slipping block's velocity went negative without a stop event (a missed event): the engine
+    #: cannot vouch for the event, so the run stops there
+    BACK_SLIP = 4
     NONFINITE = 5   #: the integrator produced a non-finite state
 
     def __str__(self) -> str:
