@@ -69,10 +69,20 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
 @click.option("--subset", default=12, show_default=True, help="Points for the slow baselines (DOP853).")
 @click.option("--pipeline", "pipeline_points", default=0, show_default=True,
               help="Also time the Dask pipeline on this many points (0: skip).")
+@click.option("--suite", type=click.Choice(["engine", "chain"]), default="engine", show_default=True,
+              help="engine: the single block against DOP853; chain: the exact chain against fixed-step RK4.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-def bench(points: int, subset: int, pipeline_points: int, as_json: bool) -> None:
+def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
     """Benchmarks, side by side in one run, reported as ratios (never a test)."""
     import importlib.util
+
+    if suite == "chain":
+        from ..models.chain._bench import run_chain_bench
+
+        report = run_chain_bench(echo=None if as_json else click.echo)
+        if as_json:
+            echo_json(report)
+        return
 
     if importlib.util.find_spec("scipy") is None:
         raise click.UsageError("the benchmark's DOP853 baseline needs scipy; install it with "

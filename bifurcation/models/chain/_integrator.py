@@ -43,6 +43,8 @@ from ...laws import FrictionLaw
 __all__ = ["ENERGY_SCALE", "N_GLOBAL", "WindowIntegrator", "window_integrator"]
 
 N_GLOBAL = 3
+#: windows up to this size are compiled in heyoka's full (non-compact) mode
+COMPACT_ABOVE = 8
 #: the energy integrals are carried as ENERGY_SCALE/M times their value (see ``_build``)
 ENERGY_SCALE = 0.1
 _CACHE: dict = {}
@@ -140,10 +142,12 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool) -> WindowInte
         c = num(ENERGY_SCALE / m)
         eqs += [(diss, c * hy.sum(diss_terms)), (disp, c * hy.sum(disp_terms))]
     npars = N_GLOBAL + 5 * m + (k_pieces * m if k_pieces > 1 else 0)
-    # compact mode: compile time grows ~linearly in M (1.5 s at M = 64, 3.4 s at 1024) instead of
-    # minutes; each window size is compiled once per process.
+    # Compact mode above M = COMPACT_ABOVE (and in quad): its compile time grows ~linearly in M (1.5 s
+    # at M = 64, 3.4 s at 1024) where the full mode's takes minutes; the full mode's steps are ~2-4×
+    # faster, which pays for the small windows that almost every event uses.
+    compact = m > COMPACT_ABOVE or precision != "double"
     ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs), dtype=dtype), pars=np.zeros(npars, dtype=dtype),
-                            t_events=events, nt_events=nt, compact_mode=True, **fp)
+                            t_events=events, nt_events=nt, compact_mode=compact, **fp)
     return WindowIntegrator(m, ta, tuple(kinds), tuple(blocks), tuple(breaks), k_pieces, energy, recorder, dtype)
 
 

@@ -23,6 +23,7 @@ bound), the displacements U_j and the time t.
 from __future__ import annotations
 
 import math
+import time
 
 import heyoka as hy
 import numpy as np
@@ -66,6 +67,7 @@ class ChainLoop:
             self.bond = self._bonds(self.u)
         #: integrate the whole chain every event (the tests' check of the windows)
         self.force_full = full_window
+        self.wall: list[float] = []   # seconds per event (benchmarks: cost against event size)
         #: how often each way of starting a block happened (tests check that every path is exercised)
         self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
 
@@ -127,6 +129,7 @@ class ChainLoop:
         return dict(catalog=cat, status=status, message=message)
 
     def _event(self, cat: dict) -> tuple[bool, str]:
+        started = time.perf_counter()
         dtype = self.dtype
         h = int(np.argmax(self.sigma))
         jump = 1 - self.sigma[h]
@@ -149,6 +152,7 @@ class ChainLoop:
         cat["duration"].append(ev["duration"])
         cat["max_velocity"].append(self.nu * ev["vmax"])
         cat["steps"].append(ev["steps"])
+        self.wall.append(time.perf_counter() - started)
         if self.energy:
             cat["driver_work"].append(ev["work"])
             cat["dissipation"].append(ev["diss"])
