@@ -174,3 +174,20 @@ def test_event_bound_gives_status():
     r = chain("carlson-langer", n=8, ell=1.0, nu=1e-2, nu_f=0.3, amplitude=0.1, seed=3, events=5, max_steps=50)
     assert r.status == ChainStatus.NO_STOP and "max_steps" in r.message
     assert r.events < 5
+
+
+@pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear", "exponential"])
+@pytest.mark.parametrize("nu", [1e-3, 1e-9])
+@pytest.mark.parametrize("nu_f", [0.2, 0.25, 0.35])
+def test_lone_block_is_a_rescaled_single_block(law, nu, nu_f):
+    """A block slipping alone among stuck neighbours has stiffness k = 1 + 2ℓ²; rescaling time by √k and
+    displacement by k maps it exactly onto the single block with ν/√k and √k·ν_f (docs/chain.md,
+    "Threshold"): P = Δ(ν/√k, √k ν_f)/k. Tolerance 1e-14: rounding of the two rescaled parameters
+    (d ln Δ/d ln ν_f is ~10 here, far from the threshold 1/(2√3) ≈ 0.2887)."""
+    ell, k = 1.0, 3.0
+    u0 = np.zeros(9)
+    u0[4] = -0.3                                   # the centre block is the most loaded
+    r = chain(law, n=9, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=1)
+    assert r.hypocentre[0] == 4 and r.n_blocks[0] == 1
+    single = bf.slip(law, nu=nu / np.sqrt(k), nu_f=nu_f * np.sqrt(k))
+    assert abs(r.potency[0] / (float(single.delta) / k) - 1) <= 1e-14
