@@ -5,7 +5,8 @@ import importlib
 import pytest
 
 PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.engine", "bifurcation.laws",
-            "bifurcation.report", "bifurcation.run", "bifurcation.store", "bifurcation.theory",
+            "bifurcation.models.chain", "bifurcation.report", "bifurcation.run", "bifurcation.store",
+            "bifurcation.theory",
             "bifurcation.workflow"]
 
 

@@ -7,7 +7,7 @@ from enum import IntEnum
 
 import numpy as np
 
-__all__ = ["CATALOG_FIELDS", "CATALOG_ATTRS", "ChainResult", "ChainStatus", "ENERGY_FIELDS"]
+__all__ = ["CATALOG_ATTRS", "CATALOG_FIELDS", "ChainResult", "ChainStatus", "ENERGY_FIELDS"]
 
 #: Per-event fields of the catalog, in order (issue 10; docs/chain.md).
 CATALOG_FIELDS = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
