@@ -122,10 +122,10 @@ class _Plan:
     def __init__(self, path, law, nu, nu_f) -> None:
         from .store import check_store
         from .store.integrity import TileReader
-        from .store.lock import holder
 
         check_store(path, None, argument="store")
-        self.reader = reader = TileReader(path, in_progress=holder(path) is not None)
+        # a tile being written (or left half written by a killed run) reads as not computed
+        self.reader = reader = TileReader(path, in_progress=True)
         self.dims = tuple(reader.done.metadata.dimension_names or ("law", "nu_f", "nu"))
         labels = {name: self._coordinate(name) for name in self.dims}
         self.labels = {"law": [str(x) for x in labels["law"]],
@@ -237,8 +237,8 @@ def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: 
     if fmt == "csv":
         writer = csv.writer(out, lineterminator="\n")
         writer.writerow(COLUMNS)
-        for record in records:
-            writer.writerow([_cell(record.get(c)) for c in COLUMNS])
+        for record in records:   # csv writes floats with repr (exact) and None as an empty cell
+            writer.writerow([record[c] for c in COLUMNS])
             n += 1
         return n
     if law_width is None:

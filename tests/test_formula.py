@@ -247,6 +247,13 @@ REFUSED = [
     ("exp(x=1)", ["keyword arguments"]),
     ("exp(x, 2)", ["exp takes one argument, got 2"]),
     ("x**(9**9**9)", ["too large for double precision"]),
+    # poles between the sample points, found by interval arithmetic over 0 ≤ x ≤ 1e5 (laws._intervals);
+    # the places are closed forms: π/2; the root (1 + √1.8)/0.4 of 1 + x − 0.2x²; 0.5 + π/2
+    ("1 - tan(x)", ["near x = 1.5707963268", "tan at x"]),
+    ("1/(1 + x - 0.2*x^2)", ["near x = 5.85410196625", "division by 1 + x - 0.2*x^2 = 0"]),
+    ("piecewise(1 - x, 0.5, 0.5 + 0.001*tan(x - 0.5))", ["near x = 2.070796326", "tan"]),
+    # undefined on (1.99, 2.01) only, between the samples 1.78 and 3.16 (0 * NaN is NaN in the engine)
+    ("1/(1+x) + 0*sqrt((x - 2)^2 - 0.0001)", ["near x = 1.99", "sqrt of (x - 2)^2 - 0.0001 < 0"]),
 ]
 
 
@@ -271,3 +278,20 @@ def test_refusal_tells_how_to_write_a_law():
 def test_refused_through_resolve_law():
     with pytest.raises(InputError, match=r"Φ'\(0\) = -2"):
         resolve_law("1/(1+x)^2")
+
+
+@pytest.mark.parametrize("pole", [0.0123456789, 0.987654321, 3.14159, 47.5, 1234.5678, 98765.4321])
+def test_a_pole_anywhere_in_range_is_found_where_it_is(pole):
+    # Φ = 1/(1+x) + 0·x/(x − c) is Carlson–Langer with a pole at x = c (a closed form): the engine would
+    # meet 0·inf = NaN there. Samples miss it unless c is one of them; interval arithmetic must corner it:
+    # its narrowest interval is 1e-12 · max(x, 1) wide, and the message prints 12 significant digits.
+    with pytest.raises(InputError, match=r"near x = ") as info:
+        parse_formula(f"1/(1+x) + 0*x/(x - {pole!r})")
+    where = float(str(info.value).split("near x = ")[1].split(":")[0])
+    assert abs(where - pole) <= 1e-12 * max(pole, 1) + 1e-11 * pole
+
+
+@pytest.mark.parametrize("text", ["1/(1+x)", "exp(-x)", "1/(1 + x + 0.1*sin(x)^2)", "1/(1+x)^0.5/(1+x)^0.5",
+                                  "1/(1 + x + x^2/(1 + x^2))", "piecewise(1 - x, 1, 0)"])
+def test_laws_finite_everywhere_pass_the_interval_check(text):
+    parse_formula(text)   # no pole, no undefined point on 0 ≤ x ≤ 1e5: must not be refused

@@ -37,5 +37,8 @@ _register()
 
 
 def main() -> None:
-    """Console-script entry point."""
-    cli.main()
+    """Console-script entry point: native libraries' prints go to stderr, never into stdout's JSON."""
+    from ._common import native_stdout_to_stderr
+
+    with native_stdout_to_stderr():
+        cli.main()

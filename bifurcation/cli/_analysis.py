@@ -107,7 +107,9 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool) -> None:
 def report(stores, out: str) -> None:
     """Write the report (claims table, errata, fits, figures) from one or more stores into DIR."""
     from ..report import write_report
+    from ._common import check_out_dir
 
+    check_out_dir(out)   # before the analysis, not after it
     sources = _stores(stores)
     files = write_report(sources, out)
     click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figures")
@@ -136,7 +138,10 @@ def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:
     from ..run import submit
     from ..run.cluster import check_scheduler, check_workers, connect
 
+    from ._common import check_out_dir
+
     started = time.perf_counter()
+    check_out_dir(out)
     workflows = _workflow_dir()
     stores = []
     # One cluster for the three workflows (starting an embedded one costs ~1 s and compiles per worker).

@@ -2,15 +2,20 @@
 
 from __future__ import annotations
 
+import errno
+import io
 import json
 import math
+import os
 import sys
+from contextlib import contextmanager
+from pathlib import Path
 
 import click
 
 from ..errors import InputError
 
-__all__ = ["Group", "echo_json", "fail", "format_value", "number"]
+__all__ = ["Group", "check_out_dir", "echo_json", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
 
 def fail(message: str) -> None:
@@ -74,6 +79,12 @@ class Group(click.Group):
         except click.ClickException as exc:
             click.echo(f"bifurcation: error: {exc.format_message()}", err=True)
             sys.exit(exc.exit_code)
+        except OSError as exc:   # disk full, permissions, a vanished file: the system's one line, no traceback
+            where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
+            fix = ("; free some space (or choose another --store) and run the same command again: finished "
+                   "tiles are kept" if exc.errno == errno.ENOSPC else "")
+            click.echo(f"bifurcation: error: {exc.strerror or exc}{where}{fix}", err=True)
+            sys.exit(1)
 
 
 def _clean(obj):
@@ -115,3 +126,46 @@ def number(name: str, example: str = "0.5"):
                                      param_hint=name) from None
 
     return convert
+
+
+def check_out_dir(path: str, option: str = "--out") -> Path:
+    """``path`` as a writable directory (created if missing), checked before any work is done."""
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise InputError(option, path, "is a file, not a directory", "give a directory (it is created if missing)")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(option, path, f"cannot be created ({exc.strerror or exc})",
+                         "give a directory in a writable place") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise InputError(option, path, "is not writable", "give a directory you can write to")
+    return out
+
+
+@contextmanager
+def native_stdout_to_stderr():
+    """Send what native libraries print on file descriptor 1 (heyoka's and LLVM's warnings) to stderr.
+
+    ``sys.stdout`` keeps the real standard output (a duplicate of fd 1), so only this program's own
+    output (JSON, tables) is on stdout; worker processes started meanwhile inherit fd 1 = stderr too.
+    """
+    try:
+        sys.stdout.flush()
+        saved = os.dup(1)
+    except (OSError, ValueError, AttributeError):   # no real fd 1 (embedded, some test runners)
+        yield
+        return
+    original = sys.stdout
+    os.dup2(2, 1)
+    stream = io.TextIOWrapper(os.fdopen(saved, "wb"), encoding=getattr(original, "encoding", None) or "utf-8",
+                              errors="replace", line_buffering=original.isatty() if hasattr(original, "isatty") else False)
+    sys.stdout = stream
+    try:
+        yield
+    finally:
+        try:
+            stream.flush()
+        except OSError:
+            pass
+        sys.stdout = original

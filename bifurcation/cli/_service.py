@@ -30,6 +30,8 @@ def _numbers(name: str):
                    "else an embedded local cluster.")
 @click.option("--workers", type=int, default=None,
               help="Embedded cluster: worker processes (default: cores). With --scheduler: wait for N workers.")
+@click.option("--workers-timeout", type=float, default=None, metavar="SECONDS",
+              help="With --scheduler and --workers N: how long to wait for N workers (default 120).")
 @click.option("--new-store", is_flag=True, help="Replace an existing store that holds another workflow.")
 @click.option("--write-from", "writer", type=click.Choice(["workers", "client"]), default="workers",
               show_default=True,
@@ -38,13 +40,14 @@ def _numbers(name: str):
 @click.option("--dashboard", is_flag=True,
               help="Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
-def submit_cmd(workflow: str, store, scheduler, workers, new_store: bool, writer: str, dashboard: bool,
+def submit_cmd(workflow: str, store, scheduler, workers, workers_timeout, new_store: bool, writer: str,
+               dashboard: bool,
                as_json: bool) -> None:
     """Compute the missing points of WORKFLOW (a TOML file) on Dask into a Zarr store."""
     from ..run import submit
 
     summary = submit(workflow, store=store, scheduler=scheduler, workers=workers, new_store=new_store,
-                     writer=writer, dashboard=dashboard)
+                     writer=writer, workers_timeout=workers_timeout, dashboard=dashboard)
     if as_json:
         echo_json(summary.to_dict())
     else:

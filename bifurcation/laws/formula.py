@@ -26,7 +26,7 @@ The rules need every subexpression to be analytic at the left end of its piece (
 log(x) are not at x = 0, and heyoka's Taylor recurrences would start from NaN there); such formulas
 are refused, as are those that fail Eq. (3) of Vasconcelos, PRL 76, 4865 (1996), or that are
 discontinuous (both checked by ``FrictionLaw``), or that are not real and finite at sample points
-from 1e-6 to 1e4.
+from 1e-6 to 1e4, or anywhere on 0 ≤ x ≤ 1e5 (interval arithmetic over the whole range, ``_intervals``).
 """
 
 from __future__ import annotations
@@ -762,4 +762,7 @@ def parse_formula(text: str) -> FrictionLaw:
         description="parsed from a formula; drop in defect form (full relative precision)",
     )
     _check_samples(law, text)
+    from ._intervals import check_intervals
+
+    check_intervals(pieces, lowers, text)   # no pole between the samples either
     return law

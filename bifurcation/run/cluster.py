@@ -18,9 +18,11 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_scheduler", "check_workers", "connect", "describe"]
+__all__ = ["WORKERS_TIMEOUT", "check_scheduler", "check_workers", "connect", "describe", "wait_for_workers"]
 
 _CONNECT_TIMEOUT = "10s"
+#: Seconds ``--workers N`` waits for N workers to connect to an existing scheduler before giving up.
+WORKERS_TIMEOUT = 120.0
 
 
 def check_scheduler(scheduler) -> tuple[str, object, str] | None:
@@ -66,12 +68,34 @@ def describe(target) -> str:
     return f"{target[0]} {target[1]}"
 
 
+def wait_for_workers(client, workers: int, where: str, timeout: float | None = None, stream=None) -> None:
+    """Wait until ``workers`` workers are connected, saying so on stderr; ``InputError`` after ``timeout``."""
+    import sys
+
+    timeout = WORKERS_TIMEOUT if timeout is None else timeout
+    connected = len(client.nthreads())
+    if connected >= workers:
+        return
+    stream = stream or sys.stderr
+    stream.write(f"bifurcation: waiting for {workers} workers at {where} ({connected} connected), "
+                 f"up to {timeout:g} s\n")
+    stream.flush()
+    try:
+        client.wait_for_workers(workers, timeout=timeout)
+    except (TimeoutError, OSError):
+        connected = len(client.nthreads())
+        raise InputError("--workers", workers, f"only {connected} workers connected to {where} within "
+                         f"{timeout:g} s", f"start more `dask worker {where}` processes, or pass --workers "
+                         f"{max(connected, 1)} (or --workers-timeout longer)") from None
+
+
 @contextmanager
-def connect(target, workers: int | None = None, *, dashboard: bool = False):
+def connect(target, workers: int | None = None, timeout: float | None = None, *, dashboard: bool = False):
     """A ``distributed.Client`` for ``target`` (from ``check_scheduler``); closes what it started.
 
     ``dashboard``: the embedded cluster serves Dask's dashboard (bokeh) on port 8787, or the next free
-    one; an existing scheduler serves its own (``client.dashboard_link``).
+    one; an existing scheduler serves its own (``client.dashboard_link``). ``timeout``: seconds to wait
+    for ``workers`` workers on an existing scheduler (``wait_for_workers``).
     """
     from distributed import Client, LocalCluster
 
@@ -79,7 +103,9 @@ def connect(target, workers: int | None = None, *, dashboard: bool = False):
         n = workers or os.cpu_count() or 1
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                dashboard_address=":8787" if dashboard else None,
-                               silence_logs=logging.ERROR)
+                               # a failed task (disk full, a bad tile) is reported once in the summary;
+                               # the workers' own "Compute Failed" tracebacks would reach the user's stderr
+                               silence_logs=logging.CRITICAL)
         try:
             with Client(cluster, set_as_default=False) as client:
                 yield client
@@ -89,7 +115,7 @@ def connect(target, workers: int | None = None, *, dashboard: bool = False):
     kind, where, source = target
     if kind == "client":
         if workers:
-            where.wait_for_workers(workers)
+            wait_for_workers(where, workers, where.scheduler.address, timeout)
         yield where
         return
     try:
@@ -102,7 +128,7 @@ def connect(target, workers: int | None = None, *, dashboard: bool = False):
                          "start `dask scheduler` there or check the address / scheduler file") from None
     try:
         if workers:
-            client.wait_for_workers(workers)
+            wait_for_workers(client, workers, where, timeout)
         yield client
     finally:
         client.close()

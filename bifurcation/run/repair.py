@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["VerifyReport", "verify"]
+__all__ = ["VerifyReport", "clear_damage", "verify"]
 
 
 @dataclass(frozen=True)
@@ -84,18 +84,14 @@ def verify(store, *, repair: bool = False, scheduler=None, workers=None, progres
 
 def _repair(path: Path, first, n_tiles, n_chunks, scheduler, workers, progress) -> VerifyReport:
     from ..store import read_attrs
-    from ..store.integrity import clear_tiles, damaged_tiles, restore_metadata, scan
+    from ..store.integrity import scan
     from ..store.lock import StoreLock
     from ..workflow import parse_workflow
     from .submission import submit
 
     workflow = parse_workflow(read_attrs(path)["workflow_toml"], source=f"{path} (workflow_toml)")
     with StoreLock(path).acquire(command="bifurcation verify --repair"):
-        restored = tuple(restore_metadata(path))
-        damage, n_tiles, n_chunks = scan(path) if restored else (first, n_tiles, n_chunks)
-        _rewrite_coordinates(path, workflow, damage)
-        tiles = damaged_tiles(damage)
-        clear_tiles(path, tiles)
+        restored, _, tiles = _clear(path, workflow)
     regions = [tuple(slice(k * c, (k + 1) * c) for k, c in zip(tile, (1, *workflow.tiles))) for tile in tiles]
     summary = {}
     if regions:
@@ -103,6 +99,28 @@ def _repair(path: Path, first, n_tiles, n_chunks, scheduler, workers, progress) 
                          only=regions, command="bifurcation verify --repair").to_dict()
     after, _, _ = scan(path)
     return VerifyReport(str(path), n_tiles, n_chunks, tuple(first), len(tiles), restored, tuple(after), summary)
+
+
+def _clear(path: Path, workflow, kinds=("damaged", "unfinished")) -> tuple[tuple, list, list]:
+    """Under the lock: restore metadata, rewrite coordinates, delete the chunks of the tiles with damage of
+    ``kinds``."""
+    from ..store.integrity import clear_tiles, damaged_tiles, restore_metadata, scan
+
+    restored = tuple(restore_metadata(path))
+    damage, _, _ = scan(path)
+    _rewrite_coordinates(path, workflow, damage)
+    tiles = damaged_tiles(damage, kinds)
+    clear_tiles(path, tiles)
+    return restored, damage, tiles
+
+
+def clear_damage(path, workflow) -> int:
+    """For a resume (the caller holds the lock): make every damaged tile not done; returns how many.
+
+    Unfinished tiles (a killed run's) are left alone: the resume rewrites them whole anyway, and only
+    their missing points are computed.
+    """
+    return len(_clear(Path(path), workflow, ("damaged",))[2])
 
 
 def _rewrite_coordinates(path: Path, workflow, damage) -> None:

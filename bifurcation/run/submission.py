@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import time
 import uuid
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +49,7 @@ class Summary:
     statuses: dict = field(default_factory=dict)   # status name → computed points
     cluster: str = ""
     errors: tuple = ()
+    repaired: int = 0           # damaged or half-written tiles found on resume, cleared and recomputed
 
     @property
     def points_per_second(self) -> float:
@@ -75,6 +76,8 @@ class Summary:
              f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}")
             if self.tiles else "nothing to compute: every point of the grid is already done",
         ]
+        if self.repaired:
+            lines.append(f"damaged or half-written tiles found in the store and recomputed: {self.repaired}")
         lines += [f"error: {e}" for e in self.errors]
         if self.failed:
             lines.append("some tiles failed: submit the same workflow again to compute the rest")
@@ -97,7 +100,7 @@ def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
 
 def submit(workflow, store=None, scheduler=None, workers=None, progress=None, new_store: bool = False, *,
            writer: str = "workers", retries: int = 3, command: str | None = None, only=None,
-           dashboard: bool = False) -> Summary:
+           workers_timeout: float | None = None, dashboard: bool = False) -> Summary:
     """Compute the missing points of ``workflow`` into ``store``; returns a ``Summary``.
 
     Parameters
@@ -112,7 +115,8 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
         one cluster); default ``DASK_SCHEDULER_ADDRESS`` or else an embedded local cluster of
         ``workers`` processes (default: the number of cores).
     workers : int, optional
-        Embedded: the number of worker processes. With a scheduler: wait for that many workers.
+        Embedded: the number of worker processes. With a scheduler: wait for that many workers, at
+        most ``workers_timeout`` seconds (default ``cluster.WORKERS_TIMEOUT``), saying so on stderr.
     progress : None, bool or callable
         See ``bifurcation.run.progress.Progress`` (default: a bar on a terminal, else a plain line
         every 30 s and one at the end, on stderr).
@@ -161,7 +165,7 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     lock = StoreLock(path).acquire(command=command)   # one writer per store (store.lock)
     try:
         return _submit_locked(workflow, path, target, workers, progress, new_store, writer, retries, command,
-                              started, only, dashboard)
+                              started, only, workers_timeout, dashboard)
     finally:
         lock.release()
         if not existed:
@@ -177,7 +181,7 @@ def _remove_if_empty(path: Path) -> None:
 
 
 def _submit_locked(workflow, path, target, workers, progress, new_store, writer, retries, command, started,
-                   only, dashboard) -> Summary:
+                   only, workers_timeout, dashboard) -> Summary:
     from ..store import check_store, create_store, record_submit, store_kind
 
     kind = store_kind(path)   # again, under the lock
@@ -186,8 +190,13 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
                          "choose another --store path (it is never overwritten)")
     fresh = kind == "missing" or new_store
     attrs = None
+    repaired = 0
     if not fresh:
         attrs = check_store(path, workflow)   # refuses another workflow: nothing is written
+        if only is None:   # a resume checks every chunk first and recomputes damaged tiles (verify --repair)
+            from .repair import clear_damage
+
+            repaired = clear_damage(path, workflow)
         done = _read_done(path)
         if only is not None:   # verify --repair: only these regions are to compute
             keep = np.ones_like(done)
@@ -207,7 +216,7 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
     if todo:   # fresh stores always have work; the cluster comes first so a bad one writes nothing
         progress.note(f"{todo} points to compute ({skipped} already done); connecting to "
                       f"{describe(target)}" + (f" of {workers} workers" if workers and target is None else ""))
-        with connect(target, workers, dashboard=dashboard) as client:
+        with connect(target, workers, workers_timeout, dashboard=dashboard) as client:
             if dashboard or target is not None:
                 progress.note(f"dashboard: {client.dashboard_link}")
             if fresh:
@@ -224,9 +233,12 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
                       skipped=skipped, failed=failed, tiles=n_tiles, wall_time=wall,
                       compute_time=compute_time,
                       statuses={str(Status(i)): int(n) for i, n in enumerate(statuses) if n},
-                      cluster=cluster_name, errors=tuple(errors[:5]))
-    record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,
-                         "wall_time": round(wall, 3), "cluster": cluster_name})
+                      cluster=cluster_name, errors=tuple(errors[:5]), repaired=repaired)
+    try:
+        record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,
+                             "wall_time": round(wall, 3), "cluster": cluster_name})
+    except OSError as exc:   # disk full at the end: the tiles written are kept; say so, do not lose the summary
+        summary = replace(summary, errors=(*summary.errors, f"store history not updated: {exc.strerror or exc}"))
     return summary
 
 

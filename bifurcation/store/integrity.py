@@ -42,6 +42,9 @@ class Damage:
     chunk: str
     tile: tuple
     problem: str
+    #: "unfinished" (a tile a killed writer left half written: data without ``done``, or values where
+    #: ``done`` is False; a resume rewrites it anyway), or "damaged" (anything a resume would not see)
+    kind: str = "damaged"
 
     def __str__(self) -> str:
         return f"{self.chunk}: {self.problem}"
@@ -81,8 +84,9 @@ def _is_fill(values: np.ndarray, fill) -> np.ndarray:
 class TileReader:
     """Checked reads of the tiles of the store at ``path`` (chunk by chunk, never the whole store).
 
-    ``in_progress`` tolerates tiles a live writer is writing (data written, ``done`` not yet): their
-    points read as not computed instead of as damage (``query`` during a submit).
+    ``in_progress`` tolerates tiles a writer is writing or left unfinished (data written, ``done`` not
+    yet): their points read as not computed instead of as damage (``query``: never a number that
+    ``done`` does not vouch for, and no error for a store a run is filling or was killed while filling).
     """
 
     def __init__(self, path, *, in_progress: bool = False) -> None:
@@ -159,7 +163,7 @@ class TileReader:
         if not present[DONE]:
             if self.in_progress:
                 return self._as_not_computed(region)
-            return [Damage(self.key(DONE, tile), tile, "missing beside written data chunks")]
+            return [Damage(self.key(DONE, tile), tile, "missing beside written data chunks", "unfinished")]
         damage += [Damage(self.key(name, tile), tile, "missing (deleted?) in a written tile")
                    for name, ok in present.items() if not ok]
         for name, array in self.variables.items():
@@ -178,7 +182,7 @@ class TileReader:
             if name != DONE and not _is_fill(values[name][~done], array.metadata.fill_value).all():
                 if self.in_progress:
                     return self._as_not_computed(region, values[DONE])
-                return [Damage(self.key(name, tile), tile, "holds a value where done is False")]
+                return [Damage(self.key(name, tile), tile, "holds a value where done is False", "unfinished")]
         return []
 
     def _as_not_computed(self, region, done=None) -> list:
@@ -246,9 +250,10 @@ def scan(path) -> tuple[list[Damage], int, int]:
     return damage, n_tiles, n_chunks
 
 
-def damaged_tiles(damage: list[Damage]) -> list[tuple]:
-    """The tiles to recompute: those of data-chunk damage (coordinates are rewritten, not recomputed)."""
-    return sorted({d.tile for d in damage if d.tile and len(d.tile) > 1})
+def damaged_tiles(damage: list[Damage], kinds=("damaged", "unfinished")) -> list[tuple]:
+    """The tiles to recompute: those of data-chunk damage of ``kinds`` (coordinates are rewritten, not
+    recomputed)."""
+    return sorted({d.tile for d in damage if d.tile and len(d.tile) > 1 and d.kind in kinds})
 
 
 def clear_tiles(path, tiles: list[tuple]) -> None:

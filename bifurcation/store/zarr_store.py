@@ -135,12 +135,18 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     coords = {"law": ("law", np.array(workflow.laws, dtype=object), coords_attrs["law"]),
               "nu_f": ("nu_f", np.array(workflow.nu_f, dtype=np.float64), coords_attrs["nu_f"]),
               "nu": ("nu", np.array(workflow.nu, dtype=np.float64), coords_attrs["nu"])}
+    for name in coords:   # the coordinates carry a checksum too
+        encoding[name] = {"compressors": chunk_codecs()}
     attrs = provenance(workflow, command)
     ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
     # "a" into a directory that holds only the writer's lock (checked above: no store, nothing else)
     mode = "a" if path.exists() else "w-"
-    with _quiet():
-        ds.to_zarr(str(path), mode=mode, compute=False, encoding=encoding, zarr_format=3, consolidated=True)
+    try:
+        with _quiet():
+            ds.to_zarr(str(path), mode=mode, compute=False, encoding=encoding, zarr_format=3, consolidated=True)
+    except OSError:   # disk full, quota: leave no half-made store behind (the lock stays with its holder)
+        _clear(path)
+        raise
     return attrs
 
 

@@ -57,6 +57,7 @@ from ..engine.result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX
 from ..errors import InputError
 from ..laws import resolve_law
 from ._axes import linear_points, log_count, log_points, union
+from ._limits import MAX_POINTS, check_declared_size
 from ._toml import Table, as_number, check_range
 
 __all__ = ["MAX_POINTS", "NU_BOUNDS", "NU_F_BOUNDS", "PRECISIONS", "TILE_MAX", "TILE_MAX_POINTS",
@@ -64,9 +65,9 @@ __all__ = ["MAX_POINTS", "NU_BOUNDS", "NU_F_BOUNDS", "PRECISIONS", "TILE_MAX", "
 
 TILE_MAX = 4096
 TILE_MAX_POINTS = 1 << 16
-MAX_POINTS = 10**9
 DEFAULT_TILES = (64, 64)
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
+_NAME_MAX = 100
 #: Most points of one log or linear range (``num``): a typo such as 1e9 is refused, not allocated.
 _RANGE_POINTS_MAX = 100_000
 #: Most SIMD lanes: far above any vector unit's width (AVX-512 holds 8 doubles); more is a typo.
@@ -101,6 +102,9 @@ class Workflow:
         if not isinstance(self.name, str) or not _NAME.match(self.name):
             raise InputError("study.name", self.name, "is not a valid study name",
                              "use letters, digits, '.', '_' and '-' (it names the default store)")
+        if len(self.name) > _NAME_MAX:   # results/<name>.zarr must fit a file name (255 bytes)
+            raise InputError("study.name", f"{self.name[:20]}...", f"has {len(self.name)} characters",
+                             f"use at most {_NAME_MAX} characters (it names the default store)")
         if not isinstance(self.description, str):
             raise InputError("study.description", self.description, "is not a string", "write it in quotes")
         _set(self, "laws", _check_laws(self.laws))
@@ -243,10 +247,14 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
     """
     try:
         data = tomllib.loads(text)
+    except RecursionError:   # tables or arrays nested thousands deep
+        raise InputError("workflow", source if source is not None else _short(text), "is nested too deeply",
+                         "a workflow needs only the tables of workflows/*.toml, nested two deep") from None
     except tomllib.TOMLDecodeError as exc:
         raise InputError("workflow", source if source is not None else _short(text),
                          f"is not valid TOML ({exc})", "fix the syntax; see workflows/*.toml for examples") from None
     root = Table(data, "", ("study", "engine", "grid", "tiles"))
+    check_declared_size(data)   # before any point is made
     study = root.table("study", ("name", "description"))
     engine = root.table("engine", ("laws", "precision", "t_max", "max_steps", "batch"))
     grid = root.table("grid", ("nu", "nu_f"))
