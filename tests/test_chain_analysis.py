@@ -46,3 +46,40 @@ def test_sweep_of_one_block_releases_all_slip_in_spanning_events():
     out = sweep_nu_f("carlson-langer", n=1, ell=1.0, nu=1e-3, nu_f_values=[0.2, 0.3, 0.2], events_per_step=20)
     assert all(s == "complete" for s in out["status"])
     assert np.all(np.abs(np.array(out["psi"]) - 1) < 0.1)
+
+
+def test_report_runner_writes_report_figures_and_data(tmp_path):
+    """A tiny workflow through the report runner: REPORT.md with both tables, figures, data.json."""
+    import json
+
+    from bifurcation.models.chain.report import main
+
+    wf = tmp_path / "tiny.toml"
+    wf.write_text(f"""
+[study]
+name = "tiny"
+out = "{tmp_path / 'out'}"
+[chain]
+law = "carlson-langer"
+ell = 1.0
+nu = 1e-3
+ends = "free"
+amplitude = 0.1
+seed = 1
+[catalog]
+n = 8
+nu_f = [0.2]
+events = 120
+skip = 20
+[sweep]
+sizes = [1, 4]
+nu_f = [0.2, 0.3]
+events_per_step = [5, 5]
+""")
+    main([str(wf)])
+    out = tmp_path / "out"
+    text = (out / "REPORT.md").read_text()
+    assert "Aki–Utsu" in text and "Loop width" in text
+    assert (out / "fig_mfd.png").stat().st_size > 1000 and (out / "fig_hysteresis.png").stat().st_size > 1000
+    data = json.loads((out / "data.json").read_text())
+    assert [s["n"] for s in data["sweeps"]] == [1, 4] and data["catalogs"][0]["events"] == 100
