@@ -100,7 +100,7 @@ def ks_distance(a, b) -> float:
 
 
 def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu: float = 1e-3, nu_f: float = 0.2,
-                    sizes=(64, 256, 1024), events=(2000, 600, 150), dts=(0.2, 0.1, 0.05, 0.02),
+                    sizes=(64, 256, 1024), events=(600, 200, 60), dts=(0.2, 0.1, 0.05),
                     ks: float = 0.01, amplitude: float = 0.1, seed: int = 1, echo=print) -> dict:
     """Events per second of the exact engine and of RK4 at the step that matches its event sizes."""
     from ...laws import resolve_law
