@@ -10,6 +10,7 @@ import csv
 import io
 import json
 import math
+from json.encoder import encode_basestring_ascii
 from typing import Iterable, Iterator, TextIO
 
 import numpy as np
@@ -228,9 +229,16 @@ def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: 
         raise InputError("--format", fmt, "is not a format", f"use one of {', '.join(FORMATS)}")
     n = 0
     if fmt == "json":
+        # json.dumps with indent takes its pure-Python path (slow); a record is flat, so its scalars are
+        # written as json writes them, in the layout of json.dumps(records, indent=2)
+        keys = {}
         for record in records:
-            text = json.dumps(record, indent=2, allow_nan=False).replace("\n", "\n  ")
-            out.write(("[\n  " if n == 0 else ",\n  ") + text)
+            lines = []
+            for key, value in record.items():
+                if key not in keys:
+                    keys[key] = f'    {json.dumps(key)}: '
+                lines.append(keys[key] + _json_scalar(value))
+            out.write(("[\n  {\n" if n == 0 else ",\n  {\n") + ",\n".join(lines) + "\n  }")
             n += 1
         out.write("\n]\n" if n else "[]\n")
         return n
@@ -251,6 +259,21 @@ def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: 
         out.write("  ".join(cell.ljust(w) for cell, w in zip(cells, widths)).rstrip() + "\n")
         n += 1
     return n
+
+
+def _json_scalar(value) -> str:
+    """``value`` (str, float, int, bool or None) exactly as ``json.dumps`` writes it (strict: no NaN)."""
+    if value is None:
+        return "null"
+    if isinstance(value, str):
+        return encode_basestring_ascii(value)
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"{value!r} is not JSON")
+        return float.__repr__(value)
+    return int.__repr__(value)
 
 
 def _width(column: str, law_width: int) -> int:

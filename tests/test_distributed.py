@@ -236,3 +236,83 @@ def _tile_region(tiles, tile) -> tuple[int, slice, slice]:
 
 def _tile_done(done: np.ndarray, tiles, tile) -> bool:
     return bool(done[_tile_region(tiles, tile)].all())
+
+
+def _wait_until(predicate, timeout: float, what: str) -> None:
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        assert time.monotonic() < deadline, f"timed out after {timeout} s waiting for {what}"
+        time.sleep(0.5)
+
+
+def test_detached_submit_completes_after_the_client_is_killed(dask_cluster, reference, workflow_file, tmp_path):
+    """`submit --detach` to a real scheduler, the client killed (-9) right after it hands the run over:
+    the workers finish the study, the finalize task records it and releases the lock, `status` shows it,
+    and the store equals the serial run bit for bit."""
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+    from bifurcation.store import read_attrs
+    from bifurcation.store.lock import lock_path
+    from bifurcation.store.status import study_status
+
+    address, _ = dask_cluster
+    w, expected = reference
+    store = tmp_path / "detached.zarr"
+    log = tmp_path / "client.log"
+    with open(log, "wb") as out:
+        client = subprocess.Popen([str(BIN / "bifurcation"), "submit", str(workflow_file), "--scheduler", address,
+                                   "--store", str(store), "--detach"], stdout=out, stderr=subprocess.STDOUT,
+                                  cwd=tmp_path, env=_env(), start_new_session=True)
+        try:
+            _wait_until(lambda: b"detached:" in log.read_bytes() or client.poll() is not None, 120,
+                        "the client to hand the run over")
+            assert b"detached:" in log.read_bytes(), log.read_text()
+        finally:
+            try:
+                os.killpg(client.pid, signal.SIGKILL)   # killed right after (or as) it returns
+            except ProcessLookupError:
+                pass
+            client.wait(10)
+    _wait_until(lambda: study_status(store).complete and not lock_path(store).exists(), 300,
+                "the detached run to finish")
+    assert_store_equals(store, expected)
+    [entry] = read_attrs(store)["submits"]
+    assert entry["computed"] == w.n_points and entry["failed"] == 0
+    assert entry["cluster"] == f"detached on {address}"
+    result = CliRunner().invoke(cli, ["status", "--store", str(store)])
+    assert result.exit_code == 0 and result.output.rstrip().endswith("complete"), result.output
+
+
+def test_a_submit_joins_a_live_detached_run(dask_cluster, reference, workflow_file, tmp_path, capsys):
+    """A submit that finds a detached run alive on its store waits for it (joins), then resumes."""
+    import json as _json
+    import socket as _socket
+
+    from distributed import Client, fire_and_forget
+
+    from bifurcation.store import create_store
+    from bifurcation.store.lock import holder, lock_path
+
+    address, _ = dask_cluster
+    w, expected = reference
+    store = tmp_path / "joined.zarr"
+    create_store(store, w)
+    key = "bifurcation-finalize-test-join"
+    with Client(address, timeout="60s", set_as_default=False) as c:
+        fire_and_forget(c.submit(time.sleep, 4.0, key=key, pure=False))
+        _wait_until(lambda: c.run_on_scheduler(lambda dask_scheduler: key in dask_scheduler.tasks), 30,
+                    "the stand-in run")
+    lock_path(store).write_text(_json.dumps({
+        "run": "stand-in", "host": _socket.gethostname(), "pid": -2, "process_start": 0.0,
+        "since": "2026-01-01T00:00:00+00:00", "command": "test", "token": "t", "scheduler": address,
+        "task": key}))
+    assert holder(store) is not None and holder(store).scheduler == address   # alive: the task is there
+    started = time.monotonic()
+    summary = submit(workflow_file, store=store, scheduler=address, progress=True)
+    waited = time.monotonic() - started
+    assert "joining detached run stand-in" in capsys.readouterr().err
+    assert waited > 1.0                       # it waited for the stand-in to end
+    assert summary.complete and summary.computed == w.n_points
+    assert_store_equals(store, expected)
+    assert not lock_path(store).exists()

@@ -75,6 +75,10 @@ def test_every_chunk_has_a_crc32c_and_every_tile_chunk_is_written(tmp_path):
     assert len(data_chunks(path)) == 2 * 2 * 2 * ARRAYS
     damage, tiles, chunks = scan(path)
     assert (damage, tiles, chunks) == ([], 8, 8 * ARRAYS + 3)
+    result = CliRunner().invoke(cli, ["verify", "--store", str(path), "--json"])
+    assert result.exit_code == 0 and json.loads(result.stdout)["ok"] is True
+    result = CliRunner().invoke(cli, ["verify", "--store", str(tmp_path / "none.zarr")])
+    assert result.exit_code == 2 and result.stderr.startswith("bifurcation: error: --store=")
 
 
 def test_faults_are_detected_never_shown_and_repaired_bit_for_bit(tmp_path, reference, scheduler):

@@ -4,9 +4,9 @@ import importlib
 
 import pytest
 
-PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.engine", "bifurcation.laws",
-            "bifurcation.models.chain", "bifurcation.report", "bifurcation.run", "bifurcation.store",
-            "bifurcation.theory",
+PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.engine", "bifurcation.laws", "bifurcation.models",
+            "bifurcation.models.chain", "bifurcation.models.rate_state",
+            "bifurcation.report", "bifurcation.run", "bifurcation.store", "bifurcation.theory",
             "bifurcation.workflow"]
 
 

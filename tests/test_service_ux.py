@@ -169,3 +169,18 @@ def test_text_output_prints_shortest_exact_numbers_and_no_none():
     assert rows["creep_time"] == "—"            # undefined in creep: a dash, not None or nan
     assert float(rows["delta"]) == bf.slip("carlson-langer", nu=1e-12, nu_f=0.6).delta   # exact
     assert "None" not in result.output
+
+
+def test_detach_needs_an_existing_scheduler(tmp_path):
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    workflow = tmp_path / "w.toml"
+    workflow.write_text('[study]\nname = "d"\n[engine]\nlaws = ["carlson-langer"]\n'
+                        '[grid.nu]\nvalues = [1e-6]\n[grid.nu_f]\nvalues = [0.3]\n')
+    result = CliRunner().invoke(cli, ["submit", str(workflow), "--store", str(tmp_path / "s.zarr"), "--detach"])
+    assert result.exit_code == 2
+    [line] = result.output.splitlines()
+    assert "--detach" in line and "--scheduler ADDRESS" in line
+    assert not (tmp_path / "s.zarr").exists()   # nothing written

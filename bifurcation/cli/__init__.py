@@ -22,7 +22,7 @@ def cli() -> None:
 def _register() -> None:
     import importlib
 
-    for name in ("_engine", "_service", "_analysis", "_verify", "_status", "_chain"):
+    for name in ("_engine", "_service", "_analysis", "_verify", "_status", "_rate_state", "_chain"):
         try:
             module = importlib.import_module(f"{__name__}.{name}")
         except ModuleNotFoundError as exc:  # a concern not built yet

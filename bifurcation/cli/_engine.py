@@ -69,8 +69,9 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
 @click.option("--subset", default=12, show_default=True, help="Points for the slow baselines (DOP853).")
 @click.option("--pipeline", "pipeline_points", default=0, show_default=True,
               help="Also time the Dask pipeline on this many points (0: skip).")
-@click.option("--suite", type=click.Choice(["engine", "chain"]), default="engine", show_default=True,
-              help="engine: the single block against DOP853; chain: the exact chain against fixed-step RK4.")
+@click.option("--suite", type=click.Choice(["engine", "rate-state", "chain"]), default="engine", show_default=True,
+              help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint; "
+                   "chain: the exact chain vs fixed-step RK4.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
     """Benchmarks, side by side in one run, reported as ratios (never a test)."""
@@ -87,6 +88,13 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
     if importlib.util.find_spec("scipy") is None:
         raise click.UsageError("the benchmark's DOP853 baseline needs scipy; install it with "
                                "python -m pip install -e \".[bench]\"")
+    if suite == "rate-state":
+        from ..models.rate_state._bench import run_rate_state_bench
+
+        report = run_rate_state_bench(echo=None if as_json else click.echo)
+        if as_json:
+            echo_json(report)
+        return
     from ..bench import run_bench
 
     report = run_bench(points=points, subset=subset, pipeline_points=pipeline_points,

@@ -39,15 +39,21 @@ def _numbers(name: str):
                    "or this process (no shared filesystem needed).")
 @click.option("--dashboard", is_flag=True,
               help="Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one).")
+@click.option("--detach", is_flag=True,
+              help="With --scheduler: hand the study to the cluster and return; the workers finish it "
+                   "(follow with `bifurcation status`).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def submit_cmd(workflow: str, store, scheduler, workers, workers_timeout, new_store: bool, writer: str,
-               dashboard: bool,
-               as_json: bool) -> None:
-    """Compute the missing points of WORKFLOW (a TOML file) on Dask into a Zarr store."""
+               dashboard: bool, detach: bool, as_json: bool) -> None:
+    """Compute the missing points of WORKFLOW (a TOML file) on Dask into a Zarr store.
+
+    A submit of a workflow already in the store resumes it; one that finds a detached run of it
+    (--detach) joins it: waits for it, then computes what is left.
+    """
     from ..run import submit
 
     summary = submit(workflow, store=store, scheduler=scheduler, workers=workers, new_store=new_store,
-                     writer=writer, workers_timeout=workers_timeout, dashboard=dashboard)
+                     writer=writer, workers_timeout=workers_timeout, dashboard=dashboard, detach=detach)
     if as_json:
         echo_json(summary.to_dict())
     else:

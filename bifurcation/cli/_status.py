@@ -1,4 +1,4 @@
-"""``bifurcation status``: how far a study is, from its store alone (no cluster, no submitting process)."""
+"""``bifurcation status`` (how far a study is, from its store alone) and ``bifurcation export``."""
 
 from __future__ import annotations
 
@@ -23,4 +23,22 @@ def status(store: str, as_json: bool) -> None:
         click.echo(str(found))
 
 
-COMMANDS = [status]
+@click.command("export", epilog="Examples:\n\n\b\n  $ bifurcation export --store results/paper-fig3.zarr --out fig3.nc"
+                                "\n  $ bifurcation export --store results/paper-fig3.zarr --out fig3.csv")
+@click.option("--store", metavar="PATH", required=True, help="A store written by `bifurcation submit`.")
+@click.option("--out", metavar="FILE", required=True, help="The file to write: .nc (netCDF, CF) or .csv.")
+@click.option("--format", "fmt", type=click.Choice(["netcdf", "csv"]), default=None,
+              help="The file type (default: from the suffix of --out).")
+@click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
+def export_cmd(store: str, out: str, fmt, as_json: bool) -> None:
+    """Write a store to a netCDF (CF conventions) or CSV file that reads back to the same numbers."""
+    from ..store.export import export
+
+    written = export(store, out, fmt)
+    if as_json:
+        echo_json(written)
+    else:
+        click.echo(f"wrote {written['points']} points to {written['out']} ({written['format']})")
+
+
+COMMANDS = [status, export_cmd]

@@ -23,7 +23,7 @@ __all__ = ["run_batch"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
 _SUCCESS = hy.taylor_outcome.success
-_STOP = EventKind.STOP
+_STOP, _RUNG = EventKind.STOP, EventKind.RUNG
 
 
 def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, max_steps: int) -> dict:
@@ -73,6 +73,9 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
 
     kinds, breakpoint_of, at_one = c.kinds, c.breakpoint_of, c.switch_at_one
     n_events = len(kinds)
+    # A lane that never gets a point (fewer points than lanes) must still have a finite right side:
+    # ν = ν_f = 0 gave 0/0, a NaN time step and a ValueError from heyoka for the whole batch.
+    pars[0, :] = pars[1, :] = 1.0
     for lane in range(lanes):
         load(lane)
     ta.set_dtime(hi, lo)
@@ -92,7 +95,9 @@ def run_batch(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, *, t_max: float, ma
                     finish(lane, Status.STICK_SLIP)
                     reloaded = True
                     continue
-                # only the stop and the switches are terminal in batch mode
+                if kinds[index] is _RUNG:  # this lane's step ended on a rung: nothing to do
+                    continue
+                # only the stop, the switches and the rungs are terminal in batch mode
                 j = breakpoint_of[index]
                 up = j == piece[lane]
                 pars[3 + piece[lane], lane] = 0.0

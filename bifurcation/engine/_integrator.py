@@ -28,6 +28,7 @@ import heyoka as hy
 import numpy as np
 
 from ..laws import FrictionLaw
+from ._fading import ladder
 
 __all__ = ["Compiled", "EventKind", "LaneRecorder", "build", "compiled", "fp_info"]
 
@@ -46,6 +47,7 @@ class EventKind(Enum):
     MAX_VELOCITY = "max"     # dU̇/dt = 0 from above: a velocity maximum
     REACH_NU_F = "creep"     # U̇ = ν_f from below (t1), where 1 is not a breakpoint
     SWITCH = "switch"        # U̇/ν_f crosses a breakpoint of the law
+    RUNG = "rung"            # U̇/ν_f falls through a rung of the law's ladder (_fading): ends a step only
 
 
 @dataclass(frozen=True)
@@ -62,6 +64,7 @@ class Compiled:
     recorder: "LaneRecorder | None" = None  # batch mode: where non-terminal events record
     dtype: type = np.float64                # numpy type of the integrator's numbers
     switch_at_one: int = -1                 # index of the breakpoint x = 1 (U̇ = ν_f), -1 if none
+    x_checked: float = float("inf")         # the ladder vouches for x = U̇/ν_f up to here (_fading)
 
 
 def fp_info(precision: str):
@@ -120,7 +123,7 @@ class LaneRecorder:
             self.creep[lane] = time
 
 
-def _events(law: FrictionLaw, x, dxdt, fp_type, recorder: LaneRecorder | None):
+def _events(law: FrictionLaw, x, dxdt, fp_type, recorder: LaneRecorder | None, rungs=()):
     """Terminal events (with their kinds and breakpoint indices) and non-terminal events."""
     batch = recorder is not None
     make = hy.t_event_batch if batch else hy.t_event
@@ -150,6 +153,12 @@ def _events(law: FrictionLaw, x, dxdt, fp_type, recorder: LaneRecorder | None):
         events.append(ev(x / b - 1.0, direction=anyd))
         kinds.append(EventKind.SWITCH)
         bp_of.append(j)
+    # Terminal in batch mode too: a non-terminal event cannot end a step, and ending the step of the
+    # lane that crosses a rung is the whole point (docs/engine.md, "Friction that fades").
+    for r in rungs:
+        events.append(ev(x / r - 1.0, direction=neg))
+        kinds.append(EventKind.RUNG)
+        bp_of.append(-1)
     return events, tuple(kinds), tuple(bp_of), nt_events
 
 
@@ -168,7 +177,8 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> C
     (W, V), rhs, x, dxdt = _system(law, num)
     batch = batch_size > 1
     recorder = LaneRecorder(batch_size) if batch else None
-    events, kinds, bp_of, nt_events = _events(law, x, dxdt, fp_type, recorder)
+    steps = ladder(law, precision)
+    events, kinds, bp_of, nt_events = _events(law, x, dxdt, fp_type, recorder, steps.rungs)
     npars = 3 + (len(law.pieces) if len(law.pieces) > 1 else 0)
     kwargs = dict(t_events=events, nt_events=nt_events, compact_mode=precision == "quad")
     if fp_type is not None:
@@ -180,4 +190,5 @@ def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1) -> C
         ta = hy.taylor_adaptive([(W, V), (V, rhs)], np.zeros(2, dtype=dtype),
                                 pars=np.zeros(npars, dtype=dtype), **kwargs)
     at_one = law.breakpoints.index(1.0) if 1.0 in law.breakpoints else -1
-    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder, dtype, at_one)
+    return Compiled(law, precision, ta, kinds, bp_of, len(law.pieces), batch_size, recorder, dtype, at_one,
+                    steps.x_checked)

@@ -21,7 +21,8 @@ from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult, Status
 __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "run_cycle", "slip"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
-_STOP, _MAX_VELOCITY, _REACH_NU_F = EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F
+_STOP, _MAX_VELOCITY, _REACH_NU_F, _RUNG = (EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F,
+                                            EventKind.RUNG)
 
 
 def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
@@ -78,6 +79,8 @@ def run_cycle(c: Compiled, nu, nu_f, *, forcing: float = 1.0, state0=(0.0, 0.0),
         elif kind is _REACH_NU_F:
             if creep_time != creep_time:  # NaN: the first time only
                 creep_time = ta.time
+        elif kind is _RUNG:  # the step ended on a rung of the ladder; nothing to record
+            pass
         else:  # a switch at breakpoint j: the upper end of this piece means up, the lower means down
             j = breakpoint_of[index]
             up = j == piece
@@ -117,10 +120,22 @@ def _scalar_points(c: Compiled, nu: np.ndarray, nu_f: np.ndarray, t_max: float, 
     return out
 
 
-def _classify(raw: dict, nu: np.ndarray, nu_f: np.ndarray) -> tuple[dict, dict]:
+def _unresolved(status: np.ndarray, messages: dict, x_max: np.ndarray, x_checked: float) -> np.ndarray:
+    """Mark stopped points whose U̇/ν_f went past the ladder's checked range (docs/engine.md)."""
+    beyond = (status == int(Status.STICK_SLIP)) & (x_max > x_checked)
+    for i in np.flatnonzero(beyond):
+        status[i] = int(Status.UNRESOLVED)
+        messages[int(i)] = (f"U̇/ν_f reached {x_max[i]:.3g}, beyond x = {x_checked:.3g} up to which the engine "
+                            "checked that no Taylor step can step over this law's friction; use a larger ν_f")
+    return beyond
+
+
+def _classify(raw: dict, nu: np.ndarray, nu_f: np.ndarray,
+              x_checked: float = math.inf) -> tuple[dict, dict]:
     """Result fields from raw outcomes: creep vs stick-slip, the stick check, NaN where undefined."""
     status = raw["status"].copy()
     messages = dict(raw["messages"])
+    _unresolved(status, messages, nu * raw["vmax"] / nu_f, x_checked)
     stopped = status == int(Status.STICK_SLIP)
     creep = stopped & (nu_f > 0.5) & np.isnan(raw["creep_time"])
     status[creep] = int(Status.CREEP)
@@ -182,14 +197,14 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
     shape = nu_b.shape
     nu_flat = np.ascontiguousarray(nu_b, dtype=float).ravel()
     nu_f_flat = np.ascontiguousarray(nu_f_b, dtype=float).ravel()
+    c = compiled(law, precision, batch)
     if batch > 1:
         from ._batch import run_batch
 
-        raw = run_batch(compiled(law, precision, batch), nu_flat, nu_f_flat, t_max=t_max,
-                        max_steps=max_steps)
+        raw = run_batch(c, nu_flat, nu_f_flat, t_max=t_max, max_steps=max_steps)
     else:
-        raw = _scalar_points(compiled(law, precision), nu_flat, nu_f_flat, t_max, max_steps)
-    fields, messages = _classify(raw, nu_flat, nu_f_flat)
+        raw = _scalar_points(c, nu_flat, nu_f_flat, t_max, max_steps)
+    fields, messages = _classify(raw, nu_flat, nu_f_flat, c.x_checked)
     return SlipResult(nu=nu_flat.reshape(shape), nu_f=nu_f_flat.reshape(shape),
                       **{k: v.reshape(shape) for k, v in fields.items()},
                       messages=messages, law=law.name, precision=precision)

@@ -85,6 +85,11 @@ def _stick_slip_limit(law: FrictionLaw, nu_f: float, precision: str):
                     t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS)
     if raw["status"] is not Status.STICK_SLIP:
         return (math.nan,) * 4 + (raw["steps"], raw["status"], raw["message"])
+    x_max = float(raw["vmax"]) / nu_f
+    if x_max > c.x_checked:  # past the ladder's range (docs/engine.md, "Friction that fades")
+        return (math.nan,) * 4 + (raw["steps"], Status.UNRESOLVED,
+                                  f"U̇/ν_f reached {x_max:.3g}, beyond x = {c.x_checked:.3g} up to which the "
+                                  "engine checked that no Taylor step can step over this law's friction")
     t_reach = raw["creep_time"]
     crossings = [t for t in raw["crossings"] if t > t_reach] if not math.isnan(t_reach) else []
     return (float(raw["W"]), float(raw["vmax"]),

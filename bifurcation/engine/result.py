@@ -35,6 +35,9 @@ class Status(IntEnum):
     NO_STICK = 4       #: stopped, but the spring force then exceeds static friction (back-slip)
     NONFINITE = 5      #: the integrator produced a non-finite state
     INVALID = 6        #: the point's input was invalid (never produced by ``slip`` on valid input)
+    #: Stopped, but U̇/ν_f went beyond the x up to which the engine checked that no Taylor step can
+    #: step over the law's friction (docs/engine.md, "Friction that fades"): no value is given.
+    UNRESOLVED = 7
 
     def __str__(self) -> str:  # "stick-slip", as users and the store see it
         return self.name.lower().replace("_", "-")

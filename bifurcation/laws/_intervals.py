@@ -39,7 +39,12 @@ class _Bad(Exception):
 
 
 def _out(lo, hi):
-    return (lo - abs(lo) * _WIDEN, hi + abs(hi) * _WIDEN)
+    """``[lo, hi]`` widened outward (an infinite end stays as it is: inf − inf would be NaN)."""
+    if mpmath.isfinite(lo):
+        lo = lo - abs(lo) * _WIDEN
+    if mpmath.isfinite(hi):
+        hi = hi + abs(hi) * _WIDEN
+    return (lo, hi)
 
 
 def _mono(f, a):

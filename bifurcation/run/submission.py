@@ -50,6 +50,7 @@ class Summary:
     cluster: str = ""
     errors: tuple = ()
     repaired: int = 0           # damaged or half-written tiles found on resume, cleared and recomputed
+    detached: bool = False      # handed to the scheduler (run.detach): the workers compute it after this
 
     @property
     def points_per_second(self) -> float:
@@ -57,7 +58,7 @@ class Summary:
 
     @property
     def complete(self) -> bool:
-        return self.failed == 0 and self.computed + self.skipped == self.points
+        return not self.detached and self.failed == 0 and self.computed + self.skipped == self.points
 
     def to_dict(self) -> dict:
         out = asdict(self)
@@ -66,6 +67,11 @@ class Summary:
         return out
 
     def __str__(self) -> str:
+        if self.detached:
+            return (f"study {self.study} → {self.store}\n"
+                    f"detached: {self.points - self.skipped} points in {self.tiles} tiles handed to the "
+                    f"{self.cluster.removeprefix('detached on ')} scheduler ({self.skipped} already done); this "
+                    f"process may exit. Follow it with `bifurcation status --store {self.store}`")
         statuses = ", ".join(f"{k} {v}" for k, v in self.statuses.items()) or "-"
         lines = [
             f"study {self.study} → {self.store}",
@@ -100,7 +106,7 @@ def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
 
 def submit(workflow, store=None, scheduler=None, workers=None, progress=None, new_store: bool = False, *,
            writer: str = "workers", retries: int = 3, command: str | None = None, only=None,
-           workers_timeout: float | None = None, dashboard: bool = False) -> Summary:
+           workers_timeout: float | None = None, dashboard: bool = False, detach: bool = False) -> Summary:
     """Compute the missing points of ``workflow`` into ``store``; returns a ``Summary``.
 
     Parameters
@@ -129,6 +135,10 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     dashboard : bool
         Serve Dask's dashboard from the embedded cluster (port 8787 or the next free one); its link
         is printed with the progress.
+    detach : bool
+        Hand the study to an existing scheduler and return at once (``bifurcation.run.detach``): the
+        workers finish it and release the store; ``bifurcation status`` follows it. Needs a scheduler
+        and ``writer="workers"``. A submit that finds a detached run on the store joins it (waits).
 
     Examples
     --------
@@ -152,6 +162,10 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
         raise InputError("retries", retries, "is not a number of retries", "give an integer >= 0 such as 3")
     if writer not in WRITERS:
         raise InputError("writer", writer, "is not a writer", f"use one of {', '.join(WRITERS)}")
+    if detach and (target is None or writer != "workers"):
+        raise InputError("--detach", "", "needs an existing scheduler and workers that write the store",
+                         "pass --scheduler ADDRESS (a `dask scheduler` that outlives this process) and "
+                         "leave --write-from at workers")
     path = Path(store) if store is not None else workflow.default_store
     from ..store import store_kind
     from ..store.layout import command_line
@@ -162,12 +176,16 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
                          "choose another --store path (it is never overwritten)")
     command = command if command is not None else command_line()
     existed = path.exists()
+    if existed and not new_store:
+        from .detach import wait_for_detached
+
+        wait_for_detached(path, Progress(progress, 0))   # a live detached run: join it, then resume
     lock = StoreLock(path).acquire(command=command)   # one writer per store (store.lock)
     try:
         return _submit_locked(workflow, path, target, workers, progress, new_store, writer, retries, command,
-                              started, only, workers_timeout, dashboard)
+                              started, only, workers_timeout, dashboard, lock if detach else None)
     finally:
-        lock.release()
+        lock.release()   # a no-op once a detached run holds it
         if not existed:
             _remove_if_empty(path)
 
@@ -181,7 +199,7 @@ def _remove_if_empty(path: Path) -> None:
 
 
 def _submit_locked(workflow, path, target, workers, progress, new_store, writer, retries, command, started,
-                   only, workers_timeout, dashboard) -> Summary:
+                   only, workers_timeout, dashboard, detach_lock=None) -> Summary:
     from ..store import check_store, create_store, record_submit, store_kind
 
     kind = store_kind(path)   # again, under the lock
@@ -223,6 +241,14 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
                 attrs = create_store(path, workflow, command=command, overwrite=new_store)
             cluster_name = describe(target)
             run_id = str(attrs["run_id"])
+            if detach_lock is not None:
+                from .detach import run_detached
+
+                handed = run_detached(client, workflow, path, run_id, done, detach_lock, command, skipped)
+                return Summary(study=workflow.name, store=str(path), points=workflow.n_points, computed=0,
+                               skipped=skipped, failed=0, tiles=handed["tiles"],
+                               wall_time=time.perf_counter() - started, compute_time=0.0,
+                               cluster=f"detached on {handed['scheduler']}", repaired=repaired, detached=True)
             t0 = time.perf_counter()
             progress.begin()
             computed, failed, n_tiles = _run(client, workflow, path, run_id, done, statuses, errors,

@@ -70,12 +70,21 @@ class LockHolder:
     process_start: float
     since: str
     command: str = ""
+    scheduler: str = ""   # a detached run (run.detach): the scheduler that runs it
+    task: str = ""        # and the key of its finalize task there
 
     def describe(self) -> str:
+        if self.scheduler:
+            return f"detached run {self.run} (on scheduler {self.scheduler}, since {self.since})"
         return f"run {self.run} (pid {self.pid} on host {self.host}, since {self.since})"
 
     def alive(self) -> bool | None:
-        """True / False on this host; None when it was taken on another host (cannot be told)."""
+        """True / False on this host or for a detached run (its scheduler is asked); None when it was
+        taken on another host (cannot be told)."""
+        if self.scheduler:
+            from ..run.detach import detached_alive
+
+            return detached_alive(self.scheduler, self.task)
         if self.host != socket.gethostname():
             return None
         if self.pid < 0:   # an unreadable lock file: its writer died within a second of creating it
@@ -98,7 +107,8 @@ def _read(path: Path) -> LockHolder | None:
         data = json.loads(text)
         return LockHolder(run=str(data["run"]), host=str(data["host"]), pid=int(data["pid"]),
                           process_start=float(data["process_start"]), since=str(data["since"]),
-                          command=str(data.get("command", "")))
+                          command=str(data.get("command", "")), scheduler=str(data.get("scheduler", "")),
+                          task=str(data.get("task", "")))
     except (ValueError, KeyError, TypeError):
         # a holder that died between the create and the write leaves an empty file: unknown holder
         # on this host, judged by the file's age in StoreLock.acquire
@@ -120,6 +130,10 @@ def holder(store) -> LockHolder | None:
 
 def _busy(store, found: LockHolder, argument: str) -> InputError:
     where = lock_path(store)
+    if found.scheduler:
+        fix = (f"follow it with `bifurcation status --store {store}`; a submit of the same workflow joins "
+               "it (waits for it, then resumes what is left)")
+        return InputError(argument, str(store), f"is being written by {found.describe()}", fix)
     if found.alive() is None:
         fix = (f"wait for it to end; if that process is dead (it was started on another host), "
                f"remove {where} and retry")

@@ -167,13 +167,17 @@ def open_store(path, **kwargs):
     """The store at ``path`` as an ``xarray.Dataset`` (lazy; ``kwargs`` go to ``xarray.open_zarr``).
 
     Points never computed hold NaN / 0 with ``status == 0`` (not computed) and ``done == False``.
+    The dataset carries CF attributes and only netCDF types (``export.netcdf_ready``): ``ds.to_netcdf()``
+    works as it is; the submit history is ``history`` (text) and ``submits`` (JSON text).
     """
     import xarray as xr
+
+    from .export import netcdf_ready
 
     check_store(path, None, argument="store")
     kwargs.setdefault("chunks", None)
     with _quiet():
-        return xr.open_zarr(str(path), zarr_format=3, consolidated=True, **kwargs)
+        return netcdf_ready(xr.open_zarr(str(path), zarr_format=3, consolidated=True, **kwargs))
 
 
 def read_done(path) -> np.ndarray:

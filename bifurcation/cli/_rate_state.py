@@ -1,0 +1,99 @@
+"""Rate-and-state subcommands: ``hopf`` (the Hopf point of steady sliding) and ``rate-state`` (one run)."""
+
+from __future__ import annotations
+
+import click
+
+from ._common import echo_json, number
+
+__all__ = ["COMMANDS"]
+
+
+def _floats(name: str, example: str):
+    def convert(ctx, param, value):
+        if value is None:
+            return None
+        out = []
+        for part in str(value).split(","):
+            try:
+                out.append(float(part))
+            except ValueError:
+                raise click.BadParameter(f"{part!r} is not a number; give e.g. {example}",
+                                         param_hint=name) from None
+        return out
+    return convert
+
+
+@click.command("hopf")
+@click.option("--state-law", required=True, help="aging (dieterich), slip (ruina) or prz; comma-separated for two.")
+@click.option("--a", "a", required=True, callback=number("--a", "0.01"), help="Direct effect a > 0.")
+@click.option("--b", "b", required=True, callback=_floats("--b", "0.015 or 0.015,0.005"), help="b_i >= 0.")
+@click.option("--dc", required=True, callback=_floats("--dc", "0.01 or 0.01,0.1"), help="Dc_i > 0.")
+@click.option("--v-lp", "v_lp", required=True, callback=number("--v-lp", "1"), help="Load-point velocity > 0.")
+@click.option("--mass", default=None, callback=number("--mass", "1e-3"), help="Mass M > 0 (inertial).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def hopf_cmd(state_law, a, b, dc, v_lp, mass, as_json) -> None:
+    """The Hopf point of steady sliding: k_c, ω_c, the first Lyapunov coefficient, criticality."""
+    from ..models.rate_state.hopf import hopf_point
+
+    laws = [s.strip() for s in state_law.split(",")]
+    if len(laws) == 1 and len(b) > 1:
+        laws = laws * len(b)
+    record = hopf_point(a=a, b=b, dc=dc, state_law=laws, v_lp=v_lp, mass=mass).to_record()
+    record = {"state_law": laws, "a": a, "b": b, "dc": dc, "v_lp": v_lp, "mass": mass, **record}
+    if as_json:
+        echo_json(record)
+        return
+    for key, value in record.items():
+        click.echo(f"{key:22s} {value:.17g}" if isinstance(value, float) else f"{key:22s} {value}")
+
+
+@click.command("rate-state")
+@click.option("--state-law", required=True, help="aging (dieterich), slip (ruina) or prz; comma-separated for two.")
+@click.option("--a", "a", required=True, callback=number("--a", "0.01"), help="Direct effect a > 0.")
+@click.option("--b", "b", required=True, callback=_floats("--b", "0.015 or 0.015,0.005"), help="b_i >= 0.")
+@click.option("--dc", required=True, callback=_floats("--dc", "0.01 or 0.01,0.1"), help="Dc_i > 0.")
+@click.option("--k", "k", required=True, callback=number("--k", "1e-3"), help="Spring stiffness k > 0.")
+@click.option("--v-lp", "v_lp", required=True, callback=_floats("--v-lp", "1,10"),
+              help="Load-point velocities, comma-separated (0 is a hold).")
+@click.option("--at", "at", default=None, callback=_floats("--at", "10"),
+              help="Times of the velocity steps, comma-separated, increasing (one fewer than --v-lp).")
+@click.option("--t-end", "t_end", required=True, callback=number("--t-end", "40"), help="End time.")
+@click.option("--outputs", default=41, show_default=True, help="Number of evenly spaced output times.")
+@click.option("--mass", default=None, callback=number("--mass", "1e-3"), help="Mass M > 0 (inertial).")
+@click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, precision, as_json) -> None:
+    """One run of the rate-and-state spring-slider: μ, V, θ at evenly spaced times, and the extrema of V."""
+    import numpy as np
+
+    from ..models.rate_state import load_history, rate_state
+
+    laws = [s.strip() for s in state_law.split(",")]
+    history = load_history(v_lp, at=at or [])
+    t = np.linspace(history.times[0], t_end, outputs)
+    r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, precision=precision)
+    record = {"status": r.status, "message": r.message, "steps": r.steps, "t": r.t.tolist(),
+              "mu": [float(x) for x in r.mu], "v": r.v.tolist(), "theta": r.theta.tolist(),
+              "slip": [float(x) for x in r.slip], "extrema": r.extrema.tolist()}
+    if as_json:
+        echo_json(record)
+        return
+    click.echo(f"status {r.status} ({r.steps} steps) {r.message}")
+    click.echo(f"{'t':>12s} {'mu':>20s} {'V':>24s}")
+    for ti, mi, vi in zip(record["t"], record["mu"], record["v"]):
+        click.echo(f"{ti:12.6g} {mi:20.16f} {vi:24.17g}")
+
+
+@click.command("continue")
+@click.argument("workflow")
+@click.option("--out", default=None, help="Output directory (default results/<study name>/).")
+def continue_cmd(workflow: str, out) -> None:
+    """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
+    from ..models.rate_state.study import load_study, run_study
+
+    load_study(workflow)  # validate before anything is computed or written
+    run_study(workflow, out, echo=click.echo)
+
+
+COMMANDS = [continue_cmd, hopf_cmd, rate_state_cmd]

@@ -1,0 +1,23 @@
+"""The rate-and-state spring-slider (docs/rate-state.md): model, Hopf analysis, cycles, peer suite.
+
+Public names are imported on first use, so naming the model does not load heyoka.
+"""
+
+from __future__ import annotations
+
+from ..._lazy import lazy_names
+
+_LAZY = {
+    "LoadHistory": "spec",
+    "RateStateResult": "simulate",
+    "STATE_LAWS": "laws",
+    "SliderSpec": "spec",
+    "load_history": "spec",
+    "rate_state": "simulate",
+    "resolve_state_law": "laws",
+    "state_law_names": "laws",
+}
+
+__all__ = sorted(_LAZY)
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

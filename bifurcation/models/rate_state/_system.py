@@ -1,0 +1,157 @@
+"""The rate-and-state slider as heyoka Taylor integrators, compiled once per structure.
+
+Variables (docs/rate-state.md): x = ln V, y_i = ln θ_i and, with inertia, z = k(δ_lp − δ) − μ = M V̇
+(the net force). In these variables
+
+    quasi-static:  a ẋ = k(V_lp − e^x) − Σ b_i ẏ_i
+    inertial:      ẋ = z e^{−x}/M,   ż = k(V_lp − e^x) − a ẋ − Σ b_i ẏ_i
+    state:         ẏ_i = law_i.rate(x, y_i; Dc_i)                     (laws.py)
+
+x and y keep their relative precision over any number of decades of V (a double x carries V to 2e-16
+relative at V = 1e-20 as at V = 1e3), and the net force z is integrated directly, never formed as the
+small difference of two O(μ0) forces. The slip δ needs no equation: k(δ_lp − δ) = μ (+ z with inertia).
+
+Runtime parameters (one compiled integrator serves every parameter set of a structure):
+par[0] = a, par[1] = k, par[2] = V_lp (set per load segment), par[3] = M (unused quasi-static),
+par[4 + i] = b_i, par[4 + n + i] = Dc_i, par[4 + 2n + j] = ln of the j-th slip-velocity threshold.
+
+Events, all non-terminal and located exactly by heyoka's polynomial root finding on each step:
+ẋ = 0 (velocity extrema: maximum when ẋ goes from + to −) and x = ln V_j (slip thresholds).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import heyoka as hy
+import numpy as np
+
+from .laws import resolve_state_law
+
+__all__ = ["Compiled", "Recorder", "compiled", "fp_info", "rhs_expressions"]
+
+_CACHE: dict = {}
+
+
+def fp_info(precision: str):
+    """(heyoka fp_type or None, numpy dtype) for ``"double"`` or ``"quad"`` (real128)."""
+    if precision == "double":
+        return None, np.float64
+    if precision == "quad":
+        return hy.real128, hy.real128
+    raise ValueError(precision)
+
+
+class Recorder:
+    """Velocity extrema and threshold crossings of one run, recorded at their exact times."""
+
+    def __init__(self) -> None:
+        self.reset()
+
+    def reset(self, start=0.0) -> None:
+        self.start = start
+        self.offset = 0.0   # the current segment's start: the integrator runs in segment-local time
+        self.first = True   # in the first segment (its local time 0 is the start of the run)
+        self.x0 = float("nan")  # ln V at the start (set by the run): the reference of the first extremum
+        self.extrema: list = []     # (t, ln V, +1 maximum / -1 minimum)
+        self.crossings: list = []   # (t, threshold index, +1 up / -1 down)
+        self.crossing_states: list = []  # (t, state) in the run's precision, for return maps
+
+    def __deepcopy__(self, memo) -> "Recorder":
+        return self  # heyoka deep-copies callbacks; all of them must record here
+
+    def extremum(self, ta, time, d_sgn) -> None:
+        if time == self.start and self.first:
+            return  # at a steady start ẋ = 0 exactly: not an extremum of the run
+        ta.update_d_output(time)
+        x = float(ta.d_output[0])
+        # At a steady state ẋ is rounding noise that changes sign at almost every step: an "extremum"
+        # within 64 ulps of the last recorded one is that noise, not an oscillation, and is dropped.
+        # Real extrema of a smooth ln V alternate between maxima and minima, so a repeat of the last
+        # kind is noise too.
+        kind = 1 if d_sgn < 0 else -1   # ẋ decreasing through 0 at a maximum of V
+        last_x, last_kind = (self.extrema[-1][1], self.extrema[-1][2]) if self.extrema else (self.x0, 0)
+        if abs(x - last_x) <= 64 * 2.2e-16 * max(1.0, abs(x)) or kind == last_kind:
+            return
+        self.extrema.append((float(time) + self.offset, x, kind))
+
+    def crossing(self, j: int):
+        def record(ta, time, d_sgn):
+            if time != self.start or not self.first:
+                ta.update_d_output(time)
+                self.crossings.append((float(time) + self.offset, j, 1 if d_sgn > 0 else -1))
+                self.crossing_states.append((time + type(time)(self.offset), ta.d_output.copy()))
+        return record
+
+
+@dataclass(frozen=True)
+class Compiled:
+    """A compiled integrator for one structure, and where its parameters and events live."""
+
+    laws: tuple[str, ...]
+    inertial: bool
+    n_thresholds: int
+    precision: str
+    integrator: object
+    recorder: Recorder
+    dtype: type
+
+
+def rhs_expressions(laws, inertial: bool, variables, par, exp, log):
+    """Right-hand sides for ``variables`` = (x, y_1..y_n[, z]) with parameters ``par`` (a sequence).
+
+    Works on heyoka expressions (the integrator) and on mpmath numbers (the Hopf analysis and the
+    reference), so every consumer integrates the same equations.
+    """
+    n = len(laws)
+    x, ys = variables[0], variables[1:1 + n]
+    a, k, v_lp, mass = par[0], par[1], par[2], par[3]
+    b = [par[4 + i] for i in range(n)]
+    dc = [par[4 + n + i] for i in range(n)]
+    ydot = [resolve_state_law(law).rate(x, y, d, exp, log) for law, y, d in zip(laws, ys, dc)]
+    state_force = b[0] * ydot[0]
+    for bi, yi in zip(b[1:], ydot[1:]):
+        state_force = state_force + bi * yi
+    load = k * (v_lp - exp(x))
+    if not inertial:
+        return [(load - state_force) / a, *ydot]
+    z = variables[1 + n]
+    xdot = z * exp(-x) / mass
+    return [xdot, *ydot, load - a * xdot - state_force]
+
+
+def compiled(laws: tuple[str, ...], inertial: bool, n_thresholds: int = 0, precision: str = "double",
+             section: bool = False) -> Compiled:
+    """The cached integrator for (laws, inertia, number of thresholds, precision[, section]).
+
+    ``section=True`` adds a terminal event on the upward crossing of the first threshold (x = ln V_0
+    with ẋ > 0): the Poincaré section of the cycle continuation.
+    """
+    key = (tuple(laws), bool(inertial), int(n_thresholds), precision, bool(section))
+    hit = _CACHE.get(key)
+    if hit is None:
+        hit = _CACHE[key] = _build(*key)
+    return hit
+
+
+def _build(laws, inertial, n_thresholds, precision, section=False) -> Compiled:
+    fp_type, dtype = fp_info(precision)
+    n = len(laws)
+    names = ["x"] + [f"y{i}" for i in range(n)] + (["z"] if inertial else [])
+    variables = hy.make_vars(*names)
+    if len(names) == 1:
+        variables = [variables]
+    par = [hy.par[i] for i in range(4 + 2 * n + n_thresholds)]
+    rhs = rhs_expressions(laws, inertial, variables, par, hy.exp, hy.log)
+    recorder = Recorder()
+    fp = {"fp_type": fp_type} if fp_type is not None else {}
+    nt = [hy.nt_event(rhs[0], recorder.extremum, **fp)]
+    for j in range(n_thresholds):
+        nt.append(hy.nt_event(variables[0] - par[4 + 2 * n + j], recorder.crossing(j), **fp))
+    t_ev = []
+    if section:
+        t_ev.append(hy.t_event(variables[0] - par[4 + 2 * n], direction=hy.event_direction.positive, **fp))
+    ta = hy.taylor_adaptive(list(zip(variables, rhs)), np.zeros(len(names), dtype=dtype),
+                            pars=np.zeros(len(par), dtype=dtype), nt_events=nt, t_events=t_ev,
+                            compact_mode=precision == "quad", **fp)
+    return Compiled(tuple(laws), bool(inertial), n_thresholds, precision, ta, recorder, dtype)

@@ -1,0 +1,244 @@
+"""A rate-state study: a TOML workflow → Hopf table, branches of cycles, a Zarr store, a report.
+
+``bifurcation continue workflows/rate-state.toml`` runs it. The workflow (see the shipped file for
+every key) is validated into frozen specs before anything is computed or written; a bad key or value
+is one ``InputError`` line naming it.
+
+Store (``<out>/branches.zarr``, Zarr v3 through xarray, written once at the end so an interrupted run
+leaves no half store): dimensions ``branch`` (labels in the attribute ``branch_labels``) × ``point`` (padded with NaN,
+``status`` 0 = no point),
+variables ``kappa``, ``k``, ``period``, ``period_check`` (relative difference to the direct-simulation
+period), ``ln_v_max``, ``ln_v_min``, ``slip``, ``multiplier_max`` (largest |Floquet multiplier|),
+``status`` (1 ok, 2 no-convergence) and per-branch ``k_c``, ``omega_c``, ``lyapunov_coefficient``,
+``mass``, ``fold_kappa``; attributes hold the workflow text, the criticality per branch and the
+stop reason of each continuation.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import tomllib
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import InputError
+
+__all__ = ["BranchSpec", "StudySpec", "load_study", "run_study"]
+
+_SLIDER_KEYS = {"a", "b", "dc", "v_lp"}
+_BRANCH_KEYS = {"label", "state_law", "eta", "points", "max_step", "kappa_min", "kappa_max", *_SLIDER_KEYS}
+_HOPF_KEYS = {"b_over_a", "v_lp", "eta", "bautin"}
+
+
+@dataclass(frozen=True)
+class BranchSpec:
+    label: str
+    state_law: str
+    a: float
+    b: float
+    dc: float
+    v_lp: float
+    eta: float
+    points: int
+    max_step: float
+    kappa_min: float
+    kappa_max: float
+
+    @property
+    def mass(self):
+        return None if self.eta == 0 else self.eta * self.a * self.dc / self.v_lp ** 2
+
+
+@dataclass(frozen=True)
+class StudySpec:
+    name: str
+    description: str
+    branches: tuple
+    hopf_b_over_a: tuple
+    hopf_v_lp: tuple
+    hopf_eta: tuple
+    text: str
+    bautin: bool = True
+
+
+def _unknown(table: str, got, allowed) -> None:
+    extra = sorted(set(got) - set(allowed))
+    if extra:
+        raise InputError(f"{table}.{extra[0]}", got[extra[0]], "is not a known key",
+                         f"use one of {', '.join(sorted(allowed))}")
+
+
+def _num(key, value, lo=None, integer=False):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(key, value, "is not a finite number", "give a number")
+    if lo is not None and not value > lo:
+        raise InputError(key, value, f"must be > {lo:g}", f"give a value above {lo:g}")
+    if integer and int(value) != value:
+        raise InputError(key, value, "is not an integer", "give a whole number")
+    return int(value) if integer else float(value)
+
+
+def load_study(path) -> StudySpec:
+    """Read and validate a rate-state workflow (one ``InputError`` line on the first problem)."""
+    from .laws import resolve_state_law
+
+    try:
+        text = open(path, encoding="utf-8").read()
+    except OSError as exc:
+        raise InputError("WORKFLOW", str(path), f"cannot be read ({exc.strerror})",
+                         "give the path of a workflow file such as workflows/rate-state.toml") from None
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("WORKFLOW", str(path), f"is not valid TOML ({exc})", "fix the TOML syntax") from None
+    _unknown("workflow", doc, {"study", "slider", "branch", "hopf"})
+    study = doc.get("study", {})
+    _unknown("study", study, {"name", "description"})
+    name = study.get("name")
+    if not isinstance(name, str) or not name.replace("-", "").replace("_", "").isalnum():
+        raise InputError("study.name", name, "is missing or not a plain name", "give e.g. name = \"rate-state\"")
+    slider = doc.get("slider", {})
+    _unknown("slider", slider, _SLIDER_KEYS)
+    branches = doc.get("branch", [])
+    if not isinstance(branches, list) or not branches:
+        raise InputError("branch", branches, "is empty", "give at least one [[branch]] table")
+    out = []
+    for i, br in enumerate(branches):
+        _unknown(f"branch[{i}]", br, _BRANCH_KEYS)
+        merged = {**slider, **br}
+        for key in ("a", "b", "dc", "v_lp"):
+            if key not in merged:
+                raise InputError(f"branch[{i}].{key}", None, "is missing", f"set {key} in [slider] or the branch")
+        law = resolve_state_law(merged.get("state_law", ""), argument=f"branch[{i}].state_law").name
+        a = _num(f"branch[{i}].a", merged["a"], 0)
+        b = _num(f"branch[{i}].b", merged["b"], a)
+        out.append(BranchSpec(
+            label=str(merged.get("label", f"{law} {i}")), state_law=law, a=a, b=b,
+            dc=_num(f"branch[{i}].dc", merged["dc"], 0), v_lp=_num(f"branch[{i}].v_lp", merged["v_lp"], 0),
+            eta=_num(f"branch[{i}].eta", merged.get("eta", 0.0), -1e-300) if merged.get("eta", 0.0) else 0.0,
+            points=_num(f"branch[{i}].points", merged.get("points", 30), 2, integer=True),
+            max_step=_num(f"branch[{i}].max_step", merged.get("max_step", 0.5), 0),
+            kappa_min=_num(f"branch[{i}].kappa_min", merged.get("kappa_min", 0.05), 0),
+            kappa_max=_num(f"branch[{i}].kappa_max", merged.get("kappa_max", 20.0), 1)))
+    hopf = doc.get("hopf", {})
+    _unknown("hopf", hopf, _HOPF_KEYS)
+
+    def lst(key, default, lo):
+        v = hopf.get(key, default)
+        if not isinstance(v, list) or not v:
+            raise InputError(f"hopf.{key}", v, "is not a non-empty list", "give a list of numbers")
+        return tuple(_num(f"hopf.{key}", x, lo) for x in v)
+
+    bautin = hopf.get("bautin", True)
+    if not isinstance(bautin, bool):
+        raise InputError("hopf.bautin", bautin, "is not true or false", "give bautin = true or false")
+    return StudySpec(name, str(study.get("description", "")), tuple(out),
+                     lst("b_over_a", [1.1, 2.0, 10.0], 1), lst("v_lp", [1e-3, 1.0, 1e3], 0),
+                     lst("eta", [0.0, 1.0], -1e-300), text, bautin)
+
+
+def _closed_form_sweep(spec: StudySpec, echo) -> list:
+    from .hopf import hopf_point
+
+    rows = []
+    a, dc = 0.01, 0.01
+    for law in ("aging", "slip", "prz"):
+        for eta in spec.hopf_eta:
+            dk = dw = 0.0
+            n = 0
+            for ratio in spec.hopf_b_over_a:
+                for v in spec.hopf_v_lp:
+                    mass = None if eta == 0 else eta * a * dc / v ** 2
+                    h = hopf_point(a=a, b=ratio * a, dc=dc, state_law=law, v_lp=v, mass=mass, dps=30,
+                                   lyapunov=False)
+                    dk = max(dk, h.rel_dev_k_c)
+                    dw = max(dw, h.rel_dev_omega_c)
+                    n += 1
+            rows.append({"state_law": law, "eta": eta, "cases": n, "max_rel_dev_k_c": dk, "max_rel_dev_omega_c": dw})
+            echo(f"  closed forms: {law:5s} eta={eta:g}: {n} cases, max rel dev k_c {dk:.1e}, omega_c {dw:.1e} "
+                 "(30 digits)")
+    return rows
+
+
+def _bautin(law: str, a=0.01, b=0.015, dc=0.01, v=1.0):
+    """η = M V²/(a Dc) where l1 changes sign (a Bautin point), or NaN if l1 keeps its sign on [1e-3, 3]."""
+    import mpmath as mp
+
+    from .hopf import hopf_point
+
+    def l1(log_eta):
+        eta = math.exp(float(log_eta))
+        return hopf_point(a=a, b=b, dc=dc, state_law=law, v_lp=v, mass=eta * a * dc / v ** 2,
+                          dps=30).lyapunov_coefficient
+
+    grid = [math.log(x) for x in (1e-3, 1e-2, 0.1, 1.0, 3.0)]
+    vals = [l1(g) for g in grid]
+    for g0, g1, v0, v1 in zip(grid, grid[1:], vals, vals[1:]):
+        if v0 * v1 < 0:
+            with mp.workdps(20):
+                root = mp.findroot(l1, (g0, g1), solver="anderson", tol=1e-14)
+            return math.exp(float(root))
+    return math.nan
+
+
+def run_study(path, out_dir=None, echo=print) -> dict:
+    """Run the workflow at ``path``; write ``<out>/branches.zarr``, ``REPORT.md`` and the figure."""
+    import pathlib
+
+    from .continuation import continue_cycles, period_by_simulation
+    from .hopf import lyapunov_by_simulation
+    from .spec import SliderSpec
+
+    spec = load_study(path)
+    out = pathlib.Path(out_dir or f"results/{spec.name}")
+    t_start = time.perf_counter()
+    echo(f"study {spec.name}: {len(spec.branches)} branches")
+    sweep = _closed_form_sweep(spec, echo)
+    bautin = {law: _bautin(law) for law in ("aging", "slip", "prz")} if spec.bautin else {}
+    echo(f"  Bautin points (l1 = 0) in eta: {bautin}")
+    results = []
+    for br in spec.branches:
+        t0 = time.perf_counter()
+        branch = continue_cycles(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, v_lp=br.v_lp, mass=br.mass,
+                                 points=br.points, max_step=br.max_step, kappa_range=(br.kappa_min, br.kappa_max))
+        # Second turn in double where the cycle is at most mildly unstable; where a multiplier exceeds 10
+        # the first turn's rounding is amplified that much before the second, so the check runs in real128.
+        checks = [abs(period_by_simulation(branch, i, "double" if max(abs(z) for z in p.multipliers) < 10
+                                           else "quad") / p.period - 1) for i, p in enumerate(branch.points)]
+        quad_idx = sorted(set(range(0, len(branch.points), 10)) | set(branch.folds))
+        quad = {i: abs(period_by_simulation(branch, i, "quad") / branch.points[i].period - 1) for i in quad_idx}
+        hs = SliderSpec(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, k=branch.hopf.k_c, mass=br.mass)
+        l1_sim = lyapunov_by_simulation(hs, branch.hopf, br.v_lp, 5e-3)
+        results.append({"spec": br, "branch": branch, "period_check": checks, "period_check_quad": quad,
+                        "l1_simulation": l1_sim, "seconds": time.perf_counter() - t0})
+        echo(f"  {br.label}: {len(branch.points)} points, folds at {list(branch.folds)}, "
+             f"{branch.hopf.criticality} (l1 {branch.hopf.lyapunov_coefficient:.4g}, simulated {l1_sim:.4g}), "
+             f"max period check {max(checks):.1e}, {branch.meta['stop']}, {time.perf_counter() - t0:.1f} s")
+    fates = _quasi_static_fates(spec)
+    out.mkdir(parents=True, exist_ok=True)
+    from .report import write_report, write_store
+
+    write_store(out / "branches.zarr", spec, results)
+    write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start)
+    echo(f"wrote {out}/branches.zarr, {out}/REPORT.md in {time.perf_counter() - t_start:.0f} s")
+    return {"sweep": sweep, "bautin": bautin, "branches": results, "fates": fates}
+
+
+def _quasi_static_fates(spec: StudySpec) -> list:
+    """Below k_c the quasi-static slider has no bounded cycle: a small perturbation grows until V blows up."""
+    from .simulate import rate_state
+
+    rows = []
+    for law in ("aging", "slip", "prz"):
+        c = 2.0 if law == "prz" else 1.0
+        k_c = (0.015 - 0.01) / 0.01
+        period = 2 * math.pi / (math.sqrt(0.5) * 100)
+        for kappa in (0.9, 0.99):
+            r = rate_state(a=0.01, b=0.015, dc=0.01, state_law=law, k=kappa * k_c, v_lp=1.0,
+                           t=[0.0, 400 * period], v0=1.0, theta0=[c * 0.01 * math.exp(0.01)])
+            top = max(r.extrema[:, 1]) if len(r.extrema) else math.nan
+            rows.append({"state_law": law, "kappa": kappa, "status": r.status, "ln_v_max": float(top),
+                         "message": r.message})
+    return rows
