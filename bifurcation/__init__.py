@@ -19,6 +19,7 @@ _LAZY = {
     "LIMIT_FIELDS": "engine",
     "LimitResult": "engine",
     "SlipResult": "engine",
+    "chain": "models.chain",
     "Status": "engine",
     "law_names": "laws",
     "limit": "engine",

@@ -5,7 +5,7 @@ import importlib
 import pytest
 
 PACKAGES = ["bifurcation", "bifurcation.analysis", "bifurcation.bench", "bifurcation.engine", "bifurcation.laws",
-            "bifurcation.models", "bifurcation.models.rate_state",
+            "bifurcation.models", "bifurcation.models.chain", "bifurcation.models.rate_state",
             "bifurcation.report", "bifurcation.run", "bifurcation.store", "bifurcation.theory",
             "bifurcation.workflow"]
 

@@ -22,7 +22,7 @@ def cli() -> None:
 def _register() -> None:
     import importlib
 
-    for name in ("_engine", "_service", "_analysis", "_verify", "_status", "_rate_state"):
+    for name in ("_engine", "_service", "_analysis", "_verify", "_status", "_rate_state", "_chain"):
         for command in importlib.import_module(f"{__name__}.{name}").COMMANDS:
             cli.add_command(command)
 

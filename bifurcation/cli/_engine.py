@@ -69,12 +69,21 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
 @click.option("--subset", default=12, show_default=True, help="Points for the slow baselines (DOP853).")
 @click.option("--pipeline", "pipeline_points", default=0, show_default=True,
               help="Also time the Dask pipeline on this many points (0: skip).")
-@click.option("--suite", type=click.Choice(["engine", "rate-state"]), default="engine", show_default=True,
-              help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint.")
+@click.option("--suite", type=click.Choice(["engine", "rate-state", "chain"]), default="engine", show_default=True,
+              help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint; "
+                   "chain: the exact chain vs fixed-step RK4.")
 @O.JSON
 def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
     """Benchmarks, side by side in one run, reported as ratios (never a test)."""
     import importlib.util
+
+    if suite == "chain":
+        from ..models.chain._bench import run_chain_bench
+
+        report = run_chain_bench(echo=None if as_json else click.echo)
+        if as_json:
+            echo_json(report)
+        return
 
     if importlib.util.find_spec("scipy") is None:
         raise click.UsageError("the benchmark's DOP853 baseline needs scipy; install it with "

@@ -21,7 +21,7 @@ __all__ = ["ACTIONS", "Axis", "DEFAULT_MODEL", "Event", "Labels", "MODELS", "Mod
            "System", "get_model", "model_module", "model_names", "register"]
 
 #: Model packages that are not declarations yet: name → implementing module (relative to this package).
-MODELS = {"rate-state": ".rate_state"}
+MODELS = {"chain": ".chain", "rate-state": ".rate_state"}
 
 
 def model_module(name: str):

@@ -1,0 +1,160 @@
+"""Compiled Taylor integrators for a *window*: M positions holding any set of blocks of the chain.
+
+Scaled, per-segment variables (docs/chain.md): at the start of a segment (time t_s) every block j of
+the window has its stress σ_j(t_s) and its displacement is written U_j = U_j(t_s) + ν w_j, V_j = ν v_j,
+τ = t − t_s, so that
+
+    (σ_j − 1)/ν = d_j/ν + ℓ²(coupling) − w_j + τ,      d_j = σ_j(t_s) − 1,
+    ẇ_j = p_j v_j,   v̇_j = p_j [(σ_j − 1)/ν + g(ν v_j/ν_f)/ν],         g = 1 − Φ,
+
+p_j = 1 for a slipping block and 0 for a stuck one (a runtime parameter, flipped at events). The
+window holds the blocks that slipped in the event *and their chain neighbours*; every other block
+is stuck for the whole segment (w = 0). Position i of the window is coupled to positions i ± 1
+(mod M) through runtime bond parameters b_i ∈ {0, 1} (1 where the two blocks are neighbours in the
+chain), and to itself through s_i ∈ {0, 1, 2} (the ghosts of free chain ends, U_0 ≡ U_1):
+
+    coupling_i = b_{i−1} w_{i−1} + b_i w_{i+1} + (s_i − 2) w_i.
+
+So one compiled integrator per window size serves any set of clusters anywhere in the chain, free or
+periodic. At a segment start w = 0 and every term is as small as the motion itself, so relative
+precision holds block by block at any ν (docs/chain.md, "Precision").
+
+Terminal events (all O(1) in the scaled state, exact, never smoothed):
+  * per position, one stop/start event ``select(p_i, x_i, −q_i (σ_i − 1)/ν)`` downwards: a slipping
+    block stops when x_i = νv_i/ν_f returns to 0, a stuck one starts when σ_i reaches 1 (q_i scales
+    the stress to O(1));
+  * per position and breakpoint of the law, ``x_i/b − 1`` either way (the piece is switched there).
+Non-terminal events record each velocity maximum (dx_i/dt = 0 from above) at its exact time.
+
+Runtime parameters: 0 ν, 1 ν_f, 2 ℓ², then per position p (M), d (M), q (M), b (M), s (M) and, for
+laws with K > 1 pieces, one-hot piece selectors (K × M, piece-major).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import heyoka as hy
+import numpy as np
+
+from ...engine._integrator import COOLDOWN, fp_info
+from ...laws import FrictionLaw
+
+__all__ = ["ENERGY_SCALE", "N_GLOBAL", "WindowIntegrator", "window_integrator"]
+
+N_GLOBAL = 3
+#: windows up to this size are compiled in heyoka's full (non-compact) mode
+COMPACT_ABOVE = 8
+#: the energy integrals are carried as ENERGY_SCALE/M times their value (see ``_build``)
+ENERGY_SCALE = 0.1
+_CACHE: dict = {}
+
+
+class VmaxRecorder:
+    """Velocity maxima of the blocks of a window, recorded at their exact times by nt-event callbacks."""
+
+    def __init__(self, m: int) -> None:
+        self.m = m
+        self.vmax = 0.0
+
+    def __deepcopy__(self, memo) -> "VmaxRecorder":
+        return self  # heyoka deep-copies callbacks; all of them must record here
+
+    def callback(self, j: int):
+        m = self.m
+
+        def on_max(ta, time, d_sgn) -> None:
+            ta.update_d_output(time)
+            v = ta.d_output[m + j]
+            if v > self.vmax:
+                self.vmax = v
+
+        on_max.__deepcopy__ = lambda memo: on_max  # type: ignore[attr-defined]
+        return on_max
+
+
+@dataclass(frozen=True)
+class WindowIntegrator:
+    """A compiled window integrator and the meaning of its terminal events."""
+
+    m: int
+    integrator: object
+    event_kind: tuple      # per terminal event: "block" (stop or start) or "switch"
+    event_block: tuple     # block index (or -1)
+    event_break: tuple     # breakpoint index (or -1)
+    n_pieces: int
+    energy: bool
+    recorder: VmaxRecorder
+    dtype: type
+
+
+def _build(law: FrictionLaw, m: int, precision: str, energy: bool) -> WindowIntegrator:
+    fp_type, dtype, num = fp_info(precision)
+    w = [hy.make_vars(f"w{j}") for j in range(m)]
+    v = [hy.make_vars(f"v{j}") for j in range(m)]
+    par = hy.par
+    nu, nu_f, l2 = par[0], par[1], par[2]
+    p, d, q, bond, selfc = ([par[N_GLOBAL + k * m + j] for j in range(m)] for k in range(5))
+    pieces = law.pieces
+    k_pieces = len(pieces)
+    sel = [[par[N_GLOBAL + (5 + k) * m + j] for j in range(m)] for k in range(k_pieces)] if k_pieces > 1 else None
+    zero, one = num(0), num(1)
+
+    def drop(j, x):
+        if k_pieces == 1:
+            return pieces[0].drop(x, num)
+        # select on the one-hot parameter (a piece may be NaN outside its interval; 0·NaN is NaN)
+        out = hy.select(sel[-1][j], pieces[-1].drop(x, num), zero)
+        for k in range(k_pieces - 2, -1, -1):
+            out = hy.select(sel[k][j], pieces[k].drop(x, num), out)
+        return out
+
+    rhs_w, rhs_v, events, kinds, blocks, breaks, nt = [], [], [], [], [], [], []
+    recorder = VmaxRecorder(m)
+    fp = {"fp_type": fp_type} if fp_type is not None else {}
+    cooldown = fp_type(COOLDOWN) if fp_type is not None else COOLDOWN
+    neg, anyd = hy.event_direction.negative, hy.event_direction.any
+    diss_terms, disp_terms = [], []
+    for j in range(m):
+        coupling = bond[j - 1] * w[j - 1] + bond[j] * w[(j + 1) % m] + (selfc[j] - num(2)) * w[j]
+        load = l2 * coupling - w[j] + hy.time          # (σ_j − 1)/ν − d_j/ν
+        x = (nu * v[j]) / nu_f
+        g = drop(j, x)
+        rhs_w.append(hy.select(p[j], v[j], zero))
+        rhs_v.append(hy.select(p[j], d[j] / nu + load + g / nu, zero))
+        events.append(hy.t_event(hy.select(p[j], x, -q[j] * (d[j] / nu + load)), direction=neg,
+                                 cooldown=cooldown, **fp))
+        kinds.append("block"), blocks.append(j), breaks.append(-1)
+        for b_index, b in enumerate(law.breakpoints):
+            events.append(hy.t_event(x / num(b) - one, direction=anyd, cooldown=cooldown, **fp))
+            kinds.append("switch"), blocks.append(j), breaks.append(b_index)
+        # dx/dt·ν_f = σ_j − 1 + g, O(1): zero from above at a velocity maximum
+        nt.append(hy.nt_event(d[j] + nu * load + g, recorder.callback(j), direction=neg, **fp))
+        if energy:
+            diss_terms.append(hy.select(p[j], (one - g) * v[j], zero))
+            disp_terms.append(w[j])
+    eqs = [(w[j], rhs_w[j]) for j in range(m)] + [(v[j], rhs_v[j]) for j in range(m)]
+    if energy:
+        diss, disp = hy.make_vars("diss", "disp")
+        # heyoka controls the error against the largest state component: unscaled, these integrals
+        # (~10·M times a velocity or displacement) loosened the steps for every block, and a stop
+        # was missed. ENERGY_SCALE/M keeps them of the size of one block's variables.
+        c = num(ENERGY_SCALE / m)
+        eqs += [(diss, c * hy.sum(diss_terms)), (disp, c * hy.sum(disp_terms))]
+    npars = N_GLOBAL + 5 * m + (k_pieces * m if k_pieces > 1 else 0)
+    # Compact mode above M = COMPACT_ABOVE (and in quad): its compile time grows ~linearly in M (1.5 s
+    # at M = 64, 3.4 s at 1024) where the full mode's takes minutes; the full mode's steps are ~2-4×
+    # faster, which pays for the small windows that almost every event uses.
+    compact = m > COMPACT_ABOVE or precision != "double"
+    ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs), dtype=dtype), pars=np.zeros(npars, dtype=dtype),
+                            t_events=events, nt_events=nt, compact_mode=compact, **fp)
+    return WindowIntegrator(m, ta, tuple(kinds), tuple(blocks), tuple(breaks), k_pieces, energy, recorder, dtype)
+
+
+def window_integrator(law: FrictionLaw, m: int, precision: str = "double", energy: bool = False) -> WindowIntegrator:
+    """The cached integrator for a window of ``m`` blocks (compiled on first use in this process)."""
+    key = (law.name, law.formula, m, precision, energy)
+    hit = _CACHE.get(key)
+    if hit is None:
+        hit = _CACHE[key] = _build(law, m, precision, energy)
+    return hit

@@ -1,0 +1,329 @@
+"""The event loop of a chain run: quiescent jumps, windows of slipping blocks, exact events.
+
+Algorithm (docs/chain.md, "Event algorithm"):
+
+1. All blocks stuck: the stress grows as νt, so the next failure is the block with the largest σ,
+   at t + (1 − max σ)/ν. Jump there (σ_j += 1 − max σ, the failing block set to σ = 1 exactly).
+2. Integrate a *window*: the set S of blocks that slipped in this event and their chain neighbours
+   (stuck ones included), packed into M positions (M a power of two ≥ |S|, or |S| for the whole
+   chain) of the compiled window integrator (``_integrator``), in per-segment scaled variables.
+   Every block outside S is stuck and none of its neighbours moves, so its stress grows as ντ and
+   its failure time −d_j/ν is known in closed form: the first of them bounds the segment.
+3. A stop (x_j → 0) sticks a block, a switch flips its friction piece; both continue the segment.
+   A start (of a stuck block of S, or of a block outside S at its bound) *commits* the segment to
+   the global state (σ, U updated exactly from the scaled increments), adds the block and its
+   neighbours to S and starts a new segment from w = 0 with the starting block at σ = 1 exactly.
+   Several clusters far apart share one window, so the cost follows the blocks that slip, not N.
+4. When no block slips, the event ends; the catalog records it.
+
+The global state is the stress σ_j itself (never recomputed from U and νt, which grow without
+bound), the displacements U_j and the time t.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import heyoka as hy
+import numpy as np
+
+from ...laws import FrictionLaw
+from ._integrator import ENERGY_SCALE, N_GLOBAL, window_integrator
+from .result import ChainStatus
+
+__all__ = ["ChainLoop"]
+
+_NONFINITE = hy.taylor_outcome.err_nf_state
+
+
+def _pow2_at_least(k: int) -> int:
+    return 1 << max(k - 1, 0).bit_length()
+
+
+class ChainLoop:
+    """One chain run: global state and the per-event loop (use ``run(k)``)."""
+
+    def __init__(self, law: FrictionLaw, n: int, ell: float, nu: float, nu_f: float, ends: str,
+                 u0: np.ndarray, *, precision: str = "double", energy: bool = False,
+                 t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False) -> None:
+        from ...engine._integrator import fp_info
+
+        _, dtype, _ = fp_info(precision)
+        self.dtype = dtype
+        self.law, self.n, self.ends, self.precision, self.energy = law, n, ends, precision, energy
+        self.nu, self.nu_f, self.l2 = dtype(nu), dtype(nu_f), dtype(ell) * dtype(ell)
+        self.periodic = ends == "periodic"
+        self.t_max, self.max_steps = t_max, max_steps
+        self.u = np.array([dtype(float(x)) for x in u0], dtype=dtype) if dtype is not np.float64 \
+            else np.array(u0, dtype=np.float64)
+        self.sigma = self._laplacian(self.u) * self.l2 - self.u       # σ_j(0), νt = 0
+        self.t = dtype(0)
+        self.vel = np.zeros(n, dtype=dtype)        # scaled velocities v = V/ν
+        self.slipping = np.zeros(n, dtype=bool)
+        self.piece = np.zeros(n, dtype=np.int64)
+        if energy:
+            self.y = -self.u.copy()                # stretch of the pulling springs νt − U_j
+            self.bond = self._bonds(self.u)
+        #: integrate the whole chain every event (the tests' check of the windows)
+        self.force_full = full_window
+        self.wall: list[float] = []   # seconds per event (benchmarks: cost against event size)
+        #: how often each way of starting a block happened (tests check that every path is exercised)
+        self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
+
+    # -- chain geometry ---------------------------------------------------------------------------
+    def _laplacian(self, a: np.ndarray) -> np.ndarray:
+        if self.periodic:
+            return np.roll(a, 1) - 2 * a + np.roll(a, -1)
+        left = np.concatenate((a[:1], a[:-1]))
+        right = np.concatenate((a[1:], a[-1:]))
+        return left - 2 * a + right
+
+    def _bonds(self, a: np.ndarray) -> np.ndarray:
+        return np.roll(a, -1) - a if self.periodic else np.diff(a)
+
+    def _neighbours(self, j: int) -> tuple[int, ...]:
+        n = self.n
+        if self.periodic:
+            return tuple({(j - 1) % n, (j + 1) % n} - {j})
+        return tuple(k for k in (j - 1, j + 1) if 0 <= k < n)
+
+    def _right(self, j: int) -> int:
+        if self.periodic:
+            return (j + 1) % self.n
+        return j + 1 if j + 1 < self.n else -1
+
+    def _layout(self, members: set) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
+        """Window positions of the blocks of S: (chain index per position, M, bonds, self couplings)."""
+        n = self.n
+        if self.force_full:
+            members = set(range(n))
+        k = len(members)
+        idx = sorted(members)
+        if self.periodic and k < n:   # start the cyclic order after a gap: no bond wraps the order
+            gap = next(j for j in range(n) if j not in members)
+            idx = sorted(members, key=lambda j: (j - gap) % n)
+        m = n if k == n else _pow2_at_least(k)
+        bond = np.zeros(m)
+        for i in range(k):
+            nxt = i + 1 if i + 1 < k else (0 if k == m else -1)
+            if nxt >= 0 and self._right(idx[i]) == idx[nxt]:
+                bond[i] = 1
+        selfc = np.zeros(m)
+        if not self.periodic:
+            for i, j in enumerate(idx):
+                selfc[i] = (j == 0) + (j == n - 1)
+        return np.array(idx, dtype=np.int64), m, bond, selfc
+
+    # -- the run ------------------------------------------------------------------------------------
+    def run(self, k: int) -> dict:
+        cat = {f: [] for f in ("t_start", "hypocentre", "n_blocks", "potency", "duration",
+                                "max_velocity", "steps", "driver_work", "dissipation", "elastic_change")}
+        status, message = ChainStatus.COMPLETE, ""
+        for _ in range(k):
+            ok, message = self._event(cat)
+            if not ok:
+                status = (ChainStatus.NONFINITE if message.startswith("non-finite") else
+                          ChainStatus.BACK_SLIP if message.startswith("back-slip") else ChainStatus.NO_STOP)
+                break
+        return dict(catalog=cat, status=status, message=message)
+
+    def _event(self, cat: dict) -> tuple[bool, str]:
+        started = time.perf_counter()
+        dtype = self.dtype
+        h = int(np.argmax(self.sigma))
+        jump = 1 - self.sigma[h]
+        self.sigma += jump
+        self.sigma[h] = 1
+        self.t += jump / self.nu
+        if self.energy:   # the quiescent phase stretches the pulling springs; no energy is dissipated
+            self.y += jump
+        t_start = self.t
+        self.slipping[h], self.vel[h], self.piece[h] = True, 0, 0
+        self._touched = {h}
+        self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
+                       work=dtype(0), diss=dtype(0), elastic=dtype(0))
+        ok, message = self._segments({h, *self._neighbours(h)})
+        ev = self.ev
+        cat["t_start"].append(t_start)
+        cat["hypocentre"].append(h)
+        cat["n_blocks"].append(len(self._touched))
+        cat["potency"].append(ev["potency"])
+        cat["duration"].append(ev["duration"])
+        cat["max_velocity"].append(self.nu * ev["vmax"])
+        cat["steps"].append(ev["steps"])
+        self.wall.append(time.perf_counter() - started)
+        if self.energy:
+            cat["driver_work"].append(ev["work"])
+            cat["dissipation"].append(ev["diss"])
+            cat["elastic_change"].append(ev["elastic"])
+        if not ok:
+            for f in cat:   # an unfinished event is not catalogued
+                if cat[f]:
+                    cat[f].pop()
+        return ok, message
+
+    def _segments(self, members: set) -> tuple[bool, str]:
+        """Integrate the event from its first failure until every block is stuck."""
+        while True:
+            # blocks of S already at the threshold start now (simultaneous failures)
+            for j in list(members):
+                if not self.slipping[j] and self.sigma[j] >= 1:
+                    self._start(j)
+                    members.update(self._neighbours(j))
+            idx, m, bond, selfc = self._layout(members)
+            wi = window_integrator(self.law, m, self.precision, self.energy)
+            outcome = self._integrate(wi, idx, bond, selfc)
+            if outcome is None:
+                return True, ""
+            if isinstance(outcome, str):
+                return False, outcome
+            kind, j = outcome
+            self.counts[kind] += 1
+            if kind == "window" and any(k not in members for k in self._neighbours(j)):
+                self.counts["grow"] += 1
+            self._start(j)
+            members.add(j)
+            members.update(self._neighbours(j))
+
+    def _start(self, j: int) -> None:
+        self.sigma[j] = 1   # the start event located σ_j = 1; rounding of the commit is dropped
+        self.slipping[j], self.vel[j], self.piece[j] = True, 0, 0
+        self._touched.add(int(j))
+
+    def _integrate(self, wi, idx, bond, selfc):
+        """Segments in this window until the event ends (None), an error (a string), or a block starts:
+        ("window", j) of S, ("far", j) outside S."""
+        dtype, nu = self.dtype, self.nu
+        ta = wi.integrator
+        m, k = wi.m, idx.size
+        pars, state = ta.pars, ta.state
+        pars[0], pars[1], pars[2] = nu, self.nu_f, self.l2
+        base = N_GLOBAL
+        # padding positions: stuck, σ = −999 (a constant like −1e100 spoils heyoka's step control);
+        # a start of one (only after τ = 1e3/ν) is ignored below
+        d = np.full(m, dtype(-1e3))
+        d[:k] = self.sigma[idx] - 1
+        slip = np.zeros(m, dtype=bool)
+        slip[:k] = self.slipping[idx]
+        q = np.abs(d) / nu
+        q[q < 1] = 1
+        pars[base:base + m] = slip
+        pars[base + m:base + 2 * m] = d
+        pars[base + 2 * m:base + 3 * m] = 1 / q
+        pars[base + 3 * m:base + 4 * m] = bond
+        pars[base + 4 * m:base + 5 * m] = selfc
+        k_pieces = wi.n_pieces
+        pieces = np.zeros(m, dtype=np.int64)
+        pieces[:k] = self.piece[idx]
+        if k_pieces > 1:
+            pbase = base + 5 * m
+            pars[pbase:pbase + k_pieces * m] = 0
+            pars[pbase + pieces * m + np.arange(m)] = 1
+        state[:] = 0
+        state[m:m + k] = self.vel[idx]
+        ta.time = dtype(0)
+        ta.reset_cooldowns()
+        rec = wi.recorder
+        rec.vmax = self.ev["vmax"]
+        # blocks outside S: stuck, σ grows as ντ: the first of them fails at τ = (1 − σ)/ν
+        if k == self.n:
+            tau_far, far = math.inf, -1
+        else:
+            masked = self.sigma.copy()
+            masked[idx] = -np.inf
+            far = int(np.argmax(masked))
+            tau_far = (1 - masked[far]) / nu
+        t_left = dtype(self.t_max) - self.ev["duration"]
+        t_end = min(tau_far, t_left)
+        kinds, blocks, breaks = wi.event_kind, wi.event_block, wi.event_break
+        n_events = len(kinds)
+        slipping = int(slip.sum())
+        steps = self.ev["steps"]
+        while True:
+            outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=max(self.max_steps - steps, 1))
+            steps += nsteps
+            index = -int(outcome) - 1
+            if not 0 <= index < n_events:
+                self.ev["steps"] = steps
+                if outcome == _NONFINITE:
+                    return f"non-finite state at t = {float(self.t + ta.time):.17g}"
+                if ta.time >= t_end and tau_far <= t_left:
+                    self._commit(wi, idx, pieces)
+                    return self._back_slip() or ("far", far)
+                return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
+                        f"or max_steps = {self.max_steps} (steps = {steps})")
+            j = blocks[index]
+            if j >= k:
+                continue
+            if kinds[index] == "block":
+                if pars[base + j]:               # a stop
+                    if self._overloaded(ta, j, m):
+                        state[m + j] = 0         # σ ≥ 1 at V = 0: it keeps slipping
+                        self.counts["overloaded"] += 1
+                        continue
+                    pars[base + j] = 0
+                    state[m + j] = 0
+                    slipping -= 1
+                    if slipping == 0:
+                        self.ev["steps"] = steps
+                        self._commit(wi, idx, pieces)
+                        return self._back_slip()
+                else:                            # a stuck block of S starts
+                    self.ev["steps"] = steps
+                    self._commit(wi, idx, pieces)
+                    return self._back_slip() or ("window", int(idx[j]))
+            else:                                # a switch of the friction piece
+                b = breaks[index]
+                pc = pieces[j]
+                pbase = base + 5 * m
+                pars[pbase + pc * m + j] = 0
+                pc = pc + 1 if b == pc else pc - 1
+                pars[pbase + pc * m + j] = 1
+                pieces[j] = pc
+
+    def _back_slip(self):
+        """An error message if a slipping block moves backwards (a stop event was missed), else None."""
+        v = self.vel[self.slipping]
+        if v.size and v.min() < -1e-9 * max(1.0, float(np.abs(v).max())):
+            j = int(np.flatnonzero(self.slipping)[np.argmin(v)])
+            return (f"back-slip: block {j} has velocity {float(self.nu * v.min()):.3g} < 0 at t = "
+                    f"{float(self.t):.17g} without a stop event")
+        return None
+
+    def _overloaded(self, ta, j, m) -> bool:
+        """σ_j ≥ 1 at a stop (only at rounding level): the block cannot stick."""
+        pars, w = ta.pars, ta.state
+        b = N_GLOBAL
+        coupling = (pars[b + 3 * m + j - 1 if j else b + 4 * m - 1] * w[j - 1] + pars[b + 3 * m + j] * w[(j + 1) % m]
+                    + (pars[b + 4 * m + j] - 2) * w[j])
+        return pars[b + m + j] / pars[0] + pars[2] * coupling - w[j] + ta.time >= 0
+
+    def _commit(self, wi, idx, pieces) -> None:
+        """Fold the segment's scaled increments into the global state (exact up to rounding)."""
+        ta = wi.integrator
+        nu, tau = self.nu, ta.time
+        state, pars = ta.state, ta.pars
+        m, k = wi.m, idx.size
+        dw = np.zeros(self.n, dtype=self.dtype)
+        dw[idx] = state[:k]
+        self.vel[idx] = state[m:m + k]
+        self.slipping[idx] = pars[N_GLOBAL:N_GLOBAL + k] != 0
+        self.piece[idx] = pieces[:k]
+        if self.energy:
+            dy = nu * (tau - dw)
+            db = nu * self._bonds(dw)
+            self.ev["elastic"] += np.sum(self.y * dy + dy * dy / 2) + \
+                self.l2 * np.sum(self.bond * db + db * db / 2)
+            unscale = m / self.dtype(ENERGY_SCALE)
+            self.ev["work"] += nu * (np.sum(self.y) * tau + nu * self.n * tau * tau / 2
+                                     - nu * state[2 * m + 1] * unscale)
+            self.ev["diss"] += nu * state[2 * m] * unscale
+            self.y += dy
+            self.bond += db
+        self.sigma += nu * (self.l2 * self._laplacian(dw) - dw + tau)
+        self.u[idx] += nu * state[:k]
+        self.ev["potency"] += nu * np.sum(state[:k])
+        self.ev["duration"] += tau
+        self.ev["vmax"] = max(self.ev["vmax"], wi.recorder.vmax)
+        self.t += tau

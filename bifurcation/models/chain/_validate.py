@@ -1,0 +1,89 @@
+"""Validation of chain arguments: one-line errors naming the argument, the value and the fix."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...errors import InputError
+
+__all__ = ["ENDS", "check_events", "check_initial", "check_size"]
+
+ENDS = ("free", "periodic")
+
+
+def _is_int(x) -> bool:
+    return not isinstance(x, bool) and isinstance(x, (int, np.integer))
+
+
+def check_size(n, ell, ends) -> tuple[int, float, str]:
+    if not _is_int(n) or n < 1:
+        raise InputError("n", n, "is not a number of blocks", "give an integer N ≥ 1, e.g. 64")
+    try:
+        ell_f = float(ell)
+    except (TypeError, ValueError):
+        raise InputError("ell", ell, "is not a number", "give a coupling ℓ ≥ 0, e.g. 1") from None
+    if not math.isfinite(ell_f) or ell_f < 0:
+        raise InputError("ell", ell, "must be finite and ≥ 0", "give a coupling ℓ ≥ 0, e.g. 1")
+    if ends not in ENDS:
+        raise InputError("ends", ends, "is not a boundary condition", "use 'free' or 'periodic'")
+    return int(n), ell_f, ends
+
+
+def check_events(events) -> int:
+    if not _is_int(events) or events < 1:
+        raise InputError("events", events, "is not a number of events", "give an integer ≥ 1, e.g. 1000")
+    return int(events)
+
+
+def stress(u: np.ndarray, ell: float, ends: str) -> np.ndarray:
+    """σ_j at t = 0: ℓ²(u_{j+1} − 2u_j + u_{j−1}) − u_j with the ghosts of ``ends``."""
+    if ends == "periodic":
+        lap = np.roll(u, 1) - 2 * u + np.roll(u, -1)
+    else:
+        lap = np.concatenate((u[:1], u[:-1])) - 2 * u + np.concatenate((u[1:], u[-1:]))
+    return ell * ell * lap - u
+
+
+def check_initial(n: int, ell: float, ends: str, u0, amplitude, seed) -> np.ndarray:
+    """The initial displacements: ``u0`` as given, or a random start from ``amplitude`` and ``seed``.
+
+    Random start: u_j = A r_j + c with r_j uniform in [0, 1) from ``numpy.random.default_rng(seed)``
+    and the constant c chosen so that max_j σ_j(0) = 0 (a uniform shift of u moves every σ_j by the
+    same amount, so it only sets the time of the first failure, t = 1/ν).
+    """
+    if u0 is not None and (amplitude is not None or seed is not None):
+        raise InputError("u0", "given", "cannot be combined with amplitude/seed",
+                         "give either u0 or amplitude and seed")
+    if u0 is None:
+        if amplitude is None:
+            raise InputError("amplitude", None, "is missing", "give u0=array or amplitude=A (and seed=S)")
+        try:
+            amp = float(amplitude)
+        except (TypeError, ValueError):
+            raise InputError("amplitude", amplitude, "is not a number", "give an amplitude A ≥ 0, e.g. 0.5") from None
+        if not math.isfinite(amp) or amp < 0:
+            raise InputError("amplitude", amplitude, "must be finite and ≥ 0", "give an amplitude A ≥ 0, e.g. 0.5")
+        if seed is not None and not _is_int(seed):
+            raise InputError("seed", seed, "is not an integer", "give an integer seed, e.g. 1")
+        rng = np.random.default_rng(0 if seed is None else int(seed))
+        u = amp * rng.random(n)
+        u = u + np.max(stress(u, ell, ends))
+    else:
+        try:
+            u = np.array(u0, dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise InputError("u0", u0, "is not an array of numbers", f"give {n} numbers") from None
+        if u.size != n:
+            raise InputError("u0", f"{u.size} values", f"does not have n = {n} values", f"give exactly {n} numbers")
+        if not np.all(np.isfinite(u)):
+            bad = int(np.flatnonzero(~np.isfinite(u))[0])
+            raise InputError("u0", f"u0[{bad}] = {u[bad]}", "is not finite", "give finite numbers")
+    s = stress(u, ell, ends)
+    if np.any(s >= 1):
+        j = int(np.argmax(s))
+        raise InputError("u0" if u0 is not None else "amplitude", f"σ[{j}] = {s[j]:.6g}" if u0 is not None
+                         else amplitude, f"puts block {j} at stress σ = {s[j]:.6g} ≥ 1 at t = 0",
+                         "all blocks must start stuck (σ_j < 1): lower the displacements or the amplitude")
+    return u

@@ -1,0 +1,76 @@
+"""``bifurcation chain`` through click's CliRunner: output keys, and one-line errors with exit 2."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import bifurcation as bf
+from bifurcation.cli import cli
+from bifurcation.models.chain import CATALOG_FIELDS
+
+BASE = ["chain", "--law", "carlson-langer", "--ell", "1", "--nu", "1e-6", "--nu-f", "0.3"]
+
+
+def _run(args):
+    return CliRunner().invoke(cli, args, catch_exceptions=False)
+
+
+def test_json_keys_are_the_field_names_and_match_the_api():
+    res = _run(BASE + ["--n", "4", "--amplitude", "0.1", "--seed", "3", "--events", "5", "--json"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.output)
+    assert set(CATALOG_FIELDS) <= set(doc) and doc["events"] == 5 and doc["status"] == "complete"
+    api = bf.chain("carlson-langer", n=4, ell=1.0, nu=1e-6, nu_f=0.3, amplitude=0.1, seed=3, events=5)
+    for key in CATALOG_FIELDS:
+        assert np.array_equal(np.array(doc[key]), api[key]), key
+    assert len(doc["u"]) == 4 and len(doc["stress"]) == 4
+
+
+def test_table_output_with_u0():
+    res = _run(BASE + ["--n", "3", "--u0", "0,-0.1,0.05", "--events", "2", "--ends", "periodic"])
+    assert res.exit_code == 0, res.output
+    assert "hypocentre" in res.output and "status complete" in res.output
+
+
+_DEFAULTS = {"--law": "carlson-langer", "--ell": "1", "--nu": "1e-6", "--nu-f": "0.3", "--n": "3",
+             "--amplitude": "0.1", "--events": "3"}
+
+
+@pytest.mark.parametrize("change,needle", [
+    ({"--n": "0"}, "n=0"),
+    ({"--ell": "-1"}, "ell=-1"),
+    ({"--amplitude": None, "--u0": "0,0"}, "u0="),
+    ({"--amplitude": None, "--u0": "0,nan,0"}, "u0="),
+    ({"--amplitude": None, "--u0": "-2,0,0"}, "≥ 1 at t = 0"),
+    ({"--events": "0"}, "events=0"),
+    ({"--ends": "open"}, "ends='open'"),
+    ({"--amplitude": "nan"}, "amplitude"),
+    ({"--amplitude": None}, "amplitude"),
+    ({"--nu": "nan"}, "nu=nan"),
+    ({"--nu-f": "-1"}, "nu_f=-1"),
+    ({"--law": "friction"}, "law='friction'"),
+    ({"--amplitude": None, "--u0": "a,b,c"}, "--u0"),
+    ({"--u0": "0,0,0"}, "u0"),
+])
+def test_bad_input_is_one_line_exit_2(change, needle):
+    opts = {**_DEFAULTS, **change}
+    args = ["chain"] + [x for k, v in opts.items() if v is not None for x in (k, v)]
+    res = CliRunner().invoke(cli, args)
+    assert res.exit_code == 2, res.output
+    lines = [line for line in res.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("bifurcation: error:"), res.output
+    assert needle in lines[0]
+    assert "Traceback" not in res.output
+
+
+def test_api_rejects_bad_input_with_the_argument_named():
+    with pytest.raises(bf.InputError, match="n=0"):
+        bf.chain("carlson-langer", n=0, ell=1.0, nu=1e-6, nu_f=0.3, amplitude=0.1, events=1)
+    with pytest.raises(bf.InputError, match="events"):
+        bf.chain("carlson-langer", n=2, ell=1.0, nu=1e-6, nu_f=0.3, amplitude=0.1, events=2.5)
+    with pytest.raises(bf.InputError, match="u0"):
+        bf.chain("carlson-langer", n=2, ell=1.0, nu=1e-6, nu_f=0.3, u0=[0.0, 1.5], events=2)
