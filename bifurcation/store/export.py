@@ -153,7 +153,7 @@ def export(store, out, fmt: str | None = None) -> dict:
             ds.to_netcdf(tmp, engine="netcdf4")
             points = int(np.prod([ds.sizes[d] for d in ds["done"].dims]))
         else:
-            from ..query import iter_records, write_records
+            from .query import iter_records, write_records
 
             with open(tmp, "w", encoding="utf-8", newline="") as fh:
                 points = write_records(iter_records(path), "csv", fh)
