@@ -10,7 +10,7 @@ from pathlib import Path
 import click
 
 from . import _options as O
-from ._common import echo_json, fail, number
+from ._common import echo_json, examples, fail, number
 
 __all__ = ["COMMANDS", "PAPER_WORKFLOWS"]
 
@@ -60,7 +60,8 @@ def _analyse(fn, stores, law: str, nu_f: float, as_json: bool, nearest: bool):
     return result
 
 
-@click.command("extrapolate")
+@click.command("extrapolate", epilog=examples(
+    'bifurcation extrapolate --store results/critical-point.zarr --law carlson-langer --nu-f 0.5'))
 @_STORE
 @_LAW
 @_NU_F
@@ -83,7 +84,8 @@ def extrapolate(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> 
     click.echo(f"extrapolated − direct {ex.deviation:+.2g}  ({agree})")
 
 
-@click.command("fit-period")
+@click.command("fit-period", epilog=examples(
+    'bifurcation fit-period --store results/critical-point.zarr --law piecewise-linear --nu-f 0.3 --json'))
 @_STORE
 @_LAW
 @_NU_F
@@ -110,10 +112,12 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> N
         click.echo(f"note: {f.resonance_note}")
 
 
-@click.command("report")
+@click.command("report", epilog=examples(
+    'bifurcation report --store results/paper-fig3.zarr --out my-report'))
 @_STORE
 @click.option("--out", "out", metavar="DIR", required=True, help="Directory for REPORT.md, report.html, PNGs.")
-def report(stores, out: str) -> None:
+@O.JSON
+def report(stores, out: str, as_json: bool) -> None:
     """Report what one or more stores hold (model, laws, axes, transition, fits, figures) into DIR."""
     from ..report import write_store_report
     from ._common import check_out_dir
@@ -122,7 +126,16 @@ def report(stores, out: str) -> None:
     sources = _stores(stores)
     with _with_options(_NAMES):
         files = write_store_report(sources, out)
+    if as_json:
+        echo_json(_written(files))
+        return
     click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figures")
+
+
+def _written(files: dict) -> dict:
+    """The files a report wrote, as JSON-ready paths."""
+    return {"markdown": str(files["markdown"]), "html": str(files["html"]),
+            "figures": [str(f) for f in files["figures"]]}
 
 
 def _workflow_dir() -> Path:
@@ -133,14 +146,16 @@ def _workflow_dir() -> Path:
     return here
 
 
-@click.command("reproduce")
+@click.command("reproduce", epilog=examples(
+    'bifurcation reproduce --out my-paper-report'))
 @click.option("--out", default="results/paper", show_default=True, metavar="DIR",
               help="Where the report goes (the stores go to results/<study>.zarr).")
 @O.SCHEDULER
 @O.WORKERS
 @click.option("--new-stores", is_flag=True,
               help="Replace a results/<study>.zarr that holds an older version of a paper workflow.")
-def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:
+@O.JSON
+def reproduce(out: str, scheduler, workers, new_stores: bool, as_json: bool) -> None:
     """Run the paper's workflows (resumable) and write the report to DIR: the main job."""
     from ..errors import InputError
     from ..report import write_report
@@ -152,7 +167,7 @@ def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:
     started = time.perf_counter()
     check_out_dir(out)
     workflows = _workflow_dir()
-    stores = []
+    stores, summaries = [], []
     # One cluster for the three workflows (starting an embedded one costs ~1 s and compiles per worker).
     with connect(check_scheduler(scheduler), check_workers(workers)) as client:
         for name in PAPER_WORKFLOWS:
@@ -161,13 +176,19 @@ def reproduce(out: str, scheduler, workers, new_stores: bool) -> None:
             except InputError as exc:
                 fail(f"{name}: {exc.argument}={exc.value!r}: {exc.problem}; {exc.fix} (or run "
                      "`bifurcation reproduce --new-stores` to recompute the paper's stores)")
-            click.echo(str(summary))
+            if not as_json:
+                click.echo(str(summary))
+            summaries.append(summary.to_dict())
             if summary.failed:
                 click.echo(f"bifurcation: {summary.failed} points of {name} failed; run `bifurcation "
                            "reproduce` again to retry them", err=True)
                 sys.exit(1)
             stores.append(summary.store)
     files = write_report(stores, out)
+    if as_json:
+        echo_json({"submits": summaries, "report": _written(files),
+                   "wall_time": round(time.perf_counter() - started, 3)})
+        return
     click.echo(f"wrote {files['markdown']} (and report.html, {len(files['figures'])} figures) in "
                f"{time.perf_counter() - started:.1f} s")
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from ..errors import InputError
-from ._common import echo_json, number
+from ._common import echo_json, examples, number
 
 __all__ = ["COMMANDS"]
 
@@ -20,7 +20,8 @@ def _u0(ctx, param, value):
                                  param_hint="--u0") from None
 
 
-@click.command("chain")
+@click.command("chain", epilog=examples(
+    'bifurcation chain --law carlson-langer --n 8 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 10'))
 @click.option("--law", required=True, help="Law name (see `bifurcation laws`) or formula in x.")
 @click.option("--n", "n", required=True, type=int, help="Number of blocks N ≥ 1.")
 @click.option("--ell", required=True, callback=number("--ell", "1"), help="Coupling ℓ ≥ 0.")

@@ -15,7 +15,7 @@ import click
 
 from ..errors import InputError
 
-__all__ = ["Group", "check_out_dir", "echo_json", "fail", "format_value", "native_stdout_to_stderr", "number"]
+__all__ = ["Group", "check_out_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
 
 def fail(message: str) -> None:
@@ -95,6 +95,12 @@ def _clean(obj):
     if isinstance(obj, (list, tuple)):
         return [_clean(v) for v in obj]
     return obj
+
+
+def examples(*commands: str) -> str:
+    """A command's epilog: its examples, one ``$ bifurcation …`` line each, kept as written by click
+    (``\\b``). tests/test_cli_examples.py runs every one of them."""
+    return "Examples:\n\n\b\n" + "\n".join(f"  $ {c}" for c in commands)
 
 
 def format_value(value) -> str:

@@ -5,13 +5,14 @@ from __future__ import annotations
 import click
 
 from . import _options as O
-from ._common import echo_json, format_value
+from ._common import echo_json, examples, format_value
 
 __all__ = ["COMMANDS"]
 
 
 
-@click.command("laws")
+@click.command("laws", epilog=examples(
+    'bifurcation laws'))
 @O.JSON
 def laws(as_json: bool) -> None:
     """List the named friction laws with their equations and sources."""
@@ -36,7 +37,9 @@ def _print_point(record: dict, keys, as_json: bool) -> None:
             click.echo(f"{k:18s} {format_value(record[k])}")
 
 
-@click.command("slip")
+@click.command("slip", epilog=examples(
+    'bifurcation slip --law carlson-langer --nu 1e-9 --nu-f 0.4',
+    "bifurcation slip --law 'exp(-x)' --nu 1e-12 --nu-f 0.3 --json"))
 @O.LAW
 @O.NU
 @O.NU_F
@@ -51,7 +54,8 @@ def slip_cmd(law: str, nu: float, nu_f: float, precision: str, as_json: bool) ->
     _print_point(record, ("law", "nu", "nu_f", *FIELDS, "steps", "status", "message"), as_json)
 
 
-@click.command("limit")
+@click.command("limit", epilog=examples(
+    'bifurcation limit --law piecewise-linear --nu-f 0.5 --json'))
 @O.LAW
 @O.NU_F
 @O.PRECISION
@@ -64,7 +68,8 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
     _print_point(record, ("law", "nu_f", *LIMIT_FIELDS, "status", "message"), as_json)
 
 
-@click.command("bench")
+@click.command("bench", epilog=examples(
+    'bifurcation bench --points 200 --subset 2'))
 @click.option("--points", default=2000, show_default=True, help="Grid points for the engine timing.")
 @click.option("--subset", default=12, show_default=True, help="Points for the slow baselines (DOP853).")
 @click.option("--pipeline", "pipeline_points", default=0, show_default=True,

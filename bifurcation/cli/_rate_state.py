@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._common import echo_json, number
+from ._common import echo_json, examples, number
 
 __all__ = ["COMMANDS"]
 
@@ -24,7 +24,8 @@ def _floats(name: str, example: str):
     return convert
 
 
-@click.command("hopf")
+@click.command("hopf", epilog=examples(
+    'bifurcation hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 --json'))
 @click.option("--state-law", required=True, help="aging (dieterich), slip (ruina) or prz; comma-separated for two.")
 @click.option("--a", "a", required=True, callback=number("--a", "0.01"), help="Direct effect a > 0.")
 @click.option("--b", "b", required=True, callback=_floats("--b", "0.015 or 0.015,0.005"), help="b_i >= 0.")
@@ -48,7 +49,8 @@ def hopf_cmd(state_law, a, b, dc, v_lp, mass, as_json) -> None:
         click.echo(f"{key:22s} {value:.17g}" if isinstance(value, float) else f"{key:22s} {value}")
 
 
-@click.command("rate-state")
+@click.command("rate-state", epilog=examples(
+    'bifurcation rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 --outputs 5'))
 @click.option("--state-law", required=True, help="aging (dieterich), slip (ruina) or prz; comma-separated for two.")
 @click.option("--a", "a", required=True, callback=number("--a", "0.01"), help="Direct effect a > 0.")
 @click.option("--b", "b", required=True, callback=_floats("--b", "0.015 or 0.015,0.005"), help="b_i >= 0.")
@@ -85,7 +87,8 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, preci
         click.echo(f"{ti:12.6g} {mi:20.16f} {vi:24.17g}")
 
 
-@click.command("continue")
+@click.command("continue", epilog=examples(
+    'bifurcation continue workflows/rate-state-quick.toml --out rate-state-quick'))
 @click.argument("workflow")
 @click.option("--out", default=None, help="Output directory (default results/<study name>/).")
 def continue_cmd(workflow: str, out) -> None:

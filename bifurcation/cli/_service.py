@@ -7,7 +7,7 @@ import sys
 import click
 
 from . import _options as O
-from ._common import echo_json, fail, number
+from ._common import echo_json, examples, fail, number
 
 __all__ = ["COMMANDS"]
 
@@ -22,7 +22,9 @@ def _numbers(name: str):
     return convert
 
 
-@click.command("submit")
+@click.command("submit", epilog=examples(
+    'bifurcation submit workflows/paper-fig3.toml --workers 2',
+    'bifurcation submit workflows/critical-point.toml --workers 2'))
 @click.argument("workflow", metavar="WORKFLOW")
 @click.option("--store", metavar="PATH", default=None,
               help="Zarr store (default: results/<study name>.zarr). Resumed if it holds this workflow.")
@@ -82,18 +84,26 @@ def _option_names() -> dict:
     return names
 
 
-@click.command("query")
+@click.command("query", epilog=examples(
+    'bifurcation query --store results/paper-fig3.zarr --nu 1e-9 --nu-f 0.4',
+    'bifurcation query --store results/paper-fig3.zarr --nu-f 0.4 --json'))
 @O.STORE
 @click.option("--law", multiple=True, help="Law label (repeatable; a formula matches by its expression). Default: all.")
 @_axis_options
 @O.NEAREST
 @O.FORMAT
+@click.option("--json", "as_json", is_flag=True, help="Print JSON (the same as --format json).")
 @click.option("--done-only", is_flag=True, help="Only points already computed.")
-def query_cmd(store: str, law, nearest: bool, fmt: str, done_only: bool, **axes) -> None:
+def query_cmd(store: str, law, nearest: bool, fmt: str, as_json: bool, done_only: bool, **axes) -> None:
     """Print the points of a store selected by law and by the axes of its model (exact labels; streamed:
     memory independent of the store)."""
     from ..errors import InputError
     from ..store.query import iter_records, write_records
+
+    if as_json:
+        if fmt not in ("table", "json"):
+            fail(f"--json and --format {fmt} ask for two formats; give one")
+        fmt = "json"
 
     notes: list[str] = []
     try:   # the selection and every selected chunk are checked here, before any output

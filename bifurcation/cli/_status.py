@@ -5,12 +5,12 @@ from __future__ import annotations
 import click
 
 from . import _options as O
-from ._common import echo_json
+from ._common import echo_json, examples
 
 __all__ = ["COMMANDS"]
 
 
-@click.command("status", epilog="Example:\n\n\b\n  $ bifurcation status --store results/paper-fig3.zarr")
+@click.command("status", epilog=examples("bifurcation status --store results/paper-fig3.zarr"))
 @O.STORE
 @O.JSON
 def status(store: str, as_json: bool) -> None:
@@ -24,8 +24,8 @@ def status(store: str, as_json: bool) -> None:
         click.echo(str(found))
 
 
-@click.command("export", epilog="Examples:\n\n\b\n  $ bifurcation export --store results/paper-fig3.zarr --out fig3.nc"
-                                "\n  $ bifurcation export --store results/paper-fig3.zarr --out fig3.csv")
+@click.command("export", epilog=examples("bifurcation export --store results/paper-fig3.zarr --out fig3.nc",
+                                          "bifurcation export --store results/paper-fig3.zarr --out fig3.csv"))
 @click.option("--store", metavar="PATH", required=True, help="A store written by `bifurcation submit`.")
 @click.option("--out", metavar="FILE", required=True, help="The file to write: .nc (netCDF, CF) or .csv.")
 @click.option("--format", "fmt", type=click.Choice(["netcdf", "csv"]), default=None,

@@ -7,12 +7,13 @@ import sys
 import click
 
 from . import _options as O
-from ._common import echo_json
+from ._common import echo_json, examples
 
 __all__ = ["COMMANDS"]
 
 
-@click.command("verify")
+@click.command("verify", epilog=examples(
+    'bifurcation verify --store results/paper-fig3.zarr'))
 @O.STORE
 @click.option("--repair", is_flag=True, help="Recompute exactly the damaged tiles (and restore lost metadata).")
 @O.SCHEDULER
