@@ -269,3 +269,24 @@ def test_structural_axis_and_set_events(batch):
     # piecewise-linear motion: the Taylor series are exact, only the event root finding rounds (~1e-16)
     np.testing.assert_allclose(out["end_time"], exact, rtol=1e-14)
     assert np.all(out["status"] == int(bf.Status.STICK_SLIP))
+
+
+def test_damped_workflow_through_submit_equals_the_serial_engine(tmp_path):
+    # the whole service path: a TOML workflow of the damped model, `bifurcation submit` on an embedded
+    # Dask cluster, the store, then a query of the store (no model-specific code outside its module)
+    from bifurcation.store.query import query
+
+    (tmp_path / "damped.toml").write_text(DAMPED)
+    store = tmp_path / "damped.zarr"
+    result = CliRunner().invoke(cli, ["submit", str(tmp_path / "damped.toml"), "--store", str(store),
+                                      "--workers", "1", "--json"])
+    assert result.exit_code == 0, result.output
+    w = parse_workflow(DAMPED)
+    reference = compute_serial(w)
+    ds = open_store(store)
+    for name, values in reference.items():
+        stored = np.asarray(ds[name].values)
+        if stored.dtype.kind == "f":
+            stored, values = stored.view(np.int64), values.view(np.int64)
+        np.testing.assert_array_equal(stored, values, err_msg=name)
+    assert len(query(store, gamma=[0.0, 0.5], law="piecewise-linear")) == 2 * len(w.nu_f) * len(w.nu)
