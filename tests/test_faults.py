@@ -2,7 +2,7 @@
 traceback, nothing written or lost. (Integrity faults: test_integrity.py; two writers: test_lock.py.)
 
 Disk full and a read-only directory are injected (OSError from the writer) so the suite needs no root;
-benchmarks/store_faults.py and the closing note give the runs on a real full tmpfs and a read-only mount.
+bifurcation/bench/store_faults.py and the closing note give the runs on a real full tmpfs and a read-only mount.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 Faults are injected into a store written in this process (the serial engine, no cluster); the repair
 runs on a module-wide local cluster. The full count (100 flips + 20 lost chunks) is
-benchmarks/store_faults.py; here 10 flips and 4 lost chunks, drawn with a fixed seed.
+bifurcation/bench/store_faults.py; here 10 flips and 4 lost chunks, drawn with a fixed seed.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Fault injection into a store: random single-bit flips, deleted and truncated chunks.
 
-    python benchmarks/store_faults.py [--flips 100] [--losses 20] [--seed 1] [--workers 2]
+    python -m bifurcation.bench.store_faults [--flips 100] [--losses 20] [--seed 1] [--workers 2]
 
 Writes a clean store of a 2-law × 64 ν_f × 64 ν grid (tiles 8 × 8: 128 tiles of 9 arrays, 1152 data chunks and 3 coordinate chunks) in this
 process, flips ``--flips`` random single bits (each in a different chunk file, any array: data, ``done``

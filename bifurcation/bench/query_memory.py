@@ -1,6 +1,6 @@
 """Peak memory and time of an unfiltered ``bifurcation query`` of a 10^6-point store, per format.
 
-    python benchmarks/query_memory.py [--points 1000000] [--formats table,csv,json]
+    python -m bifurcation.bench.query_memory [--points 1000000] [--formats table,csv,json]
 
 The store (1 law × 15625 ν_f × 64 ν, tiles 64 × 64: 245 tiles) is filled with synthetic values
 (random floats, status stick-slip, done) through ``write_tile``: what is measured is reading and
