@@ -19,8 +19,8 @@ _LAZY = {
     "LIMIT_FIELDS": "engine",
     "LimitResult": "engine",
     "SlipResult": "engine",
-    "chain": "models.chain",
     "Status": "engine",
+    "chain": "models.chain",
     "law_names": "laws",
     "limit": "engine",
     "open_store": "store",
@@ -29,7 +29,7 @@ _LAZY = {
     "submit": "run",
 }
 
-__all__ = ["FIELDS", "FrictionLaw", "InputError", "LIMIT_FIELDS", "LimitResult", "SlipResult", "Status",
+__all__ = ["FIELDS", "FrictionLaw", "InputError", "LIMIT_FIELDS", "LimitResult", "SlipResult", "Status", "chain",
            "law_names", "limit", "open_store", "resolve_law", "slip", "submit"]
 
 __getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

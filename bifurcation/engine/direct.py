@@ -29,12 +29,12 @@ LIMIT_FIELDS = ("delta0", "max_velocity0", "slip_duration0", "tau1", "creep_coef
 
 #: Long names and units of the limit fields (the xarray view of a ``LimitResult``).
 LIMIT_FIELD_ATTRS = {
-    "delta0": ("slip Δ0 of one cycle in the limit ν → 0 (0 in creep)", "F0/k"),
-    "max_velocity0": ("maximum block velocity along the limit orbit", "V0 = F0/sqrt(mk)"),
-    "slip_duration0": ("time from U̇ = ν_f to the stop (τ2 of Eq. 17)", "sqrt(m/k)"),
-    "tau1": ("time between the two crossings of U̇ = ν_f (Eq. 16)", "sqrt(m/k)"),
-    "creep_coefficient": ("lim Δ/ν as ν → 0 for ν_f > 1/2 (Eq. 10, corrected)", "F0/k / V0"),
-    "stop_time0": ("t0 of Eq. (9) for ν_f > 1/2", "sqrt(m/k)"),
+    "delta0": ("slip Δ0 per cycle as ν → 0, 0 in creep (in F0/k)", "1"),
+    "max_velocity0": ("maximum block velocity on the limit orbit (in V0)", "1"),
+    "slip_duration0": ("time from U̇ = ν_f to the stop, τ2 of Eq. 17 (in √(m/k))", "1"),
+    "tau1": ("time between the crossings of U̇ = ν_f, Eq. 16 (in √(m/k))", "1"),
+    "creep_coefficient": ("lim Δ/ν as ν → 0 for ν_f > 1/2 (in F0/k per V0)", "1"),
+    "stop_time0": ("t0 of Eq. 9 for ν_f > 1/2 (in √(m/k))", "1"),
 }
 
 

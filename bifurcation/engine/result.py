@@ -47,14 +47,16 @@ FIELDS = ("delta", "period", "creep_time", "slip_duration", "stop_time", "max_ve
 
 #: Long names and units, used by the CLI and the store.
 FIELD_ATTRS = {
-    "delta": ("slip Δ of one cycle (U at the stop)", "F0/k"),
-    "period": ("recurrence time T = Δ/ν", "sqrt(m/k)"),
-    "creep_time": ("t1: time from the start until U̇ first reaches ν_f (NaN if it never does)", "sqrt(m/k)"),
-    "slip_duration": ("time from t1 to the stop (NaN if U̇ never reaches ν_f)", "sqrt(m/k)"),
-    "stop_time": ("time from the start to the stop (t0 of Eq. 9 in creep)", "sqrt(m/k)"),
-    "max_velocity": ("maximum block velocity U̇ during the cycle", "V0 = F0/sqrt(mk)"),
+    # Dimensionless, as in the paper (Eq. 4): CF units "1", the scale named in the long name. Short names
+    # (they are xarray's plot labels); where a field is undefined it is NaN (see ``SlipResult``).
+    "delta": ("slip Δ per cycle (in F0/k)", "1"),
+    "period": ("recurrence time T = Δ/ν (in √(m/k))", "1"),
+    "creep_time": ("creep time t1, until U̇ = ν_f (in √(m/k))", "1"),
+    "slip_duration": ("slip duration, t1 to the stop (in √(m/k))", "1"),
+    "stop_time": ("time to the stop, t0 in creep (in √(m/k))", "1"),
+    "max_velocity": ("maximum block velocity U̇ (in V0)", "1"),
     "steps": ("Taylor steps taken", "1"),
-    "status": ("outcome code (see bifurcation.Status)", "1"),
+    "status": ("outcome of the cycle", "1"),
 }
 
 
@@ -137,8 +139,8 @@ class _Fields:
 
 #: Long names and units of the inputs that label the points of a result.
 _AXIS_ATTRS = {
-    "nu": ("pulling speed ν", "V0 = F0/sqrt(mk)"),
-    "nu_f": ("friction velocity ν_f", "V0 = F0/sqrt(mk)"),
+    "nu": ("pulling speed ν (in V0)", "1"),
+    "nu_f": ("friction velocity ν_f (in V0)", "1"),
 }
 
 

@@ -47,12 +47,12 @@ def law_identity(text: str):
 
 
 LAW = Labels(
-    name="law", long_name="friction law Φ (a name of bifurcation.law_names() or a formula in x)",
+    name="law", long_name="friction law Φ",
     workflow_key="laws", resolve=resolve_law, identity=law_identity, example="carlson-langer")
 
-NU_F = Axis("nu_f", "ν_f", "friction velocity ν_f, Eq. (2) of Vasconcelos PRL 76, 4865 (1996)",
+NU_F = Axis("nu_f", "ν_f", "friction velocity ν_f (in V0)",
             bounds=NU_F_BOUNDS, example=0.4)
-NU = Axis("nu", "ν", "pulling speed ν, Eq. (5) of Vasconcelos PRL 76, 4865 (1996)",
+NU = Axis("nu", "ν", "pulling speed ν (in V0)",
           bounds=NU_BOUNDS, scale="log", example=1e-9)
 
 #: The outputs of a cycle, in store order (the engine's ``FIELDS``, then ``steps`` and ``status``).

@@ -109,6 +109,7 @@ def provenance(workflow, command: str | None = None) -> dict:
         "title": workflow.name,
         "description": workflow.description,
         "source": workflow.spec.source,
+        "references": workflow.spec.source,   # CF: the published description of the model
         "workflow_toml": workflow.text,
         "workflow_sha256": workflow.sha256,
         "workflow_fingerprint": workflow.fingerprint,
