@@ -55,6 +55,7 @@ _DEFAULTS = {"--law": "carlson-langer", "--ell": "1", "--nu": "1e-6", "--nu-f": 
     ({"--law": "friction"}, "law='friction'"),
     ({"--amplitude": None, "--u0": "a,b,c"}, "--u0"),
     ({"--u0": "0,0,0"}, "u0"),
+    ({"--n": "0", "--amplitude": None}, "n=0"),   # the chain is checked before its start
 ])
 def test_bad_input_is_one_line_exit_2(change, needle):
     opts = {**_DEFAULTS, **change}

@@ -37,9 +37,12 @@ def _u0(ctx, param, value):
 def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, as_json) -> None:
     """The first K events of a chain of N blocks: t_start, hypocentre, n_blocks, potency, duration,
     max_velocity per event, and the final state."""
+    from ..models.chain import CATALOG_FIELDS, chain
+    from ..models.chain._validate import check_size
+
+    check_size(n, ell, ends)   # the chain first (N, ℓ, ends), then its start
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
-    from ..models.chain import CATALOG_FIELDS, chain
 
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
               events=events, precision=precision)
