@@ -96,3 +96,23 @@ def test_cli_text_json_and_bad_store(store, tmp_path):
     result = CliRunner().invoke(cli, ["status", "--store", str(tmp_path / "missing.zarr")])
     assert result.exit_code == 2
     assert result.output.count("\n") == 1 and "no such store" in result.output
+
+
+def test_a_damaged_store_is_one_line_naming_the_repair(store):
+    """A flipped bit in a done chunk, then a lost done array: one line, exit 2, never a traceback."""
+    workflow, path, run_id = store
+    for tile in iter_tiles(workflow):
+        write_tile(path, tile, compute_tile(tile), run_id)
+    chunk = next(p for p in sorted((path / "done").rglob("*")) if p.is_file() and p.name != "zarr.json")
+    data = bytearray(chunk.read_bytes())
+    data[len(data) // 2] ^= 0x01
+    chunk.write_bytes(bytes(data))
+    import shutil
+
+    for damage in ("a flipped bit", "the array lost"):
+        if damage == "the array lost":
+            shutil.rmtree(path / "done")
+        result = CliRunner().invoke(cli, ["status", "--store", str(path)])
+        assert result.exit_code == 2, (damage, result.output)
+        [line] = result.output.splitlines()
+        assert "damaged done array" in line and "verify --store" in line and "--repair" in line

@@ -101,6 +101,21 @@ def _since(text: str) -> float | None:
         return None
 
 
+def _read(path: Path, group, name: str):
+    """The whole array ``name``; a chunk that does not decode (checksum, truncation) or a lost array is
+    one line naming it and the repair command, never a traceback."""
+    from ..errors import InputError
+    from .integrity import repair_command
+
+    try:
+        return group[name][...]
+    except Exception as exc:  # noqa: BLE001 — whatever zarr raises for a damaged or missing array
+        raise InputError("--store", str(path), f"has a damaged {name} array ({type(exc).__name__}: "
+                         f"{str(exc).splitlines()[0] if str(exc) else 'unreadable'})",
+                         f"run `bifurcation verify --store {path}` to see the damage and "
+                         f"`{repair_command(path)}` to recompute it") from None
+
+
 def study_status(path) -> StudyStatus:
     """The progress of the study in the store at ``path`` (``InputError`` if it is not a store)."""
     import zarr
@@ -112,8 +127,8 @@ def study_status(path) -> StudyStatus:
     attrs = check_store(path, None)
     with _quiet():
         group = zarr.open_group(str(path), mode="r", use_consolidated=False)
-        done = np.asarray(group["done"][...], dtype=bool)
-        status = np.asarray(group["status"][...])
+        done = np.asarray(_read(path, group, "done"), dtype=bool)
+        status = np.asarray(_read(path, group, "status"))
     meta = json.loads((path / "done" / "zarr.json").read_text(encoding="utf-8"))
     dims = meta.get("dimension_names") or [f"dim_{i}" for i in range(done.ndim)]
     names = (group["status"].attrs.get("flag_meanings") or "").split()
