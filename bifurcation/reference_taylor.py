@@ -35,7 +35,6 @@ test suite, so ``tests/data/fading_reference.json`` holds values produced once b
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
 
 import mpmath
 

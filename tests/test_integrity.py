@@ -17,7 +17,6 @@ import pytest
 from click.testing import CliRunner
 
 from bifurcation.cli import cli
-from bifurcation.errors import InputError
 from bifurcation.store.query import query
 from bifurcation.run import submit
 from bifurcation.run.repair import verify

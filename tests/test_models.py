@@ -17,7 +17,7 @@ from click.testing import CliRunner
 import bifurcation as bf
 from bifurcation.cli import cli
 from bifurcation.errors import InputError
-from bifurcation.models import (ACTIONS, DEFAULT_MODEL, Axis, Event, Model, Output, Slots, get_model, model_names,
+from bifurcation.models import (ACTIONS, DEFAULT_MODEL, Axis, Event, Model, Output, get_model, model_names,
                                 register)
 from bifurcation.store import create_store, open_store, write_tile
 from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles, tile_count
@@ -229,7 +229,7 @@ def _ramp_model():
     when x_{n−1} reaches 10 (with "step" events at 5 and 7 that must change nothing). Exact end time: 10/(n·rate) if n·rate ≥ 10, else 1 + (10 − n·rate)/(5n)."""
     import heyoka as hy
 
-    from bifurcation.models import Labels, StateVar, System
+    from bifurcation.models import StateVar, System
     from bifurcation.models.single_block import LAW
 
     def equations(law, slots, num, *, n, precision):

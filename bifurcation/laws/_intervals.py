@@ -157,7 +157,7 @@ def _pow(node, base, power, show):
 
 
 def _evaluate(node, x):
-    from ._parse import _Bin, _Call, _Name, _Neg, _Num, _show
+    from ._parse import _Call, _Name, _Neg, _Num, _show
 
     if isinstance(node, _Num):
         value = mpmath.mpf(node.text)

@@ -29,7 +29,6 @@ from dataclasses import dataclass
 
 import mpmath as mp
 
-from .laws import resolve_state_law
 from .spec import SliderSpec, _finite
 from ._system import rhs_expressions
 
@@ -262,7 +261,6 @@ def lyapunov_by_simulation(spec: SliderSpec, point: HopfPoint, v_lp, eps: float,
             if float(f([mp.mpf(x) for x in u_star + d])[0]) > 0:
                 break
     u0 = u_star + d
-    z0 = np.vdot(p, u0 - u_star)
     period = 2 * math.pi / point.omega_c
     # The start is on the centre eigenspace, not the centre manifold: with a stable direction (inertia)
     # its O(ε²) offset decays over the first periods, so the growth is read between the upward

@@ -21,7 +21,6 @@ import time
 import tomllib
 from dataclasses import dataclass
 
-import numpy as np
 
 from ...errors import InputError
 
