@@ -6,12 +6,15 @@ before it imports the test modules, so ``from _store_helpers import ...`` works 
 
 from __future__ import annotations
 
+import contextlib
+import logging
+
 import numpy as np
 
 from bifurcation.store import open_store
 from bifurcation.run.tiles import OUTPUTS
 
-__all__ = ["assert_bitwise_equal", "assert_store_equals"]
+__all__ = ["assert_bitwise_equal", "assert_store_equals", "local_cluster"]
 
 
 def assert_bitwise_equal(ds, reference: dict) -> None:
@@ -27,3 +30,19 @@ def assert_bitwise_equal(ds, reference: dict) -> None:
 def assert_store_equals(path, reference: dict) -> None:
     """The store at ``path`` equals ``reference`` (e.g. ``compute_serial``) bit for bit."""
     assert_bitwise_equal(open_store(path), reference)
+
+
+@contextlib.contextmanager
+def local_cluster(n_workers: int):
+    """A local cluster of ``n_workers`` single-threaded processes and a client that keeps them warm;
+    yields the scheduler address (what ``submit(scheduler=...)`` takes)."""
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    client = Client(cluster, set_as_default=False)
+    try:
+        yield cluster.scheduler_address
+    finally:
+        client.close()
+        cluster.close()

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import errno
 import json
-import logging
 import os
 import subprocess
 import sys
@@ -19,6 +18,8 @@ import pytest
 from click.testing import CliRunner
 
 from bifurcation.cli import cli
+
+from _store_helpers import local_cluster
 
 BIN = Path(sys.executable).parent
 TOML = """
@@ -42,14 +43,8 @@ nu = 2
 
 @pytest.fixture(scope="module")
 def scheduler():
-    from distributed import Client, LocalCluster
-
-    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
-    client = Client(cluster, set_as_default=False)
-    yield cluster.scheduler_address
-    client.close()
-    cluster.close()
+    with local_cluster(1) as address:
+        yield address
 
 
 def one_line(result, needle: str, code: int = 2) -> str:

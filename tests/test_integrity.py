@@ -8,7 +8,6 @@ bifurcation/bench/store_faults.py; here 10 flips and 4 lost chunks, drawn with a
 from __future__ import annotations
 
 import json
-import logging
 import random
 import shutil
 
@@ -25,7 +24,7 @@ from bifurcation.store.integrity import StoreDamagedError, scan
 from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles
 from bifurcation.workflow import Workflow
 
-from _store_helpers import assert_store_equals
+from _store_helpers import assert_store_equals, local_cluster
 
 W = Workflow(name="integrity-test", laws=("piecewise-linear", "carlson-langer"),
              nu=(1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13), nu_f=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.9), tiles=(4, 3))
@@ -39,14 +38,8 @@ def reference():
 
 @pytest.fixture(scope="module")
 def scheduler():
-    from distributed import Client, LocalCluster
-
-    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
-    client = Client(cluster, set_as_default=False)
-    yield cluster.scheduler_address
-    client.close()
-    cluster.close()
+    with local_cluster(1) as address:
+        yield address
 
 
 def write_store(path):

@@ -6,7 +6,6 @@ One local cluster of two worker processes serves the module (started once: a few
 from __future__ import annotations
 
 import json
-import logging
 
 import pytest
 from click.testing import CliRunner
@@ -19,7 +18,7 @@ from bifurcation.store import open_store, read_done
 from bifurcation.run.tiles import compute_serial, tile_count
 from bifurcation.workflow import Workflow
 
-from _store_helpers import assert_store_equals
+from _store_helpers import assert_store_equals, local_cluster
 
 TOML = """
 [study]
@@ -42,14 +41,8 @@ nu = 2
 
 @pytest.fixture(scope="module")
 def scheduler():
-    from distributed import Client, LocalCluster
-
-    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
-    client = Client(cluster, set_as_default=False)   # keeps the workers warm between tests
-    yield cluster.scheduler_address
-    client.close()
-    cluster.close()
+    with local_cluster(2) as address:
+        yield address
 
 
 def workflow(**changes) -> Workflow:
