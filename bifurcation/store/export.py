@@ -113,7 +113,7 @@ def cf_problems(ds) -> list[str]:
 
 def _is_netcdf_attr(value) -> bool:
     if isinstance(value, (str, np.ndarray, np.number)) or (isinstance(value, (int, float)) and not isinstance(value, bool)):
-        return not isinstance(value, np.ndarray) or value.dtype.kind in "iufS U"
+        return not isinstance(value, np.ndarray) or value.dtype.kind in "iufSU"
     if isinstance(value, (list, tuple)):
         return all(isinstance(v, (int, float, np.number)) and not isinstance(v, bool) for v in value) or \
             all(isinstance(v, str) for v in value)

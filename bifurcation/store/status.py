@@ -19,7 +19,7 @@ __all__ = ["StudyStatus", "study_status"]
 
 #: Outcomes that are results, not failures (any other status of a done point is counted as a failure).
 _RESULTS = ("stick-slip", "creep")
-#: The rate is measured over the tiles finished in this many seconds before the newest one.
+#: The rate is measured over the tiles the current writer finished in the last this many seconds.
 _RATE_WINDOW = 300.0
 
 
@@ -161,13 +161,13 @@ def study_status(path) -> StudyStatus:
     writer = None if found is None else {"describe": found.describe(), "run": found.run, "host": found.host,
                                          "pid": found.pid, "since": found.since}
     rate = eta = None
-    if finished and found is not None:
-        start = _since(found.since) or finished[0][0]
-        recent = [(t, n) for t, n in finished if t >= max(start, last - _RATE_WINDOW)]
-        span = time.time() - (min(t for t, _ in recent) if len(recent) > 1 else start) if recent else 0.0
-        if recent and span > 0:
-            rate = sum(n for _, n in recent) / span
-            eta = (done.size - int(done.sum())) / rate if rate > 0 else None
+    if found is not None:   # points finished by this writer within the window, over the window's length
+        now = time.time()
+        since = max(_since(found.since) or now, now - _RATE_WINDOW)
+        recent = sum(n for t, n in finished if t >= since)
+        if recent and now > since:
+            rate = recent / (now - since)
+            eta = (done.size - int(done.sum())) / rate
     return StudyStatus(store=str(path), study=str(attrs.get("title", "?")), axis=dims[0], points=int(done.size),
                        done=int(done.sum()), per_label=per_label, statuses=statuses, failed=failed,
                        writer=writer, last_write=last, rate=rate, eta=eta,
