@@ -290,3 +290,58 @@ def test_damped_workflow_through_submit_equals_the_serial_engine(tmp_path):
             stored, values = stored.view(np.int64), values.view(np.int64)
         np.testing.assert_array_equal(stored, values, err_msg=name)
     assert len(query(store, gamma=[0.0, 0.5], law="piecewise-linear")) == 2 * len(w.nu_f) * len(w.nu)
+
+
+# -- a model with its own engine (a runner instead of equations/classify) ----------------------------------
+def _runner_model():
+    """Closed-form 'engine': the period 2π/√k of a unit-mass oscillator, and an error status for k > 50
+    (what the runner reports, the store must keep)."""
+    from bifurcation.models.single_block import LAW
+
+    def runner(model, label, points, *, precision, t_max, max_steps, batch):
+        k = np.asarray(points["k"], dtype=float)
+        bad = k > 50
+        period = np.where(bad, np.nan, 2 * np.pi / np.sqrt(k))
+        status = np.where(bad, int(bf.Status.NONFINITE), int(bf.Status.STICK_SLIP)).astype(np.int8)
+        return ({"period": period, "status": status},
+                {int(i): f"k = {k[i]} > 50" for i in np.flatnonzero(bad)})
+
+    return Model(name="test-runner", title="oscillator", description="test", source="tests/test_models.py",
+                 labels=LAW, axes=(Axis("k", "k", "stiffness", bounds=(0.1, 100.0), scale="log"),),
+                 parameters=(), state=(), events=(),
+                 outputs=(Output("period", "period 2π/√k"), Output("status", "status", dtype="int8", fill=0)),
+                 statuses=(bf.Status.STICK_SLIP, bf.Status.NONFINITE), equations=None, classify=None,
+                 runner=runner)
+
+
+def test_a_model_with_its_own_runner_goes_through_tiles_and_store(tmp_path):
+    model = register(_runner_model(), replace=True)
+    w = parse_workflow(textwrap.dedent("""
+        [study]
+        name = "runner"
+        [model]
+        name = "test-runner"
+        [engine]
+        laws = ["carlson-langer"]
+        [grid.k]
+        values = [1.0, 4.0, 64.0]
+        [tiles]
+        k = 2
+        """))
+    out = compute_serial(w)
+    # closed form: 2π/√k; k = 64 is beyond the runner's range: its status, never a number
+    np.testing.assert_allclose(out["period"][0, :2], [2 * np.pi, np.pi], rtol=1e-15)
+    assert math.isnan(out["period"][0, 2]) and out["status"][0, 2] == int(bf.Status.NONFINITE)
+    store = tmp_path / "runner.zarr"
+    run_id = create_store(store, w)["run_id"]
+    for tile in iter_tiles(w):
+        write_tile(store, tile, compute_tile(tile), run_id)
+    ds = open_store(store)
+    np.testing.assert_array_equal(ds["period"].values, out["period"])
+    assert ds.attrs["model"] == model.name
+
+
+def test_a_model_needs_equations_or_a_runner():
+    base = _runner_model()
+    with pytest.raises(ValueError, match="equations and classify, or a runner"):
+        Model(**{**base.__dict__, "runner": None})

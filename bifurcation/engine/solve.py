@@ -30,8 +30,9 @@ def solve(model, label: str, points: dict, *, precision: str = "double", t_max: 
     arrays = np.broadcast_arrays(*(np.asarray(points[a.name], dtype=float) for a in spec.axes))
     shape = arrays[0].shape
     flat = {a.name: np.ascontiguousarray(v).ravel() for a, v in zip(spec.axes, arrays)}
-    fields, messages = run_model(spec, label, flat, precision=precision, t_max=t_max, max_steps=max_steps,
-                                 batch=batch)
+    run = spec.runner if spec.runner is not None else run_model
+    fields, messages = run(spec, label, flat, precision=precision, t_max=t_max, max_steps=max_steps,
+                           batch=batch)
     out = {name: np.asarray(value).reshape(shape) for name, value in fields.items()}
     out["messages"] = messages
     return out

@@ -233,6 +233,13 @@ class Model:
     over the points: the recorded outcomes, ``time``, the final state by name, ``steps``, ``status``
     and ``messages``) into the model's ``outputs`` and messages; ``points`` maps every runtime
     parameter to its per-point values. ``fixed`` sets the runtime slots no axis sets.
+
+    A model whose point is not one integration of declared equations (a chain's event loop and its
+    catalog, a rate-and-state limit cycle found by shooting) declares a ``runner`` instead of
+    ``equations``/``classify`` (both None): ``runner(model, label, points, *, precision, t_max,
+    max_steps, batch) -> (fields, messages)`` with ``points`` the flat per-axis arrays and ``fields``
+    one array per output over them. ``bifurcation.engine.solve`` calls it, so tiles, the serial
+    reference, the store, queries and reports serve such a model like any other.
     """
 
     name: str
@@ -246,23 +253,27 @@ class Model:
     events: tuple[Event, ...]
     outputs: tuple[Output, ...]
     statuses: tuple[Status, ...]
-    equations: Callable
-    classify: Callable
+    equations: Callable | None
+    classify: Callable | None
     fixed: Mapping = field(default_factory=dict)
     initial_state: tuple = ()
     checkpoint: bool = False      # a run long enough to checkpoint its state between chunks of work
     #: ``initial_state`` for a structural value (an N-block chain's 2N zeros), if it depends on one.
     initial: Callable | None = None
+    #: The model's own engine for one label over flat points (see above); None: the generic engine.
+    runner: Callable | None = None
 
     def __post_init__(self) -> None:
+        if self.runner is None and (self.equations is None or self.classify is None):
+            raise ValueError(f"model {self.name}: declare equations and classify, or a runner")
         names = [self.labels.name, *(a.name for a in self.axes)]
         if len(set(names)) != len(names):
             raise ValueError(f"model {self.name}: dimension names {names} repeat")
         slots = set(self.parameters)
         for axis in self.axes:
-            if not axis.structural and axis.slot not in slots:
+            if self.runner is None and not axis.structural and axis.slot not in slots:
                 raise ValueError(f"model {self.name}: axis {axis.name} sets no runtime parameter")
-        unset = slots - {a.slot for a in self.axes if not a.structural} - set(self.fixed)
+        unset = set() if self.runner is not None else slots - {a.slot for a in self.axes if not a.structural} - set(self.fixed)
         if unset:
             raise ValueError(f"model {self.name}: runtime parameters {sorted(unset)} set by no axis")
         outputs = [o.name for o in self.outputs]
