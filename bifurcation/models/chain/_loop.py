@@ -4,16 +4,17 @@ Algorithm (docs/chain.md, "Event algorithm"):
 
 1. All blocks stuck: the stress grows as νt, so the next failure is the block with the largest σ,
    at t + (1 − max σ)/ν. Jump there (σ_j += 1 − max σ, the failing block set to σ = 1 exactly).
-2. Integrate a *window*: the set S of blocks that slipped in this event and their chain neighbours
-   (stuck ones included), packed into M positions (M a power of two ≥ |S|, or |S| for the whole
+2. Integrate a *window*: the set S of blocks slipping now and their chain neighbours (stuck ones
+   included), packed into M positions (M a power of two ≥ |S|, or |S| for the whole
    chain) of the compiled window integrator (``_integrator``), in per-segment scaled variables.
    Every block outside S is stuck and none of its neighbours moves, so its stress grows as ντ and
    its failure time −d_j/ν is known in closed form: the first of them bounds the segment.
 3. A stop (x_j → 0) sticks a block, a switch flips its friction piece; both continue the segment.
    A start (of a stuck block of S, or of a block outside S at its bound) *commits* the segment to
    the global state (σ, U updated exactly from the scaled increments), adds the block and its
-   neighbours to S and starts a new segment from w = 0 with the starting block at σ = 1 exactly.
-   Several clusters far apart share one window, so the cost follows the blocks that slip, not N.
+   neighbours to S and starts a new segment from w = 0 with the starting block at σ = 1 exactly;
+   blocks that stopped since the last start leave S then. Several clusters far apart share one
+   window, so the cost follows the blocks slipping at the same time, not N nor the event's size.
 4. When no block slips, the event ends; the catalog records it.
 
 The global state is the stress σ_j itself (never recomputed from U and νt, which grow without
@@ -88,32 +89,40 @@ class ChainLoop:
             return tuple({(j - 1) % n, (j + 1) % n} - {j})
         return tuple(k for k in (j - 1, j + 1) if 0 <= k < n)
 
-    def _right(self, j: int) -> int:
-        if self.periodic:
-            return (j + 1) % self.n
-        return j + 1 if j + 1 < self.n else -1
+    def _members(self) -> np.ndarray:
+        """The window: the slipping blocks and their chain neighbours, sorted (all blocks if forced).
 
-    def _layout(self, members: set) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
-        """Window positions of the blocks of S: (chain index per position, M, bonds, self couplings)."""
+        A block outside it is stuck and so are its neighbours (a neighbour in the window that does not
+        slip stays at w = 0 until it starts, which ends the segment), so its stress grows as ντ."""
         n = self.n
         if self.force_full:
-            members = set(range(n))
-        k = len(members)
-        idx = sorted(members)
+            return np.arange(n)
+        s = np.flatnonzero(self.slipping)
+        both = np.concatenate((s - 1, s, s + 1))
+        if self.periodic:
+            both %= n
+        else:
+            both = both[(both >= 0) & (both < n)]
+        return np.unique(both)
+
+    def _layout(self, idx: np.ndarray) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
+        """Window positions of the blocks ``idx`` (sorted): (chain index per position, M, bonds, self
+        couplings). Position i is bonded to i + 1 where the two blocks are chain neighbours."""
+        n, k = self.n, idx.size
         if self.periodic and k < n:   # start the cyclic order after a gap: no bond wraps the order
-            gap = next(j for j in range(n) if j not in members)
-            idx = sorted(members, key=lambda j: (j - gap) % n)
+            missing = np.flatnonzero(idx != np.arange(k))
+            gap = int(missing[0]) if missing.size else k
+            idx = np.roll(idx, -gap)
         m = n if k == n else _pow2_at_least(k)
+        right = (idx + 1) % n if self.periodic else idx + 1
         bond = np.zeros(m)
-        for i in range(k):
-            nxt = i + 1 if i + 1 < k else (0 if k == m else -1)
-            if nxt >= 0 and self._right(idx[i]) == idx[nxt]:
-                bond[i] = 1
+        bond[:k - 1] = right[:-1] == idx[1:]
+        if k == m:
+            bond[k - 1] = right[-1] == idx[0]
         selfc = np.zeros(m)
         if not self.periodic:
-            for i, j in enumerate(idx):
-                selfc[i] = (j == 0) + (j == n - 1)
-        return np.array(idx, dtype=np.int64), m, bond, selfc
+            selfc[:k] = (idx == 0).astype(float) + (idx == n - 1)
+        return idx, m, bond, selfc
 
     # -- the run ------------------------------------------------------------------------------------
     def run(self, k: int) -> dict:
@@ -143,7 +152,7 @@ class ChainLoop:
         self._touched = {h}
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
                        work=dtype(0), diss=dtype(0), elastic=dtype(0))
-        ok, message = self._segments({h, *self._neighbours(h)})
+        ok, message = self._segments()
         ev = self.ev
         cat["t_start"].append(t_start)
         cat["hypocentre"].append(h)
@@ -163,15 +172,20 @@ class ChainLoop:
                     cat[f].pop()
         return ok, message
 
-    def _segments(self, members: set) -> tuple[bool, str]:
+    def _segments(self) -> tuple[bool, str]:
         """Integrate the event from its first failure until every block is stuck."""
         while True:
-            # blocks of S already at the threshold start now (simultaneous failures)
-            for j in list(members):
-                if not self.slipping[j] and self.sigma[j] >= 1:
-                    self._start(j)
-                    members.update(self._neighbours(j))
-            idx, m, bond, selfc = self._layout(members)
+            # a new segment's window: the blocks slipping now and their neighbours (blocks that slipped
+            # earlier in the event and stopped leave it: a slip pulse keeps a window of its own width)
+            while True:
+                idx = self._members()
+                # blocks at the threshold start now (simultaneous failures)
+                due = idx[~self.slipping[idx] & (self.sigma[idx] >= 1)]
+                if not due.size:
+                    break
+                for j in due:
+                    self._start(int(j))
+            idx, m, bond, selfc = self._layout(idx)
             wi = window_integrator(self.law, m, self.precision, self.energy)
             outcome = self._integrate(wi, idx, bond, selfc)
             if outcome is None:
@@ -180,11 +194,9 @@ class ChainLoop:
                 return False, outcome
             kind, j = outcome
             self.counts[kind] += 1
-            if kind == "window" and any(k not in members for k in self._neighbours(j)):
+            if kind == "window" and any(not self.slipping[k] and k not in idx for k in self._neighbours(j)):
                 self.counts["grow"] += 1
             self._start(j)
-            members.add(j)
-            members.update(self._neighbours(j))
 
     def _start(self, j: int) -> None:
         self.sigma[j] = 1   # the start event located σ_j = 1; rounding of the commit is dropped
