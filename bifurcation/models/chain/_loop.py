@@ -71,6 +71,10 @@ class ChainLoop:
         self.wall: list[float] = []   # seconds per event (benchmarks: cost against event size)
         #: how often each way of starting a block happened (tests check that every path is exercised)
         self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
+        #: per block: itself and its chain neighbours (the window a slipping block needs)
+        self._near = [(j, *self._neighbours(j)) for j in range(n)]
+        self._slip: set = set()      # the blocks slipping now (during an event)
+        self._ring: dict = {}        # per window size M: positions i − 1 and i + 1 (mod M)
 
     # -- chain geometry ---------------------------------------------------------------------------
     def _laplacian(self, a: np.ndarray) -> np.ndarray:
@@ -94,16 +98,13 @@ class ChainLoop:
 
         A block outside it is stuck and so are its neighbours (a neighbour in the window that does not
         slip stays at w = 0 until it starts, which ends the segment), so its stress grows as ντ."""
-        n = self.n
         if self.force_full:
-            return np.arange(n)
-        s = np.flatnonzero(self.slipping)
-        both = np.concatenate((s - 1, s, s + 1))
-        if self.periodic:
-            both %= n
-        else:
-            both = both[(both >= 0) & (both < n)]
-        return np.unique(both)
+            return np.arange(self.n)
+        near = self._near
+        window = set()
+        for j in self._slip:
+            window.update(near[j])
+        return np.array(sorted(window), dtype=np.int64)
 
     def _layout(self, idx: np.ndarray) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
         """Window positions of the blocks ``idx`` (sorted): (chain index per position, M, bonds, self
@@ -149,7 +150,7 @@ class ChainLoop:
             self.y += jump
         t_start = self.t
         self.slipping[h], self.vel[h], self.piece[h] = True, 0, 0
-        self._touched = {h}
+        self._touched, self._slip = {h}, {h}
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
                        work=dtype(0), diss=dtype(0), elastic=dtype(0))
         ok, message = self._segments()
@@ -202,6 +203,14 @@ class ChainLoop:
         self.sigma[j] = 1   # the start event located σ_j = 1; rounding of the commit is dropped
         self.slipping[j], self.vel[j], self.piece[j] = True, 0, 0
         self._touched.add(int(j))
+        self._slip.add(int(j))
+
+    def _ring_of(self, m: int) -> tuple[np.ndarray, np.ndarray]:
+        ring = self._ring.get(m)
+        if ring is None:
+            i = np.arange(m)
+            ring = self._ring[m] = ((i - 1) % m, (i + 1) % m)
+        return ring
 
     def _integrate(self, wi, idx, bond, selfc):
         """Segments in this window until the event ends (None), an error (a string), or a block starts:
@@ -210,17 +219,17 @@ class ChainLoop:
         ta = wi.integrator
         m, k = wi.m, idx.size
         pars, state = ta.pars, ta.state
-        pars[0], pars[1], pars[2] = nu, self.nu_f, self.l2
         base = N_GLOBAL
         # padding positions: stuck, σ = −999 (a constant like −1e100 spoils heyoka's step control);
         # a start of one (only after τ = 1e3/ν) is ignored below
         d = np.full(m, dtype(-1e3))
         d[:k] = self.sigma[idx] - 1
-        slip = np.zeros(m, dtype=bool)
-        slip[:k] = self.slipping[idx]
         q = np.abs(d) / nu
         q[q < 1] = 1
-        pars[base:base + m] = slip
+        slip = self.slipping[idx]
+        pars[:base] = nu, self.nu_f, self.l2
+        pars[base:base + 5 * m] = 0
+        pars[base:base + k] = slip
         pars[base + m:base + 2 * m] = d
         pars[base + 2 * m:base + 3 * m] = 1 / q
         pars[base + 3 * m:base + 4 * m] = bond
@@ -252,6 +261,7 @@ class ChainLoop:
         n_events = len(kinds)
         slipping = int(slip.sum())
         steps = self.ev["steps"]
+        stopped = []
         while True:
             outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=max(self.max_steps - steps, 1))
             steps += nsteps
@@ -261,8 +271,8 @@ class ChainLoop:
                 if outcome == _NONFINITE:
                     return f"non-finite state at t = {float(self.t + ta.time):.17g}"
                 if ta.time >= t_end and tau_far <= t_left:
-                    self._commit(wi, idx, pieces)
-                    return self._back_slip() or ("far", far)
+                    self._commit(wi, idx, pieces, bond, selfc, stopped)
+                    return self._back_slip(idx) or ("far", far)
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
                         f"or max_steps = {self.max_steps} (steps = {steps})")
             j = blocks[index]
@@ -270,21 +280,22 @@ class ChainLoop:
                 continue
             if kinds[index] == "block":
                 if pars[base + j]:               # a stop
-                    if self._overloaded(ta, j, m):
+                    if self._overloaded(ta, j, m, bond, selfc):
                         state[m + j] = 0         # σ ≥ 1 at V = 0: it keeps slipping
                         self.counts["overloaded"] += 1
                         continue
                     pars[base + j] = 0
                     state[m + j] = 0
+                    stopped.append(int(idx[j]))
                     slipping -= 1
                     if slipping == 0:
                         self.ev["steps"] = steps
-                        self._commit(wi, idx, pieces)
-                        return self._back_slip()
+                        self._commit(wi, idx, pieces, bond, selfc, stopped)
+                        return self._back_slip(idx)
                 else:                            # a stuck block of S starts
                     self.ev["steps"] = steps
-                    self._commit(wi, idx, pieces)
-                    return self._back_slip() or ("window", int(idx[j]))
+                    self._commit(wi, idx, pieces, bond, selfc, stopped)
+                    return self._back_slip(idx) or ("window", int(idx[j]))
             else:                                # a switch of the friction piece
                 b = breaks[index]
                 pc = pieces[j]
@@ -294,35 +305,40 @@ class ChainLoop:
                 pars[pbase + pc * m + j] = 1
                 pieces[j] = pc
 
-    def _back_slip(self):
-        """An error message if a slipping block moves backwards (a stop event was missed), else None."""
-        v = self.vel[self.slipping]
+    def _back_slip(self, idx):
+        """An error message if a slipping block of the window moves backwards (a stop event was
+        missed), else None. Blocks outside the window did not move in the segment."""
+        v = self.vel[idx][self.slipping[idx]]
         if v.size and v.min() < -1e-9 * max(1.0, float(np.abs(v).max())):
-            j = int(np.flatnonzero(self.slipping)[np.argmin(v)])
+            j = int(idx[self.slipping[idx]][np.argmin(v)])
             return (f"back-slip: block {j} has velocity {float(self.nu * v.min()):.3g} < 0 at t = "
                     f"{float(self.t):.17g} without a stop event")
         return None
 
-    def _overloaded(self, ta, j, m) -> bool:
+    def _overloaded(self, ta, j, m, bond, selfc) -> bool:
         """σ_j ≥ 1 at a stop (only at rounding level): the block cannot stick."""
         pars, w = ta.pars, ta.state
-        b = N_GLOBAL
-        coupling = (pars[b + 3 * m + j - 1 if j else b + 4 * m - 1] * w[j - 1] + pars[b + 3 * m + j] * w[(j + 1) % m]
-                    + (pars[b + 4 * m + j] - 2) * w[j])
-        return pars[b + m + j] / pars[0] + pars[2] * coupling - w[j] + ta.time >= 0
+        coupling = bond[j - 1] * w[j - 1] + bond[j] * w[(j + 1) % m] + (selfc[j] - 2) * w[j]
+        return pars[N_GLOBAL + m + j] / pars[0] + pars[2] * coupling - w[j] + ta.time >= 0
 
-    def _commit(self, wi, idx, pieces) -> None:
-        """Fold the segment's scaled increments into the global state (exact up to rounding)."""
+    def _commit(self, wi, idx, pieces, bond, selfc, stopped) -> None:
+        """Fold the segment's scaled increments into the global state (exact up to rounding).
+
+        Only the window's blocks moved, and their Laplacian is the window's own coupling (a block of
+        the window next to one outside it is stuck, w = 0), so the stress of block j changes by
+        ν(ℓ²·coupling_j − w_j + τ) in the window and by ντ elsewhere: O(M) work plus one O(N) add."""
         ta = wi.integrator
         nu, tau = self.nu, ta.time
         state, pars = ta.state, ta.pars
         m, k = wi.m, idx.size
-        dw = np.zeros(self.n, dtype=self.dtype)
-        dw[idx] = state[:k]
+        w = state[:m].copy()
         self.vel[idx] = state[m:m + k]
         self.slipping[idx] = pars[N_GLOBAL:N_GLOBAL + k] != 0
+        self._slip.difference_update(stopped)
         self.piece[idx] = pieces[:k]
         if self.energy:
+            dw = np.zeros(self.n, dtype=self.dtype)
+            dw[idx] = w[:k]
             dy = nu * (tau - dw)
             db = nu * self._bonds(dw)
             self.ev["elastic"] += np.sum(self.y * dy + dy * dy / 2) + \
@@ -333,9 +349,13 @@ class ChainLoop:
             self.ev["diss"] += nu * state[2 * m] * unscale
             self.y += dy
             self.bond += db
-        self.sigma += nu * (self.l2 * self._laplacian(dw) - dw + tau)
-        self.u[idx] += nu * state[:k]
-        self.ev["potency"] += nu * np.sum(state[:k])
+        prev, nxt = self._ring_of(m)
+        coupling = bond[prev] * w[prev] + bond * w[nxt] + (selfc - 2) * w
+        change = np.full(self.n, tau, dtype=self.dtype)
+        change[idx] = (self.l2 * coupling[:k] - w[:k]) + tau
+        self.sigma += nu * change
+        self.u[idx] += nu * w[:k]
+        self.ev["potency"] += nu * np.sum(w[:k])
         self.ev["duration"] += tau
         self.ev["vmax"] = max(self.ev["vmax"], wi.recorder.vmax)
         self.t += tau
