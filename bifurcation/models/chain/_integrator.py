@@ -40,10 +40,10 @@ import numpy as np
 from ...engine._integrator import COOLDOWN, fp_info
 from ...laws import FrictionLaw
 
-__all__ = ["ENERGY_SCALE", "N_GLOBAL", "WindowIntegrator", "window_integrator"]
+__all__ = ["COMPACT_ABOVE", "ENERGY_SCALE", "N_GLOBAL", "WindowIntegrator", "window_integrator"]
 
 N_GLOBAL = 3
-#: windows up to this size are compiled in heyoka's full (non-compact) mode
+#: windows up to this size are compiled in heyoka's full (non-compact) mode by default (see ``window_integrator``)
 COMPACT_ABOVE = 8
 #: the energy integrals are carried as ENERGY_SCALE/M times their value (see ``_build``)
 ENERGY_SCALE = 0.1
@@ -88,7 +88,7 @@ class WindowIntegrator:
     dtype: type
 
 
-def _build(law: FrictionLaw, m: int, precision: str, energy: bool) -> WindowIntegrator:
+def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool) -> WindowIntegrator:
     fp_type, dtype, num = fp_info(precision)
     w = [hy.make_vars(f"w{j}") for j in range(m)]
     v = [hy.make_vars(f"v{j}") for j in range(m)]
@@ -142,19 +142,26 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool) -> WindowInte
         c = num(ENERGY_SCALE / m)
         eqs += [(diss, c * hy.sum(diss_terms)), (disp, c * hy.sum(disp_terms))]
     npars = N_GLOBAL + 5 * m + (k_pieces * m if k_pieces > 1 else 0)
-    # Compact mode above M = COMPACT_ABOVE (and in quad): its compile time grows ~linearly in M (1.5 s
-    # at M = 64, 3.4 s at 1024) where the full mode's takes minutes; the full mode's steps are ~2-4×
-    # faster, which pays for the small windows that almost every event uses.
-    compact = m > COMPACT_ABOVE or precision != "double"
     ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs), dtype=dtype), pars=np.zeros(npars, dtype=dtype),
                             t_events=events, nt_events=nt, compact_mode=compact, **fp)
     return WindowIntegrator(m, ta, tuple(kinds), tuple(blocks), tuple(breaks), k_pieces, energy, recorder, dtype)
 
 
-def window_integrator(law: FrictionLaw, m: int, precision: str = "double", energy: bool = False) -> WindowIntegrator:
-    """The cached integrator for a window of ``m`` blocks (compiled on first use in this process)."""
-    key = (law.name, law.formula, m, precision, energy)
+def window_integrator(law: FrictionLaw, m: int, precision: str = "double", energy: bool = False,
+                      compact_above: int = COMPACT_ABOVE) -> WindowIntegrator:
+    """The cached integrator for a window of ``m`` blocks (compiled on first use in this process).
+
+    Compact mode above M = ``compact_above`` (and always in quad). The full mode's steps are 2-3×
+    faster (measured on the chain, Carlson-Langer, double: 9 against 34 µs per step at M = 16, 55
+    against 112 at M = 32), but its compile time explodes with M: 18-22 s at M = 16 and 76 s at M = 32
+    for the piecewise-linear and exponential laws, 155 s for Carlson-Langer at M = 64, against
+    0.1-1.5 s in compact mode up to M = 1024. heyoka keeps compiled code in its on-disk cache
+    (~/.cache/heyoka), so the price is paid once per machine, law and M: worth it for long runs
+    (``bifurcation bench --suite chain`` uses 32), not for a test suite that touches many laws.
+    """
+    compact = m > compact_above or precision != "double"
+    key = (law.name, law.formula, m, precision, energy, compact)
     hit = _CACHE.get(key)
     if hit is None:
-        hit = _CACHE[key] = _build(law, m, precision, energy)
+        hit = _CACHE[key] = _build(law, m, precision, energy, compact)
     return hit

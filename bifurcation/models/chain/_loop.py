@@ -30,7 +30,7 @@ import heyoka as hy
 import numpy as np
 
 from ...laws import FrictionLaw
-from ._integrator import ENERGY_SCALE, N_GLOBAL, window_integrator
+from ._integrator import COMPACT_ABOVE, ENERGY_SCALE, N_GLOBAL, window_integrator
 from .result import ChainStatus
 
 __all__ = ["ChainLoop"]
@@ -47,7 +47,8 @@ class ChainLoop:
 
     def __init__(self, law: FrictionLaw, n: int, ell: float, nu: float, nu_f: float, ends: str,
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
-                 t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False) -> None:
+                 t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
+                 compact_above: int = COMPACT_ABOVE) -> None:
         from ...engine._integrator import fp_info
 
         _, dtype, _ = fp_info(precision)
@@ -68,6 +69,8 @@ class ChainLoop:
             self.bond = self._bonds(self.u)
         #: integrate the whole chain every event (the tests' check of the windows)
         self.force_full = full_window
+        #: windows up to this size use heyoka's full mode (faster steps, long first compile)
+        self.compact_above = compact_above
         self.wall: list[float] = []   # seconds per event (benchmarks: cost against event size)
         #: how often each way of starting a block happened (tests check that every path is exercised)
         self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
@@ -187,7 +190,7 @@ class ChainLoop:
                 for j in due:
                     self._start(int(j))
             idx, m, bond, selfc = self._layout(idx)
-            wi = window_integrator(self.law, m, self.precision, self.energy)
+            wi = window_integrator(self.law, m, self.precision, self.energy, self.compact_above)
             outcome = self._integrate(wi, idx, bond, selfc)
             if outcome is None:
                 return True, ""
@@ -195,8 +198,10 @@ class ChainLoop:
                 return False, outcome
             kind, j = outcome
             self.counts[kind] += 1
-            if kind == "window" and any(not self.slipping[k] and k not in idx for k in self._neighbours(j)):
-                self.counts["grow"] += 1
+            if kind == "window":
+                window = idx.tolist()
+                if any(k not in window for k in self._neighbours(j)):
+                    self.counts["grow"] += 1
             self._start(j)
 
     def _start(self, j: int) -> None:
