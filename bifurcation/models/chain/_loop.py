@@ -72,6 +72,7 @@ class ChainLoop:
         #: windows up to this size use heyoka's full mode (faster steps, long first compile)
         self.compact_above = compact_above
         self.wall: list[float] = []   # seconds per event (benchmarks: cost against event size)
+        self.cpu: list[float] = []    # CPU seconds of this process per event (the same, on a shared machine)
         #: how often each way of starting a block happened (tests check that every path is exercised)
         self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
         #: per block: itself and its chain neighbours (the window a slipping block needs)
@@ -142,7 +143,7 @@ class ChainLoop:
         return dict(catalog=cat, status=status, message=message)
 
     def _event(self, cat: dict) -> tuple[bool, str]:
-        started = time.perf_counter()
+        started, cpu = time.perf_counter(), time.process_time()
         dtype = self.dtype
         h = int(np.argmax(self.sigma))
         jump = 1 - self.sigma[h]
@@ -166,6 +167,7 @@ class ChainLoop:
         cat["max_velocity"].append(self.nu * ev["vmax"])
         cat["steps"].append(ev["steps"])
         self.wall.append(time.perf_counter() - started)
+        self.cpu.append(time.process_time() - cpu)
         if self.energy:
             cat["driver_work"].append(ev["work"])
             cat["dissipation"].append(ev["diss"])
