@@ -147,6 +147,24 @@ def test_windows_equal_whole_chain(law, ends):
         assert np.allclose(win[key], whole[key], rtol=1e-12, atol=0), key
 
 
+def test_a_spanning_slip_pulse_keeps_a_narrow_window():
+    """The window holds the blocks slipping now and their neighbours, not every block the event has
+    touched: event 1 of this 48-block chain slips all 48 blocks as a pulse, and no window holds half
+    of them (10 measured when written). The same two events integrated over the whole chain agree to
+    1e-12 (the check of test_windows_equal_whole_chain, here on a system-spanning event)."""
+    u = check_initial(48, 1.0, "free", None, 0.1, 1)
+    runs = []
+    for full in (False, True):
+        loop = ChainLoop(resolve_law("carlson-langer"), 48, 1.0, 1e-3, 0.2, "free", u, full_window=full)
+        runs.append((loop.run(2)["catalog"], loop.widest))
+    (win, widest), (whole, widest_full) = runs
+    assert win["n_blocks"][1] == 48 and widest_full[1] == 48
+    assert widest[1] < 24
+    assert win["hypocentre"] == whole["hypocentre"] and win["n_blocks"] == whole["n_blocks"]
+    for key in ("t_start", "potency", "duration", "max_velocity"):
+        assert np.allclose(win[key], whole[key], rtol=1e-12, atol=0), key
+
+
 def test_small_nu_double_matches_quad():
     """ν = 1e-12, a 6-block periodic chain: double against quad to 1e-14 (per-segment scaled variables
     keep relative precision; the single-block engine's own figure near the threshold is 1.1e-14, and

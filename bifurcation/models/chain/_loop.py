@@ -73,6 +73,7 @@ class ChainLoop:
         self.compact_above = compact_above
         self.wall: list[float] = []   # seconds per event (benchmarks: cost against event size)
         self.cpu: list[float] = []    # CPU seconds of this process per event (the same, on a shared machine)
+        self.widest: list[int] = []   # per event, the most blocks one window held
         #: how often each way of starting a block happened (tests check that every path is exercised)
         self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
         #: per block: itself and its chain neighbours (the window a slipping block needs)
@@ -155,6 +156,7 @@ class ChainLoop:
         t_start = self.t
         self.slipping[h], self.vel[h], self.piece[h] = True, 0, 0
         self._touched, self._slip = {h}, {h}
+        self._widest = 0
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
                        work=dtype(0), diss=dtype(0), elastic=dtype(0))
         ok, message = self._segments()
@@ -168,6 +170,7 @@ class ChainLoop:
         cat["steps"].append(ev["steps"])
         self.wall.append(time.perf_counter() - started)
         self.cpu.append(time.process_time() - cpu)
+        self.widest.append(self._widest)
         if self.energy:
             cat["driver_work"].append(ev["work"])
             cat["dissipation"].append(ev["diss"])
@@ -192,6 +195,7 @@ class ChainLoop:
                 for j in due:
                     self._start(int(j))
             idx, m, bond, selfc = self._layout(idx)
+            self._widest = max(self._widest, idx.size)
             wi = window_integrator(self.law, m, self.precision, self.energy, self.compact_above)
             outcome = self._integrate(wi, idx, bond, selfc)
             if outcome is None:
