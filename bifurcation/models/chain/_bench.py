@@ -10,8 +10,10 @@ the exact catalog's, or within the sampling noise of a KS distance between two s
 (1.36·sqrt(2/n), 95 %) when the run is too short to resolve ``ks``. The potency distribution is
 compared too, as magnitudes log10 P rounded to 0.01: raw potencies are atoms (every isolated 1-block
 event slips the same amount), and an atom moved by RK4's error (2e-3 relative at dt = 0.05) makes the
-raw KS distance the atom's whole weight. Timings are wall-clock on one core, reported, never
-asserted.
+raw KS distance the atom's whole weight. Timings are CPU seconds of this single-threaded process
+(wall-clock shown too: on a shared machine it measures the other jobs), reported, never asserted.
+``python -m bifurcation.models.chain._bench suite|ks|long|atom`` runs the suite, the longer KS study and
+the 10^5-event timing of results/chain/REPORT.md ("Speed").
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ import time
 
 import numpy as np
 
-__all__ = ["ks_distance", "rk4_chain", "run_chain_bench", "run_ks_study", "run_long"]
+__all__ = ["ks_distance", "rk4_chain", "run_chain_bench", "run_ks_study", "run_lone_block_check", "run_long"]
 
 
 def _phi(law: str):
@@ -255,6 +257,35 @@ def run_long(*, n: int = 256, events: int = 100_000, chunk: int = 10_000, law: s
             "largest": int(sizes_.max()), "spanning": int(np.sum(sizes_ == n))}
 
 
+def run_lone_block_check(*, n: int = 64, events: int = 300, dts=(0.2, 0.1, 0.05, 0.02), nu: float = 1e-3,
+                         nu_f: float = 0.2, seed: int = 1, echo=print) -> dict:
+    """Relative error of the lone interior block's slip, exact engine and RK4, against the closed form
+    P = Δ(ν/√k, √k ν_f)/k, k = 1 + 2ℓ² = 3 (docs/chain.md, "Threshold"; Δ from the single-block
+    engine): an accuracy measure that, unlike a KS distance, needs no long catalog."""
+    import bifurcation as bf
+
+    from ._validate import check_initial
+
+    say = echo or (lambda *_: None)
+    k = 3.0
+    single = float(bf.slip("carlson-langer", nu=nu / math.sqrt(k), nu_f=nu_f * math.sqrt(k)).delta) / k
+    u0 = check_initial(n, 1.0, "free", None, 0.1, seed)
+    r = bf.chain("carlson-langer", n=n, ell=1.0, nu=nu, nu_f=nu_f, u0=u0, events=events)
+    lone = (r.n_blocks == 1) & (r.hypocentre > 0) & (r.hypocentre < n - 1)
+    out = {"closed_form": single, "exact_events": int(lone.sum()),
+           "exact_max_error": float(np.max(np.abs(r.potency[lone] / single - 1))), "rk4": []}
+    say(f"lone interior block, N = {n}, {events} events: exact {out['exact_events']} events, max |P/P_closed − 1| = "
+        f"{out['exact_max_error']:.1e}")
+    for dt in dts:
+        c = rk4_chain("carlson-langer", n=n, ell=1.0, nu=nu, nu_f=nu_f, u0=u0, events=events, dt=dt)
+        p = c["potency"][c["n_blocks"] == 1]
+        near = p[np.abs(p / single - 1) < 0.2]     # interior lone blocks (free-end ones have k = 2)
+        err = float(np.median(near / single - 1))
+        out["rk4"].append({"dt": dt, "events": int(near.size), "median_error": err})
+        say(f"  RK4 dt = {dt:<5g} {near.size} events, median P/P_closed − 1 = {err:+.2e}")
+    return out
+
+
 if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md ("Speed")
     import sys
 
@@ -265,3 +296,5 @@ if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md 
         run_ks_study(events=int(sys.argv[2]) if len(sys.argv) > 2 else 4000)
     elif what == "long":
         run_long(events=int(sys.argv[2]) if len(sys.argv) > 2 else 100_000)
+    elif what == "atom":
+        run_lone_block_check()
