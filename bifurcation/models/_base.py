@@ -64,6 +64,9 @@ class Axis:
     dtype: str = "float64"            # "int64" for counts (blocks, seeds)
     structural: bool = False
     parameter: str | None = None      # runtime slot set by this axis (default: ``name``)
+    #: The one point a workflow without a ``[grid.<name>]`` table takes (None: the table is required),
+    #: so that a model of many axes keeps simple workflows short.
+    default: float | None = None
 
     def __post_init__(self) -> None:
         if not self.name.isidentifier():
@@ -75,6 +78,8 @@ class Axis:
             raise ValueError(f"axis {self.name}: bounds {self.bounds} are not an increasing (positive for log) pair")
         if self.dtype not in ("float64", "int64"):
             raise ValueError(f"axis {self.name}: dtype {self.dtype!r} is not float64 or int64")
+        if self.default is not None and not lo <= self.default <= hi:
+            raise ValueError(f"axis {self.name}: default {self.default} is outside its bounds {self.bounds}")
 
     def cast(self, value):
         """``value`` as this axis's Python type (int for counts)."""
@@ -299,6 +304,16 @@ class Model:
             if o.name == name:
                 return o
         raise KeyError(name)
+
+    def status_name(self, code: int) -> str:
+        """The name of stored status ``code``: the model's own (``statuses``), else ``bifurcation.Status``'s."""
+        for status in self.statuses:
+            if int(status) == int(code):
+                return str(status)
+        try:
+            return str(Status(int(code)))
+        except ValueError:
+            return f"code {int(code)}"
 
     @property
     def float_outputs(self) -> tuple[str, ...]:

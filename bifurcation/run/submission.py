@@ -258,7 +258,7 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
     summary = Summary(study=workflow.name, store=str(path), points=workflow.n_points, computed=computed,
                       skipped=skipped, failed=failed, tiles=n_tiles, wall_time=wall,
                       compute_time=compute_time,
-                      statuses={str(Status(i)): int(n) for i, n in enumerate(statuses) if n},
+                      statuses={workflow.spec.status_name(i): int(n) for i, n in enumerate(statuses) if n},
                       cluster=cluster_name, errors=tuple(errors[:5]), repaired=repaired)
     try:
         record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,

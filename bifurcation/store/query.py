@@ -87,12 +87,14 @@ class _Records:
         self.axes = [a.name for a in reversed(model.axes)]
         self.floats = model.float_outputs
         self.others = [o.name for o in model.outputs if o.name != "status" and o.name not in self.floats]
+        # a model may declare its own status codes (rate-state's RateStateStatus)
+        self.status_names = {**_STATUS_NAMES, **{int(s): str(s) for s in model.statuses}}
 
     def make(self, label: str, coords: dict, status: int, values: dict) -> dict:
         record = {self.label: label}
         for name in self.axes:
             record[name] = coords[name]
-        record["status"] = _STATUS_NAMES[status]
+        record["status"] = self.status_names[status]
         for name in self.floats:
             x = values[name]
             record[name] = x if math.isfinite(x) else None

@@ -1,7 +1,8 @@
 r"""Workflows: a study over a model's grid (labels × its axes), written as a TOML file.
 
 The model (``[model] name``, default ``single-block``) declares the axes: one ``[grid.<axis>]`` table
-per axis and one ``[tiles]`` key per axis, with the bounds the model declares. The schema below is
+per axis (an axis with a ``default`` may be left out: its one point is that default) and one
+``[tiles]`` key per axis, with the bounds the model declares. The schema below is
 the single block's (axes ``nu_f`` and ``nu``); ``bifurcation.models.get_model(name).axes`` lists
 another model's.
 
@@ -148,6 +149,8 @@ class Workflow:
                              "give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
         grid = []
         for axis in spec.axes:
+            if axis.name not in points and axis.default is not None:
+                points[axis.name] = (axis.default,)
             if axis.name not in points:
                 raise InputError(f"grid.{axis.name}", None, "is missing",
                                  f"add a table [grid.{axis.name}] ({axis.long_name})")
@@ -340,8 +343,10 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
     options = {name: engine.raw(name) for name in _ENGINE_KEYS if engine.has(name)}
     if tiles is not None:
         options["tiles"] = {name: tiles.raw(name) for name in axis_names if tiles.has(name)}
-    axes = {axis.name: _axis_points(grid.table(axis.name, ("values", "ranges", "log")), axis)
-            for axis in spec.axes}
+    # an axis with a default may be left out (Workflow takes its one default point)
+    tables = {axis: grid.table(axis.name, ("values", "ranges", "log"), required=axis.default is None)
+              for axis in spec.axes}
+    axes = {axis.name: _axis_points(table, axis) for axis, table in tables.items() if table is not None}
     return Workflow(
         name=study.string("name", fix="add name = \"my-study\" to [study]"),
         description=study.string("description", ""),
