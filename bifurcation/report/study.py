@@ -277,8 +277,12 @@ def write_store_report(sources, out) -> dict:
     figures: list = []
     titles = ", ".join(repr(ds.attrs.get("title", "?")) for ds in stores)
     blocks: list = [("h1", f"Study report: {titles}")]
-    blocks.append(("p", "Every number below is read from the stores or computed from them by this package; units: "
-                        "Δ in F0/k, velocities in V0 = F0/√(mk), times in √(m/k) (docs/physics.md)."))
+    from ..store.layout import store_model
+
+    units = ("units: Δ in F0/k, velocities in V0 = F0/√(mk), times in √(m/k) (docs/physics.md)"
+             if any(store_model(ds.attrs) != "rate-state" for ds in stores) else
+             "units: those of the workflow's own V_lp, Dc and M (docs/rate-state.md)")
+    blocks.append(("p", f"Every number below is read from the stores or computed from them by this package; {units}."))
     for k, ds in enumerate(stores):
         blocks += _store_blocks(ds, out, figures, f"store{k}")
     if _holds_paper_laws(stores):

@@ -123,7 +123,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
         if dist < STEADY_TOL and dist < last_dist:
             return Fate("steady", steps=steps)
         last_dist = dist
-        ups = [np.asarray(s[1:], dtype=float) for (_, s), cr in zip(rec.crossing_states, rec.crossings) if cr[2] > 0]
+        ups = _last_upward(rec, 2)
         if len(ups) >= 2:
             w_scale = scale[1:]
             moved = float(np.max(np.abs(ups[-1] - ups[-2]) / w_scale))
@@ -142,6 +142,17 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
             return Fate("unresolved", f"neither steady sliding nor a cycle within {float(ta.time):.6g} "
                         f"({float(ta.time) / period0:.0f} linear periods); last distance to steady sliding "
                         f"{dist:.3g}", steps=steps)
+
+
+def _last_upward(rec, count: int) -> list:
+    """The section coordinates (ln θ_i[, z]) of the last ``count`` upward crossings of V = V_lp, oldest first."""
+    out = []
+    for (_, state), crossing in zip(reversed(rec.crossing_states), reversed(rec.crossings)):
+        if crossing[2] > 0:
+            out.append(np.asarray(state[1:], dtype=float))
+            if len(out) == count:
+                break
+    return out[::-1]
 
 
 def _cycle(spec, v_lp, w0, w_scale, *, t_max, max_steps):

@@ -138,9 +138,12 @@ def _run(model, label, points, *, precision, t_max, max_steps, batch):
                                              dps=30)
             except InputError as exc:
                 hopf_cache[key] = exc
+            except (ValueError, ZeroDivisionError) as exc:   # mpmath's root finder did not converge
+                hopf_cache[key] = RuntimeError(f"Hopf point not found: {exc}")
         h = hopf_cache[key]
-        if isinstance(h, InputError):
-            fields["status"][i] = RateStateStatus.NO_HOPF_POINT
+        if isinstance(h, Exception):
+            fields["status"][i] = (RateStateStatus.NO_HOPF_POINT if isinstance(h, InputError)
+                                   else RateStateStatus.NOT_RESOLVED)
             messages[i] = str(h)
             continue
         fields["k_c"][i], fields["omega_c"][i] = h.k_c, h.omega_c
