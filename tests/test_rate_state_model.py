@@ -203,3 +203,26 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(tmp_path, edit, message
     assert r.exit_code == 2, r.output
     assert len(r.output.strip().splitlines()) == 1 and message in r.output, r.output
     assert not store.exists()
+
+
+def test_a_deep_inertial_slip_cycle_against_a_direct_run():
+    # Stick-slip-like: slip law, b/a = 5, η = M V_lp²/(a Dc) = 100, κ = 0.1: V drops 8 decades below V_lp
+    # (docs/rate-state.md, "Where cycles become stick-slip-like"). The direct run starts from the same
+    # perturbed slide and runs 60 periods (measured: the oscillation grows from the slide for ~40 turns, then the multiplier
+    # 0.07 per turn settles it; from turn 45 on successive intervals agree to 1e-12);
+    # its period between exact V = V_lp events and its ln V minimum must match the Newton cycle.
+    from bifurcation.engine.solve import solve
+    from bifurcation.models.rate_state import rate_state
+
+    pts = {"kappa": [0.1], "v_lp": 1.0, "a": 0.01, "b": 0.05, "dc": 0.01, "mass": 1e-2, "b2": 0.0, "dc2": 0.1}
+    out = solve("rate-state", "slip", pts, max_steps=1_000_000)
+    assert out["status"][0] == RateStateStatus.LIMIT_CYCLE
+    period, k = float(out["period"][0]), float(out["k"][0])
+    assert out["ln_v_min"][0] < -18.6 and out["multiplier_max"][0] < 0.1
+    r = rate_state(a=0.01, b=0.05, dc=0.01, state_law="slip", k=k, mass=1e-2, v_lp=1.0, t=[0.0, 60 * period],
+                   v0=math.exp(1e-2), theta0=[0.01], thresholds=[1.0], max_steps=3_000_000)
+    assert r.status == "ok"
+    ups = r.crossings[r.crossings[:, 2] > 0, 0]
+    assert ups[-1] - ups[-2] == pytest.approx(period, rel=1e-10)
+    last = r.extrema[r.extrema[:, 0] > ups[-2]]
+    assert last[:, 1].min() == pytest.approx(float(out["ln_v_min"][0]), abs=1e-9)
