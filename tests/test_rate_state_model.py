@@ -208,8 +208,8 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(tmp_path, edit, message
 def test_a_deep_inertial_slip_cycle_against_a_direct_run():
     # Stick-slip-like: slip law, b/a = 5, η = M V_lp²/(a Dc) = 100, κ = 0.1: V drops 8 decades below V_lp
     # (docs/rate-state.md, "Where cycles become stick-slip-like"). The direct run starts from the same
-    # perturbed slide and runs 60 periods (measured: the oscillation grows from the slide for ~40 turns, then the multiplier
-    # 0.07 per turn settles it; from turn 45 on successive intervals agree to 1e-12);
+    # perturbed slide and runs 60 periods (measured: the oscillation grows from the slide for ~40 turns,
+    # then the multiplier 0.07 per turn settles it; from turn 45 on successive intervals agree to 1e-12);
     # its period between exact V = V_lp events and its ln V minimum must match the Newton cycle.
     from bifurcation.engine.solve import solve
     from bifurcation.models.rate_state import rate_state
