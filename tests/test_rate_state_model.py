@@ -52,6 +52,12 @@ def test_labels_canonicalise_aliases_and_refuse_unknown_laws():
     assert (w.v_lp, w.a, w.b, w.dc, w.b2, w.dc2) == ((1.0,), (0.01,), (0.015,), (0.01,), (0.0,), (0.1,))
 
 
+def test_workflow_round_trips_with_its_defaults_written_out():
+    w = parse_workflow(WORKFLOW)
+    again = parse_workflow(w.to_toml())
+    assert again == w and again.fingerprint == w.fingerprint and "[grid.dc2]" in w.to_toml()
+
+
 @pytest.fixture(scope="module")
 def submitted(tmp_path_factory):
     root = tmp_path_factory.mktemp("rs")
@@ -194,6 +200,9 @@ def test_two_state_variables_take_b2_and_dc2():
     (("[grid.mass]", "[grid.dc]\nvalues = [0]\n[grid.mass]"), "grid.dc.values[0]=0"),
     (("values = [0.5, 0.9, 1.5]", "values = [0.0, 0.9]"), "grid.kappa.values[0]=0.0"),
     (('"Ruina"', '"frob"'), "engine.laws[1]='frob': is not a known state law"),
+    (('"Ruina"', '"aging+slip+prz"'), "names 3 state variables"),
+    (("[grid.kappa]\nvalues = [0.5, 0.9, 1.5]\n", ""), "grid.kappa"),      # the one axis without a default
+    (("[grid.mass]\nvalues = [0.0, 1e-5]", "[grid.mass]\nvalues = [-1e-5]"), "grid.mass.values[0]=-1e-05"),
 ])
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(tmp_path, edit, message):
     wf = tmp_path / "bad.toml"
