@@ -227,6 +227,6 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds) -> None:
               "reached on these branches: on the quasi-static ones V blows up first; on the inertial ones the fast "
               "mode of ln V relaxes at a rate a/(M V), and below ln V ≈ −9 the explicit Taylor steps reach its "
               "stability limit (the continuation stops there with its reason, see `stop`). With b/a = 5 and "
-              "η = 100 the slip law's attracting cycles do pass 10 decades over a cycle (κ < 0.045; "
+              "η = 100 the slip law's attracting cycles do pass 10 decades over a cycle (κ < 0.044; "
               "docs/rate-state.md, \"Where cycles become stick-slip-like\").", ""]
     (out / "REPORT.md").write_text("\n".join(lines), encoding="utf-8")
