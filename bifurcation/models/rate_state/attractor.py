@@ -70,7 +70,6 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
 
     c = compiled(spec.state_law, spec.inertial, 1, "double")
     ta = c.integrator
-    n = spec.n_states
     x_star = math.log(v_lp)
     y_star = np.array([math.log(law.steady_factor * d / v_lp) for law, d in zip(spec.laws, spec.dc)])
     u_star = np.concatenate([[x_star], y_star, [0.0] if spec.inertial else []])
