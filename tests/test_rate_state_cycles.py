@@ -153,3 +153,21 @@ def test_branch_in_v_lp_with_inertia_moves_kappa_as_k_c_grows_with_v_lp():
     v = [p.v_lp for p in vb.points]
     kap = [p.kappa for p in vb.points]
     assert v == sorted(v) and kap == sorted(kap, reverse=True) and v[-1] > 3 and kap[-1] < 0.25
+
+
+def test_continue_writes_a_branch_in_v_lp(tmp_path):
+    wf = tmp_path / "v.toml"
+    wf.write_text(WORKFLOW.replace('points = 4\nmax_step = 0.5',
+                                   'points = 4\nmax_step = 2.0\nparameter = "v_lp"\nstart_point = 3\n'
+                                   'v_lp_min = 0.01\nv_lp_max = 100'))
+    out = tmp_path / "out"
+    r = CliRunner().invoke(cli, ["continue", str(wf), "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    ds = xr.open_zarr(out / "branches.zarr", consolidated=False)
+    assert ds.attrs["parameter"] == ["v_lp"] and ds.sizes["point"] == 4
+    v = ds.v_lp.values[0]
+    assert v[0] == 1.0 and np.all(np.diff(v) > 0)
+    # quasi-static: V_lp·T is the same cycle's at every V_lp (the shooting tolerance bounds the agreement)
+    np.testing.assert_allclose(v * ds.period.values[0], v[0] * ds.period.values[0, 0], rtol=1e-10)
+    assert np.all(ds.period_check.values < 1e-10)
+    assert "a branch in V_lp at fixed k" in (out / "REPORT.md").read_text()
