@@ -235,3 +235,20 @@ def test_a_deep_inertial_slip_cycle_against_a_direct_run():
     assert ups[-1] - ups[-2] == pytest.approx(period, rel=1e-10)
     last = r.extrema[r.extrema[:, 0] > ups[-2]]
     assert last[:, 1].min() == pytest.approx(float(out["ln_v_min"][0]), abs=1e-9)
+
+
+def test_v_lp_only_rescales_a_point_at_fixed_eta():
+    # In τ = t V_lp/Dc and ln(V/V_lp) the equations contain V_lp only through η = M V_lp²/(a Dc)
+    # (docs/rate-state.md): over 12 decades of V_lp at η = 0.1 the stored cycle has the same V_lp·T and
+    # ln(V_min/V_lp), up to the shooting tolerance; quasi-static k_c = (b − a)/Dc does not move.
+    from bifurcation.engine.solve import solve
+
+    rows = []
+    for v in (1e-9, 1.0, 1e3):
+        out = solve("rate-state", "slip", {"kappa": [0.5, 1.5], "v_lp": v, "a": 0.01, "b": 0.015, "dc": 0.01,
+                                           "mass": 1e-5 / v ** 2, "b2": 0.0, "dc2": 0.1})
+        assert out["status"].tolist() == [RateStateStatus.LIMIT_CYCLE, RateStateStatus.STEADY_SLIDING]
+        assert out["k_c"][0] == pytest.approx(0.55, rel=1e-14)   # (b − a)/Dc · (1 + η), η = 0.1
+        rows.append((v * out["period"][0], out["ln_v_min"][0] - math.log(v), out["ln_v_max"][0] - math.log(v)))
+    for row in rows[1:]:
+        np.testing.assert_allclose(row, rows[0], rtol=1e-9, atol=1e-9)

@@ -152,7 +152,9 @@ def _run(model, label, points, *, precision, t_max, max_steps, batch):
         k = p["kappa"] * h.k_c
         fields["k"][i] = k
         spec = SliderSpec(a=p["a"], b=b, dc=dc, state_law=laws, k=k, mass=mass)
-        f = fate(spec, p["v_lp"], 2 * math.pi / h.omega_c, max_steps=max_steps, t_max=t_max)
+        # [engine] t_max is in the single block's time unit; here time scales like Dc/V_lp, so the run's
+        # bound is MAX_PERIODS linear periods (and max_steps), whatever V_lp is
+        f = fate(spec, p["v_lp"], 2 * math.pi / h.omega_c, max_steps=max_steps, t_max=math.inf)
         fields["status"][i] = _FATE[f.kind]
         fields["steps"][i] = f.steps
         for name in ("period", "ln_v_max", "ln_v_min", "slip", "multiplier_max"):
