@@ -81,7 +81,7 @@ AXES = (
          example=0.015, default_tile=1, default=0.015),
     Axis("dc", "D_c", "critical slip distance Dc of the first state variable (> 0)", bounds=(1e-9, 1e6),
          units="length", scale="log", example=0.01, default_tile=1, default=0.01),
-    Axis("mass", "M", "block mass M per unit normal force (0: quasi-static)", bounds=(0.0, 1e12),
+    Axis("mass", "M", "block mass M per unit normal force (0: quasi-static)", bounds=(0.0, 1e30),
          units="time^2/length", example=1e-5, default_tile=1, default=0.0),
     Axis("b2", "b₂", "evolution-effect parameter of the second state variable (0 for one variable)",
          bounds=(0.0, 1.0), example=0.006, default_tile=1, default=0.0),
