@@ -60,7 +60,9 @@ def blocks(ds, model, out, figures: list, stem: str) -> list:
             if g >= 6:
                 continue
             cyc = done & (status == 2)
-            line = ax.plot(kappa[cyc], v["ln_v_max"][cyc], ".-", ms=4, lw=1, label=_where(at, model) or label)[0]
+            # the legend names only the axes this store varies (the others are in the table above)
+            varying = {n: x for n, x in at.items() if ds.sizes[n] > 1}
+            line = ax.plot(kappa[cyc], v["ln_v_max"][cyc], ".-", ms=4, lw=1, label=_where(varying, model) or label)[0]
             ax.plot(kappa[cyc], v["ln_v_min"][cyc], ".-", ms=4, lw=1, color=line.get_color())
             steady = done & (status == 1)
             ax.plot(kappa[steady], np.log(at.get("v_lp", 1.0)) * np.ones(steady.sum()), "s", ms=4,
