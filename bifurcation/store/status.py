@@ -131,8 +131,11 @@ def study_status(path) -> StudyStatus:
         status = np.asarray(_read(path, group, "status"))
     meta = json.loads((path / "done" / "zarr.json").read_text(encoding="utf-8"))
     dims = meta.get("dimension_names") or [f"dim_{i}" for i in range(done.ndim)]
-    names = (group["status"].attrs.get("flag_meanings") or "").split()
-    name_of = (lambda code: names[code] if 0 <= code < len(names) else f"code {code}")
+    # CF flags: meaning i belongs to flag_values[i] (codes need not be 0..n−1: unresolved is 7)
+    flag_attrs = group["status"].attrs
+    meanings = (flag_attrs.get("flag_meanings") or "").split()
+    by_code = dict(zip((int(v) for v in flag_attrs.get("flag_values") or range(len(meanings))), meanings))
+    name_of = (lambda code: by_code.get(code, f"code {code}"))
 
     def outcomes(mask, where=()) -> dict:
         codes, counts = np.unique(status[where][mask], return_counts=True)
