@@ -7,7 +7,7 @@ and statuses. Adding a model means one module here and one line in ``_REGISTRY``
 ``MODELS`` / ``model_module`` name the model *packages* that are not declarations yet (the
 rate-and-state slider, ``rate_state``, has its own spec, engine and study; moving it onto the
 contract above is its next step): they are listed, imported on first use, and served by their own
-commands.
+commands. The chain package (``chain``) also has its declaration, ``chain.model:CHAIN``.
 """
 
 from __future__ import annotations
@@ -37,6 +37,7 @@ DEFAULT_MODEL = "single-block"
 _REGISTRY = {
     "single-block": "single_block:SINGLE_BLOCK",
     "damped-block": "damped_block:DAMPED_BLOCK",
+    "chain": "chain.model:CHAIN",
 }
 _LOADED: dict[str, Model] = {}
 

@@ -149,6 +149,14 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     try:
         with _quiet():
             ds.to_zarr(str(path), mode=mode, compute=False, encoding=encoding, zarr_format=3, consolidated=True)
+        if model.catalog_outputs:   # the ragged per-event arrays (store.catalog), then one consolidation
+            import zarr
+
+            from .catalog import create_catalog
+
+            create_catalog(path, workflow)
+            with _quiet():
+                zarr.consolidate_metadata(str(path))
     except OSError:   # disk full, quota: leave no half-made store behind (the lock stays with its holder)
         _clear(path)
         raise
@@ -236,6 +244,12 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
     """
     arrays = _arrays(str(path), run_id)
     region = tile.region
+    catalogs = [k for k in values if k not in arrays]
+    if catalogs:   # per-event outputs: each run's catalog chunks before the tile's per-run outputs
+        from ..models import get_model
+        from .catalog import write_catalogs
+
+        write_catalogs(path, arrays["done"].shape, tile, values, get_model(tile.model))
     if tile.todo is not None:
         keep = ~np.asarray(tile.todo, dtype=bool)
         values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in arrays}
@@ -244,6 +258,10 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
             if name == "done":
                 _check_run(str(path), run_id)   # again just before done: nothing claims a foreign tile
             array[region] = np.asarray(values[name], dtype=array.dtype)[None]
+    if catalogs:   # done is written: the runs' checkpoints are no longer needed
+        from .catalog import drop_checkpoints
+
+        drop_checkpoints(path, arrays["done"].shape, tile, values["done"])
 
 
 def record_submit(path, entry: dict) -> None:
