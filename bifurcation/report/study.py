@@ -192,6 +192,10 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
     b.append(("table", ["law", *(str(s) for s in statuses)],
               [[law, *(str(int(np.count_nonzero(status[i] == int(s)))) for s in statuses)]
                for i, law in enumerate(laws)]))
+    if model.catalog_outputs:   # a catalog model (the chain): its runs and catalogs, no slip Δ
+        from ..models.chain.store_report import chain_store_blocks
+
+        return b + chain_store_blocks(ds, model)
     for i, law in enumerate(laws):
         b.append(("h3", f"Law {law}"))
         fig, _ = _figure_law(ds, model, i, law)

@@ -300,6 +300,9 @@ class Checkpoints:
         return {"state": blobs, "catalog": catalog, "steps": int(meta["steps"]), "events": events}
 
     def save(self, i: int, state: dict, catalog: dict, *, steps: int) -> None:
+        from .zarr_store import _check_run
+
+        _check_run(str(self.path), self.run_id)   # never into a store that replaced this run's
         run = int(self.runs[i])
         events = len(next(iter(catalog.values())))
         start = self._written.get(i, 0)
