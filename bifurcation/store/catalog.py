@@ -83,6 +83,7 @@ class _Catalog:
         with _quiet():
             root = zarr.open_group(str(path), mode=mode, use_consolidated=False)
             self.group = root[CATALOG]
+            self.grid = tuple(root["done"].shape)
             self.arrays = {name: a.with_config({"write_empty_chunks": True}) if mode != "r" else a
                            for name, a in self.group.arrays()}
         attrs = dict(self.group.attrs)
@@ -144,9 +145,22 @@ def run_indices(shape, region) -> np.ndarray:
     return np.ravel_multi_index(tuple(grids), shape)
 
 
-def write_catalogs(path, shape, tile, values: dict, model) -> None:
+_OPEN: dict = {}   # (path, run_id) → _Catalog opened for writing, per process (like zarr_store._WRITERS)
+
+
+def _writer(path, run_id: str) -> "_Catalog":
+    key = (str(path), str(run_id))
+    hit = _OPEN.get(key)
+    if hit is None:
+        if len(_OPEN) >= 4:
+            _OPEN.pop(next(iter(_OPEN)))
+        hit = _OPEN[key] = _Catalog(path, "r+")
+    return hit
+
+
+def write_catalogs(path, shape, tile, values: dict, model, run_id: str) -> None:
     """The catalogs of ``tile``'s computed runs (``values["done"]``), before its per-run outputs."""
-    cat = _Catalog(path, "r+")
+    cat = _writer(path, run_id)
     runs = run_indices(shape, tile.region).reshape(tile.shape)
     done = np.asarray(values["done"], dtype=bool)
     names = [o.name for o in model.catalog_outputs]
@@ -273,7 +287,7 @@ class Checkpoints:
     def __init__(self, path, run_id: str, runs) -> None:
         self.path, self.run_id = Path(path), str(run_id)
         self.runs = np.asarray(runs, dtype=np.int64).ravel()
-        self.catalog = _Catalog(path, "r+")
+        self.catalog = _writer(path, run_id)
         self.every = self.catalog.chunk
         self._written = {}
 
@@ -327,18 +341,9 @@ class Checkpoints:
         os.replace(tmp, file)
 
 
-def _grid_shape(path) -> tuple:
-    import zarr
-
-    from .zarr_store import _quiet
-
-    with _quiet():
-        return tuple(zarr.open_group(str(path), mode="r", use_consolidated=False)["done"].shape)
-
-
 def tile_checkpoints(path, run_id: str, tile) -> Checkpoints:
     """The checkpoints of ``tile``'s points to compute, in the order the runner gets them."""
-    runs = run_indices(_grid_shape(path), tile.region).reshape(tile.shape)
+    runs = run_indices(_writer(path, run_id).grid, tile.region).reshape(tile.shape)
     mask = np.ones(tile.shape, dtype=bool) if tile.todo is None else np.asarray(tile.todo, dtype=bool)
     return Checkpoints(path, run_id, runs[mask])
 

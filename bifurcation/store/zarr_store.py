@@ -249,7 +249,7 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
         from ..models import get_model
         from .catalog import write_catalogs
 
-        write_catalogs(path, arrays["done"].shape, tile, values, get_model(tile.model))
+        write_catalogs(path, arrays["done"].shape, tile, values, get_model(tile.model), run_id)
     if tile.todo is not None:
         keep = ~np.asarray(tile.todo, dtype=bool)
         values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in arrays}
