@@ -231,3 +231,176 @@ def test_a_run_killed_between_checkpoints_resumes_bit_identical(workflow, serial
     assert not list((path / "checkpoints").glob("*.npz"))   # dropped once the tile is done
     cat = read_catalog(path, law="carlson-langer", n=6, nu_f=0.3, seed=2, events=30, periodic=0)
     assert_same(cat["potency"], serial["potency"][0, 1, 0, 0, 0, 0, 0, 1, 0], "potency")
+
+
+# -- a real `dask worker` killed with -9 in the middle of a run ------------------------------------------
+KILL = textwrap.dedent("""
+    [study]
+    name = "chain-kill"
+    [model]
+    name = "chain"
+    [engine]
+    laws = ["carlson-langer"]
+    [grid.n]
+    values = [4]
+    [grid.ell]
+    values = [1.0]
+    [grid.nu]
+    values = [1e-3]
+    [grid.nu_f]
+    values = [0.3]
+    [grid.amplitude]
+    values = [0.5]
+    [grid.seed]
+    values = [3]
+    [grid.events]
+    values = [4000]
+    [grid.periodic]
+    values = [0]
+    [tiles]
+    catalog = 200
+    """)
+
+
+@pytest.mark.distributed
+def test_a_dask_worker_killed_mid_run_resumes_from_its_checkpoint_bit_identical(tmp_path):
+    """`dask scheduler` + one `dask worker` (its nanny restarts it) on loopback; `bifurcation submit` of one
+    4000-event run (~2 s) with a checkpoint every 200 events; the worker process is killed with -9 once the
+    first checkpoint is in the store. The scheduler hands the task to the restarted worker, which resumes
+    from the last checkpoint; the stored catalog equals an uninterrupted in-process run bit for bit."""
+    from distributed import Client
+
+    from test_distributed import BIN, _env, _free_port, _start, _stop
+
+    wf = tmp_path / "kill.toml"
+    wf.write_text(KILL)
+    store = tmp_path / "kill.zarr"
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    procs = [_start([str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+                    tmp_path, "scheduler")]
+    try:
+        procs.append(_start([str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--host",
+                             "127.0.0.1", "--no-dashboard", "--death-timeout", "60"], tmp_path, "worker"))
+        with Client(address, timeout="60s", set_as_default=False) as client:
+            client.wait_for_workers(1, timeout=90)
+            (victim,) = client.run(os.getpid).values()
+            submit = _start([str(BIN / "bifurcation"), "submit", str(wf), "--scheduler", address, "--store",
+                             str(store), "--json"], tmp_path, "submit")
+            procs.append(submit)
+            checkpoint = store / "checkpoints" / "0.npz"
+            deadline = time.monotonic() + 120
+            while not checkpoint.exists():
+                assert submit.poll() is None, (tmp_path / "submit.log").read_text()
+                assert time.monotonic() < deadline, "no checkpoint within 120 s"
+                time.sleep(0.01)
+            os.kill(victim, signal.SIGKILL)
+            assert submit.wait(300) == 0, (tmp_path / "submit.log").read_text()
+        with pytest.raises(ProcessLookupError):
+            os.kill(victim, 0)
+    finally:
+        for proc in reversed(procs):
+            _stop(proc)
+    log = (tmp_path / "submit.log").read_text()
+    summary = json.loads(log[log.index("{"):log.rindex("}") + 1])
+    assert (summary["computed"], summary["failed"]) == (1, 0)
+    cat = read_catalog(store, law="carlson-langer")
+    resumed = cat["run"]["resumed"]
+    assert 0 < resumed < 4000 and resumed % 200 == 0        # it did resume, from a checkpoint
+    reference = compute_serial(parse_workflow(KILL))     # uninterrupted, no checkpoints
+    for name in CATALOG:
+        assert_same(cat[name], reference[name].reshape(-1)[0], name)
+    assert cat["run"]["events_done"] == 4000 and cat["run"]["status"] == "complete"
+    ds = open_store(store)
+    for name in ("t_end", "steps", "events_done", "status"):
+        assert_same(ds[name].values, reference[name], name)
+    assert not list((store / "checkpoints").glob("*.npz"))
+
+
+# -- workflows: submit end to end, bad input ------------------------------------------------------------
+def test_submit_of_the_shipped_chain_workflow_end_to_end(tmp_path):
+    """`bifurcation submit workflows/chain-study.toml` on the embedded cluster; then status, verify, query
+    (per run and --catalog), report: what a new user runs."""
+    repo = Path(__file__).resolve().parents[1]
+    store = tmp_path / "study.zarr"
+    runner = CliRunner()
+    result = runner.invoke(cli, ["submit", str(repo / "workflows" / "chain-study.toml"), "--store", str(store),
+                                 "--workers", "1", "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout[result.stdout.index("{"):])
+    assert (summary["computed"], summary["failed"], summary["statuses"]) == (4, 0, {"complete": 4})
+    reference = compute_serial(parse_workflow((repo / "workflows" / "chain-study.toml").read_text()))
+    ds = open_store(store)
+    for name in ("t_end", "steps", "events_done", "status"):
+        assert_same(ds[name].values, reference[name], name)
+    status = runner.invoke(cli, ["status", "--store", str(store)])
+    assert status.exit_code == 0 and "complete 4" in status.output and "0 failed" in status.output
+    verify = runner.invoke(cli, ["verify", "--store", str(store)])
+    assert verify.exit_code == 0 and "0 damaged" in verify.output, verify.output
+    out = runner.invoke(cli, ["query", "--store", str(store), "--n", "16", "--nu-f", "0.2", "--catalog", "--json"])
+    assert out.exit_code == 0, out.output
+    got = json.loads(out.stdout)
+    index = (0, 1, 0, 0, 0, 0, 0, 0, 0)
+    assert got["run"]["n"] == 16 and len(got["potency"]) == 200
+    for name in CATALOG:   # JSON floats are repr: exact
+        assert_same(np.asarray(got[name], dtype=reference[name][index].dtype), reference[name][index], name)
+    table = runner.invoke(cli, ["query", "--store", str(store), "--n", "4", "--nu-f", "0.35", "--catalog",
+                                "--format", "csv"])
+    assert table.exit_code == 0 and table.stdout.splitlines()[0] == "event," + ",".join(CATALOG)
+    assert len(table.stdout.splitlines()) == 201
+    report = runner.invoke(cli, ["report", "--store", str(store), "--out", str(tmp_path / "report")])
+    assert report.exit_code == 0, report.output
+    md = (tmp_path / "report" / "REPORT.md").read_text()
+    assert "Chain runs and their catalogs" in md and "| 16 | 0.2 | complete | 200 |" in md
+    again = runner.invoke(cli, ["submit", str(repo / "workflows" / "chain-study.toml"), "--store", str(store),
+                                "--workers", "1", "--json"])
+    assert again.exit_code == 0 and json.loads(again.stdout[again.stdout.index("{"):])["skipped"] == 4
+
+
+@pytest.mark.parametrize("change, key", [
+    (("values = [1, 6]", "values = [0, 6]"), "grid.n"),                      # N < 1
+    (("values = [1, 6]", "values = [1, 4.5]"), "grid.n"),                    # not a whole number of blocks
+    (("[grid.ell]\nvalues = [1.0]", "[grid.ell]\nvalues = [-0.5]"), "grid.ell"),   # ℓ < 0
+    (("[grid.ell]\nvalues = [1.0]", "[grid.ell]\nvalues = [nan]"), "grid.ell"),    # NaN
+    (("values = [0.3, 0.45]", "values = [0.3, inf]"), "grid.nu_f"),
+    (("values = [12, 30]", "values = [0, 30]"), "grid.events"),             # events ≤ 0
+    (("values = [12, 30]", "values = [-3]"), "grid.events"),
+    (("values = [0, 1]", "values = [0, 2]"), "grid.periodic"),
+    (("catalog = 8", "catalog = 0"), "tiles.catalog"),
+    (("catalog = 8", "catalog = 2.5"), "tiles.catalog"),
+    (("[grid.amplitude]\nvalues = [0.5]", "[grid.amplitude]\nvalues = [-1.0]"), "grid.amplitude"),
+])
+def test_bad_chain_workflows_are_one_line_exit_2_and_write_nothing(change, key, tmp_path):
+    text = WORKFLOW.replace(*change)
+    assert text != WORKFLOW
+    wf = tmp_path / "bad.toml"
+    wf.write_text(text)
+    store = tmp_path / "bad.zarr"
+    result = CliRunner().invoke(cli, ["submit", str(wf), "--store", str(store), "--workers", "1"])
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0] and "Traceback" not in result.output, result.output
+    assert not store.exists()
+
+
+def test_catalog_key_is_refused_for_a_model_without_catalogs():
+    from bifurcation.errors import InputError
+
+    with pytest.raises(InputError, match="tiles.catalog"):
+        parse_workflow('[study]\nname = "x"\n[engine]\nlaws = ["carlson-langer"]\n[grid.nu]\nvalues = [1e-9]\n'
+                       '[grid.nu_f]\nvalues = [0.4]\n[tiles]\ncatalog = 10\n')
+
+
+def test_catalog_queries_that_do_not_name_one_done_run_are_one_line(store, workflow, tmp_path):
+    runner = CliRunner()
+    several = runner.invoke(cli, ["query", "--store", str(store), "--n", "6", "--catalog"])
+    assert several.exit_code == 2 and "selects more than one run" in several.output
+    assert len(several.output.strip().splitlines()) == 1
+    missing = tmp_path / "empty.zarr"
+    create_store(missing, workflow)
+    args = ["query", "--store", str(missing), "--law", "carlson-langer", "--n", "1", "--nu-f", "0.3",
+            "--events", "12", "--periodic", "0", "--catalog"]
+    empty = runner.invoke(cli, args)
+    assert empty.exit_code == 2 and "not computed this run yet" in empty.output
+    bad = runner.invoke(cli, ["query", "--store", str(store), "--n", "7", "--catalog"])
+    assert bad.exit_code == 2 and "--n" in bad.output and len(bad.output.strip().splitlines()) == 1

@@ -24,7 +24,8 @@ def _numbers(name: str):
 
 @click.command("submit", epilog=examples(
     'bifurcation submit workflows/paper-fig3.toml --workers 2',
-    'bifurcation submit workflows/critical-point.toml --workers 2'))
+    'bifurcation submit workflows/critical-point.toml --workers 2',
+    'bifurcation submit workflows/chain-study.toml --workers 2'))
 @click.argument("workflow", metavar="WORKFLOW")
 @click.option("--store", metavar="PATH", default=None,
               help="Zarr store (default: results/<study name>.zarr). Resumed if it holds this workflow.")
@@ -87,7 +88,7 @@ def _option_names() -> dict:
 @click.command("query", epilog=examples(
     'bifurcation query --store results/paper-fig3.zarr --nu 1e-9 --nu-f 0.4',
     'bifurcation query --store results/paper-fig3.zarr --nu-f 0.4 --json',
-    'bifurcation query --store results/chain.zarr --n 16 --nu-f 0.3 --catalog'))
+    'bifurcation query --store results/chain-study.zarr --n 16 --nu-f 0.2 --catalog'))
 @O.STORE
 @click.option("--law", multiple=True, help="Law label (repeatable; a formula matches by its expression). Default: all.")
 @_axis_options

@@ -140,8 +140,9 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     coords = {label: (label, np.array(workflow.laws, dtype=object), coords_attrs[label])}
     for axis, values in workflow.grid:
         coords[axis] = (axis, np.array(values, dtype=model.axis(axis).dtype), coords_attrs[axis])
-    for name in coords:   # the coordinates carry a checksum too
-        encoding[name] = {"compressors": chunk_codecs()}
+    for name in coords:   # the coordinates carry a checksum too, and are written even when they equal the
+        # fill value (a chain's periodic = [0]): a coordinate chunk missing is damage (integrity)
+        encoding[name] = {"compressors": chunk_codecs(), "write_empty_chunks": True}
     attrs = provenance(workflow, command)
     ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
     # "a" into a directory that holds only the writer's lock (checked above: no store, nothing else)
