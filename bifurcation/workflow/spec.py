@@ -34,6 +34,8 @@ Schema (every key is checked; unknown keys, wrong types and impossible values ar
     [tiles]                          # optional: tile (= store chunk) shape, default 64 × 64
     nu_f = 64
     nu = 64
+    catalog = 1000                   # models with per-event outputs (the chain) only: events per
+                                     # catalog chunk and per checkpoint (bifurcation.store.catalog)
 
 Each axis is the sorted union of its points with exact duplicates removed. Range and log points are
 computed in decimal arithmetic and rounded once, so a range that passes through 0.4 yields exactly
