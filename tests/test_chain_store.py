@@ -199,6 +199,45 @@ def test_checkpoint_snapshot_restore_is_bit_identical():
         snapshot(second)
 
 
+def test_quad_precision_snapshot_restore_is_bit_identical():
+    """real128 state through bytes (a quad study's checkpoint): the same events to the last bit."""
+    from bifurcation.laws import resolve_law
+    from bifurcation.models.chain._loop import ChainLoop
+    from bifurcation.models.chain._validate import check_initial
+    from bifurcation.models.chain.checkpoint import restore, snapshot
+
+    law = resolve_law("carlson-langer")
+    u = check_initial(4, 1.0, "free", None, 0.5, 2)
+
+    def loop():
+        return ChainLoop(law, 4, 1.0, 1e-3, 0.3, "free", u, precision="quad")
+
+    whole = loop().run(10)["catalog"]
+    first = loop()
+    a = first.run(4)["catalog"]
+    second = loop()
+    restore(second, {k: np.ascontiguousarray(v).tobytes() for k, v in snapshot(first).items()})
+    b = second.run(6)["catalog"]
+    for name in ("t_start", "potency", "duration"):   # real128 values compared by their exact text
+        assert [str(x) for x in a[name] + b[name]] == [str(x) for x in whole[name]], name
+
+
+def test_a_run_that_stops_early_keeps_its_events_and_says_so():
+    """t_max = 2 bounds each event's duration: the first multi-block event of this chain (duration > 2)
+    stops the run with no-stop; the events before it are kept and t_end is NaN (not a stuck-state time)."""
+    from bifurcation.engine.solve import solve
+
+    points = dict(n=[6], ell=[1.0], nu=[1e-3], nu_f=[0.3], amplitude=[0.5], seed=[2], events=[30], periodic=[0])
+    out = solve("chain", "carlson-langer", points, t_max=2.0)
+    full = solve("chain", "carlson-langer", points)
+    k = int(out["events_done"][0])
+    assert out["status"][0] == 3 and k < 30 and np.isnan(out["t_end"][0])   # ChainStatus.NO_STOP
+    assert full["duration"][0][k] > 2.0 and np.all(full["duration"][0][:k] <= 2.0)
+    for name in CATALOG:
+        assert_same(out[name][0], full[name][0][:k], name)
+    assert "did not end" in out["messages"][0]
+
+
 def test_a_run_killed_between_checkpoints_resumes_bit_identical(workflow, serial, tmp_path, monkeypatch):
     """In process: the task dies (an exception) after its 2nd checkpoint of a 30-event run (C = 8); the
     recomputed tile restores 16 events and its catalog equals the uninterrupted run's."""

@@ -51,8 +51,8 @@ CHAIN_OUTPUTS = (
     Output("status", "outcome of the run (see bifurcation.models.chain.ChainStatus)", dtype="int8",
            fill=0),
     Output("events_done", "events catalogued (K unless the run stopped early)", dtype="int64", fill=0),
-    Output("t_end", "time after the last catalogued event (all blocks stuck)", "sqrt(m/k)"),
-    Output("steps", "Taylor steps of the run", dtype="int64", fill=0),
+    Output("t_end", "time after the last event, all blocks stuck (NaN: the run stopped early)", "sqrt(m/k)"),
+    Output("steps", "Taylor steps of the catalogued events", dtype="int64", fill=0),
     Output("resumed", "events restored from a checkpoint when this run was last computed (0: none)",
            dtype="int64", fill=0),
     *(Output(name, CATALOG_ATTRS[name][0], CATALOG_ATTRS[name][1], dtype=_PER_EVENT_DTYPES.get(name, "float64"),
@@ -119,7 +119,8 @@ def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps
             catalogs[name][i] = _as_array(name, cat[name])
         per_run["status"][i] = int(status)
         per_run["events_done"][i] = len(cat["t_start"])
-        per_run["t_end"][i] = float(loop.t)
+        # a run that stopped early stopped inside an event: no time at which all blocks are stuck
+        per_run["t_end"][i] = float(loop.t) if status == ChainStatus.COMPLETE else np.nan
         per_run["steps"][i] = int(sum(cat["steps"]))
         per_run["resumed"][i] = resumed
         if message:
