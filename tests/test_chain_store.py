@@ -443,3 +443,33 @@ def test_catalog_queries_that_do_not_name_one_done_run_are_one_line(store, workf
     assert empty.exit_code == 2 and "not computed this run yet" in empty.output
     bad = runner.invoke(cli, ["query", "--store", str(store), "--n", "7", "--catalog"])
     assert bad.exit_code == 2 and "--n" in bad.output and len(bad.output.strip().splitlines()) == 1
+
+
+def test_a_damaged_catalog_chunk_is_named_by_query_and_verify_and_repaired(store, serial, workflow, tmp_path):
+    """One flipped bit in one run's catalog chunk: its query is one line naming the chunk (no number shown),
+    verify names it, verify --repair recomputes that run's tile, and the store equals the serial run again."""
+    import shutil
+
+    copy = tmp_path / "damaged.zarr"
+    shutil.copytree(store, copy)
+    run = int(np.ravel_multi_index((0, 1, 0, 0, 1, 0, 0, 1, 0), workflow.shape))
+    chunk = copy / "catalog" / "duration" / "c" / str(run * 32 // 8 + 2)
+    data = bytearray(chunk.read_bytes())
+    data[len(data) // 2] ^= 0x10
+    chunk.write_bytes(data)
+    (copy / "catalog" / "n_blocks" / "c" / str(run * 32 // 8)).unlink()
+    runner = CliRunner()
+    args = ["query", "--store", str(copy), "--law", "carlson-langer", "--n", "6", "--nu-f", "0.45", "--events",
+            "30", "--periodic", "0", "--catalog"]
+    out = runner.invoke(cli, args)
+    assert out.exit_code == 2 and len(out.output.strip().splitlines()) == 1, out.output
+    assert "catalog/" in out.output and "verify --store" in out.output
+    verify = runner.invoke(cli, ["verify", "--store", str(copy)])
+    assert verify.exit_code == 1
+    assert f"catalog/duration/c/{run * 4 + 2}: checksum mismatch" in verify.output
+    assert f"catalog/n_blocks/c/{run * 4}: catalog chunk of a done run missing" in verify.output
+    repair = runner.invoke(cli, ["verify", "--store", str(copy), "--repair", "--workers", "1"])
+    assert repair.exit_code == 0 and "after repair: sound" in repair.output, repair.output
+    cat = read_catalog(copy, law="carlson-langer", n=6, nu_f=0.45, events=30, periodic=0)
+    for name in CATALOG:
+        assert_same(cat[name], serial[name][0, 1, 0, 0, 1, 0, 0, 1, 0], name)

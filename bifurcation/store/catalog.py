@@ -128,10 +128,16 @@ class _Catalog:
             try:
                 with _quiet():
                     out[name] = np.asarray(array[offset:offset + count])
-            except Exception as exc:  # noqa: BLE001 — a chunk that does not decode is damage, named
-                problem = "checksum mismatch" if "checksum" in str(exc).lower() else \
-                    f"cannot be decoded ({type(exc).__name__})"
-                raise StoreDamagedError(self.path, Damage(f"{CATALOG}/{name}", (), problem)) from None
+            except Exception:  # noqa: BLE001 — a chunk that does not decode is damage: find it and name it
+                for chunk in self.chunks_of(run, count):
+                    try:
+                        with _quiet():
+                            array[chunk * self.chunk:(chunk + 1) * self.chunk]
+                    except Exception as exc:  # noqa: BLE001
+                        problem = "checksum mismatch" if "checksum" in str(exc).lower() else \
+                            f"cannot be decoded ({type(exc).__name__})"
+                        raise StoreDamagedError(self.path, Damage(self.key(name, chunk), (), problem)) from None
+                raise
         return out
 
 
