@@ -422,6 +422,14 @@ def test_bad_chain_workflows_are_one_line_exit_2_and_write_nothing(change, key, 
     assert not store.exists()
 
 
+def test_the_catalog_chunk_is_part_of_the_study():
+    w = parse_workflow(WORKFLOW)
+    again = parse_workflow(w.to_toml())
+    assert again.catalog_chunk == 8 and again.fingerprint == w.fingerprint
+    assert parse_workflow(WORKFLOW.replace("catalog = 8", "catalog = 9")).fingerprint != w.fingerprint
+    assert parse_workflow(WORKFLOW.replace("catalog = 8\n", "")).catalog_chunk == 1000   # the default
+
+
 def test_catalog_key_is_refused_for_a_model_without_catalogs():
     from bifurcation.errors import InputError
 
