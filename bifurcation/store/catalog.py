@@ -177,11 +177,15 @@ def write_catalogs(path, shape, tile, values: dict, model, run_id: str) -> None:
 def clear_catalogs(path, shape, region) -> None:
     """Delete the catalog chunks and checkpoints of the runs of ``region`` (a tile being recomputed)."""
     cat = _Catalog(path)
-    for run in run_indices(shape, region).ravel():
-        for chunk in cat.chunks_of(int(run), cat.capacity):
-            for name in cat.arrays:
-                (cat.path / cat.key(name, chunk)).unlink(missing_ok=True)
-        _checkpoint_file(path, int(run)).unlink(missing_ok=True)
+    per_run = cat.capacity // cat.chunk
+    runs = {int(r) for r in run_indices(shape, region).ravel()}
+    for name in cat.arrays:   # the chunk files that exist (a run's capacity may be 10^6 chunks, its count few)
+        root = cat.path / CATALOG / name
+        for file in root.rglob("*"):
+            if file.is_file() and file.name.isdigit() and int(file.name) // per_run in runs:
+                file.unlink(missing_ok=True)
+    for run in runs:
+        _checkpoint_file(path, run).unlink(missing_ok=True)
 
 
 def catalog_damage(path, reader) -> tuple[list, int]:
