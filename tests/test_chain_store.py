@@ -481,3 +481,40 @@ def test_a_damaged_catalog_chunk_is_named_by_query_and_verify_and_repaired(store
     cat = read_catalog(copy, law="carlson-langer", n=6, nu_f=0.45, events=30, periodic=0)
     for name in CATALOG:
         assert_same(cat[name], serial[name][0, 1, 0, 0, 1, 0, 0, 1, 0], name)
+
+
+def test_a_damaged_or_foreign_checkpoint_is_ignored_and_the_run_starts_over(workflow, serial, tmp_path, monkeypatch):
+    """A checkpoint whose bytes were changed (CRC-32), or one written by another store (run_id), is not
+    trusted: the run starts from event 0 and its catalog is still the uninterrupted one."""
+    from bifurcation.store.catalog import Checkpoints
+
+    path = tmp_path / "bad-ck.zarr"
+    run_id = create_store(path, workflow)["run_id"]
+    tile = next(t for t in iter_tiles(workflow) if t.index == (0, 1, 0, 0, 0, 0, 0, 1, 0))
+    original = Checkpoints.save
+
+    def dying(self, i, *args, **kwargs):
+        original(self, i, *args, **kwargs)
+        raise KeyboardInterrupt("killed")
+
+    monkeypatch.setattr(Checkpoints, "save", dying)
+    with pytest.raises(KeyboardInterrupt):
+        compute_tile(tile, tile_checkpoints(path, run_id, tile))
+    monkeypatch.undo()
+    (file,) = (path / "checkpoints").glob("*.npz")
+    with np.load(file) as data:
+        assert json.loads(str(data["meta"]))["events"] == 8
+    good = file.read_bytes()
+    with np.load(file) as data:   # flip one bit of the state (σ), keep the metadata
+        arrays = {k: data[k].copy() for k in data.files}
+    arrays["sigma"][3] ^= 1
+    np.savez(file, **arrays)
+    assert tile_checkpoints(path, run_id, tile).load(0) is None
+    file.write_bytes(good)
+    assert tile_checkpoints(path, run_id, tile).load(0)["events"] == 8       # the sound one is trusted
+    assert tile_checkpoints(path, "another-store", tile).load(0) is None   # ... by its own store only
+    np.savez(file, **arrays)
+    values = compute_tile(tile, tile_checkpoints(path, run_id, tile))
+    assert values["resumed"].ravel()[0] == 0
+    for k, got in enumerate(values["potency"].ravel()):
+        assert_same(got, serial["potency"][tile.region].ravel()[k], "potency")
