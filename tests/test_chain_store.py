@@ -12,8 +12,6 @@ from __future__ import annotations
 import json
 import os
 import signal
-import subprocess
-import sys
 import textwrap
 import time
 from pathlib import Path
@@ -308,8 +306,7 @@ def test_a_dask_worker_killed_mid_run_resumes_from_its_checkpoint_bit_identical(
     first checkpoint is in the store. The scheduler hands the task to the restarted worker, which resumes
     from the last checkpoint; the stored catalog equals an uninterrupted in-process run bit for bit."""
     from distributed import Client
-
-    from test_distributed import BIN, _env, _free_port, _start, _stop
+    from test_distributed import BIN, _free_port, _start, _stop
 
     wf = tmp_path / "kill.toml"
     wf.write_text(KILL)

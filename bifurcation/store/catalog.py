@@ -128,7 +128,7 @@ class _Catalog:
             try:
                 with _quiet():
                     out[name] = np.asarray(array[offset:offset + count])
-            except Exception:  # noqa: BLE001 — a chunk that does not decode is damage: find it and name it
+            except Exception:
                 for chunk in self.chunks_of(run, count):
                     try:
                         with _quiet():
@@ -154,7 +154,7 @@ def run_indices(shape, region) -> np.ndarray:
 _OPEN: dict = {}   # (path, run_id) → _Catalog opened for writing, per process (like zarr_store._WRITERS)
 
 
-def _writer(path, run_id: str) -> "_Catalog":
+def _writer(path, run_id: str) -> _Catalog:
     key = (str(path), str(run_id))
     hit = _OPEN.get(key)
     if hit is None:
@@ -192,11 +192,14 @@ def catalog_damage(path, reader) -> tuple[list, int]:
     """Damage of the catalogs: every catalog chunk decoded (checksum), and every done run's chunks
     present. Each ``Damage`` names the tile of the run, so ``verify --repair`` recomputes it."""
     from .integrity import Damage, StoreDamagedError
+    from .zarr_store import _quiet
 
     cat = _Catalog(path)
     damage, n_chunks = [], 0
     shape = reader.shape
-    tile_of = lambda run: tuple(int(i) // c for i, c in zip(np.unravel_index(run, shape), reader.chunks))  # noqa: E731
+
+    def tile_of(run: int) -> tuple:
+        return tuple(int(i) // c for i, c in zip(np.unravel_index(run, shape), reader.chunks))
     for name, array in cat.arrays.items():
         root = cat.path / CATALOG / name
         for file in root.rglob("*"):
@@ -209,7 +212,7 @@ def catalog_damage(path, reader) -> tuple[list, int]:
             n_chunks += 1
             run = chunk * cat.chunk // cat.capacity
             try:
-                with _quiet_ctx():
+                with _quiet():
                     np.asarray(array[chunk * cat.chunk:(chunk + 1) * cat.chunk])
             except Exception as exc:  # noqa: BLE001
                 problem = "checksum mismatch" if "checksum" in str(exc).lower() else \
@@ -232,12 +235,6 @@ def catalog_damage(path, reader) -> tuple[list, int]:
                     if not (cat.path / cat.key(name, chunk)).is_file():
                         damage.append(Damage(cat.key(name, chunk), tuple(tile), "catalog chunk of a done run missing"))
     return damage, n_chunks
-
-
-def _quiet_ctx():
-    from .zarr_store import _quiet
-
-    return _quiet()
 
 
 def read_catalog(store, *, law=None, nearest: bool = False, notes=None, **axes) -> dict:
