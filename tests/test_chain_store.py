@@ -515,3 +515,35 @@ def test_a_damaged_or_foreign_checkpoint_is_ignored_and_the_run_starts_over(work
     assert values["resumed"].ravel()[0] == 0
     for k, got in enumerate(values["potency"].ravel()):
         assert_same(got, serial["potency"][tile.region].ravel()[k], "potency")
+
+
+@pytest.mark.distributed
+def test_a_killed_submit_is_resumed_by_the_next_from_the_checkpoint(tmp_path):
+    """`bifurcation submit` on its embedded cluster killed (-9, the whole process group: submitter and its
+    workers) after the run's first checkpoint; the next submit of the same workflow finds the checkpoint,
+    resumes the run from it, and the catalog equals the uninterrupted run bit for bit."""
+    from test_distributed import BIN, _start, _stop
+
+    wf = tmp_path / "kill.toml"
+    wf.write_text(KILL)
+    store = tmp_path / "killed.zarr"
+    proc = _start([str(BIN / "bifurcation"), "submit", str(wf), "--store", str(store), "--workers", "1"],
+                  tmp_path, "submit")
+    try:
+        deadline = time.monotonic() + 120
+        while not (store / "checkpoints" / "0.npz").exists():
+            assert proc.poll() is None, (tmp_path / "submit.log").read_text()
+            assert time.monotonic() < deadline, "no checkpoint within 120 s"
+            time.sleep(0.01)
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(10)
+    finally:
+        _stop(proc)
+    assert not open_store(store)["done"].values.any()
+    result = CliRunner().invoke(cli, ["submit", str(wf), "--store", str(store), "--workers", "1", "--json"])
+    assert result.exit_code == 0, result.output
+    cat = read_catalog(store, law="carlson-langer")
+    assert 0 < cat["run"]["resumed"] < 4000 and cat["run"]["resumed"] % 200 == 0
+    reference = compute_serial(parse_workflow(KILL))
+    for name in CATALOG:
+        assert_same(cat[name], reference[name].reshape(-1)[0], name)
