@@ -547,3 +547,22 @@ def test_a_killed_submit_is_resumed_by_the_next_from_the_checkpoint(tmp_path):
     reference = compute_serial(parse_workflow(KILL))
     for name in CATALOG:
         assert_same(cat[name], reference[name].reshape(-1)[0], name)
+
+
+def test_netcdf_export_holds_the_catalogs_as_cf_ragged_arrays(store, serial, workflow, tmp_path):
+    """`bifurcation export` to netCDF: per-run variables as for every model, and the catalogs as CF
+    contiguous ragged arrays (run_count with sample_dimension = "event", runs in C order)."""
+    import xarray as xr
+
+    out = tmp_path / "chain.nc"
+    result = CliRunner().invoke(cli, ["export", "--store", str(store), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    ds = xr.open_dataset(out)
+    assert ds["run_count"].attrs["sample_dimension"] == "event"
+    counts = ds["run_count"].values
+    np.testing.assert_array_equal(counts, serial["events_done"].ravel())
+    offsets = np.concatenate([[0], np.cumsum(counts)])
+    for run, index in enumerate(np.ndindex(workflow.shape)):
+        for name in CATALOG:
+            assert_same(ds[f"event_{name}"].values[offsets[run]:offsets[run + 1]], serial[name][index], name)
+    assert_same(ds["t_end"].values, serial["t_end"], "t_end")

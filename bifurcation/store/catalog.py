@@ -33,7 +33,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["CATALOG", "CHECKPOINTS", "Checkpoints", "catalog_damage", "catalog_layout", "clear_catalogs",
+__all__ = ["CATALOG", "CHECKPOINTS", "Checkpoints", "catalog_damage", "catalog_dataset", "catalog_layout",
+           "clear_catalogs",
            "create_catalog", "drop_checkpoints", "has_catalog", "read_catalog", "run_indices", "tile_checkpoints",
            "write_catalogs"]
 
@@ -360,3 +361,33 @@ def drop_checkpoints(path, shape, tile, done) -> None:
     runs = run_indices(shape, tile.region).reshape(tile.shape)
     for run in runs[np.asarray(done, dtype=bool)]:
         _checkpoint_file(path, int(run)).unlink(missing_ok=True)
+
+
+def catalog_dataset(path):
+    """The catalogs of the store at ``path`` as CF *contiguous ragged arrays* (CF 1.10, §9.3.3), for
+    netCDF export: dimension ``run`` (every grid point, C order over the store's dimensions) with
+    ``run_count`` (its events, attribute ``sample_dimension = "event"``), and one variable per
+    per-event output along ``event``: the events of run 0, then of run 1, ... (runs not done: 0
+    events). Read into memory, run by run, every chunk checked."""
+    import xarray as xr
+
+    from .integrity import TileReader
+
+    reader = TileReader(path)
+    cat = _Catalog(path)
+    counts = np.zeros(reader.shape, dtype=np.int64)
+    for tile in reader.tiles():
+        values = reader.read(tile)
+        counts[reader.region(tile)] = np.where(values["done"], values[cat.count], 0)
+    counts = counts.ravel()
+    data = {name: [] for name in cat.arrays}
+    for run in np.flatnonzero(counts):
+        for name, values in cat.read(int(run), int(counts[run])).items():
+            data[name].append(values)
+    variables = {"run_count": ("run", counts, {"long_name": "events of each run (C order over "
+                                               + ", ".join(reader.done.metadata.dimension_names or ()) + ")",
+                                               "sample_dimension": "event", "units": "1"})}
+    for name, array in cat.arrays.items():
+        values = np.concatenate(data[name]) if data[name] else np.empty(0, dtype=array.dtype)
+        variables[f"event_{name}"] = ("event", values, {k: v for k, v in array.attrs.items()})
+    return xr.Dataset(variables)
