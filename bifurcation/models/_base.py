@@ -309,6 +309,16 @@ class Model:
                 return o
         raise KeyError(name)
 
+    def status_name(self, code: int) -> str:
+        """The name of stored status ``code``: the model's own (``statuses``), else ``bifurcation.Status``'s."""
+        for status in self.statuses:
+            if int(status) == int(code):
+                return str(status)
+        try:
+            return str(Status(int(code)))
+        except ValueError:
+            return f"code {int(code)}"
+
     @property
     def float_outputs(self) -> tuple[str, ...]:
         return tuple(o.name for o in self.outputs if o.dtype == "float64" and not o.per_event)

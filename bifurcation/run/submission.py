@@ -264,7 +264,7 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
     summary = Summary(study=workflow.name, store=str(path), points=workflow.n_points, computed=computed,
                       skipped=skipped, failed=failed, tiles=n_tiles, wall_time=wall,
                       compute_time=compute_time,
-                      statuses={_status_name(workflow.spec, i): int(n) for i, n in enumerate(statuses) if n},
+                      statuses={workflow.spec.status_name(i): int(n) for i, n in enumerate(statuses) if n},
                       cluster=cluster_name, errors=tuple(errors[:5]), repaired=repaired)
     try:
         record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,
@@ -272,12 +272,6 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
     except OSError as exc:   # disk full at the end: the tiles written are kept; say so, do not lose the summary
         summary = replace(summary, errors=(*summary.errors, f"store history not updated: {exc.strerror or exc}"))
     return summary
-
-
-def _status_name(model, code: int) -> str:
-    """The name of status ``code`` as ``model`` declares it (a chain's 1 is "complete")."""
-    names = {int(s): str(s) for s in model.statuses}
-    return names.get(code, str(Status(code)) if code in Status._value2member_map_ else f"code {code}")
 
 
 def _read_done(path: Path) -> np.ndarray:
