@@ -87,9 +87,8 @@ class _Records:
         self.label = model.labels.name
         self.axes = [a.name for a in reversed(model.axes)]
         self.floats = model.float_outputs
-        self.others = [o.name for o in model.outputs
-                       if o.name != "status" and o.name not in self.floats and not o.per_event]
-        # status names as the model declares them (a chain's 1 is "complete", the single block's "stick-slip")
+        self.others = [o.name for o in model.outputs if o.name != "status" and o.name not in self.floats]
+        # a model may declare its own status codes (rate-state's RateStateStatus)
         self.status_names = {**_STATUS_NAMES, **{int(s): str(s) for s in model.statuses}}
 
     def make(self, label: str, coords: dict, status: int, values: dict) -> dict:
@@ -101,7 +100,8 @@ class _Records:
             x = values[name]
             record[name] = x if math.isfinite(x) else None
         for name in self.others:
-            record[name] = values[name]
+            if name in values:   # a per-event output (a catalog) is no value of the point
+                record[name] = values[name]
         return record
 
 
