@@ -7,7 +7,7 @@ and statuses. Adding a model means one module here and one line in ``_REGISTRY``
 ``MODELS`` / ``model_module`` name the model *packages* that are not declarations yet: they are
 listed, imported on first use, and served by their own commands. (The rate-and-state slider is a
 declaration, ``rate-state``; its package ``rate_state`` also keeps its own ``hopf`` and ``continue``
-commands.)
+commands. The chain is a declaration too, ``chain``; its package keeps its ``chain`` command.)
 """
 
 from __future__ import annotations
@@ -38,6 +38,7 @@ _REGISTRY = {
     "single-block": "single_block:SINGLE_BLOCK",
     "damped-block": "damped_block:DAMPED_BLOCK",
     "rate-state": "rate_state.model:RATE_STATE",
+    "chain": "chain.model:CHAIN",
 }
 _LOADED: dict[str, Model] = {}
 

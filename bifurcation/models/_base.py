@@ -267,6 +267,10 @@ class Model:
     initial: Callable | None = None
     #: The model's own engine for one label over flat points (see above); None: the generic engine.
     runner: Callable | None = None
+    #: For models with ``per_event`` outputs (catalogs): the axis whose value is the most events a run
+    #: catalogs (its capacity in the store), and the per-run output that counts the events catalogued.
+    catalog_size: str | None = None
+    catalog_count: str | None = None
 
     def __post_init__(self) -> None:
         if self.runner is None and (self.equations is None or self.classify is None):
@@ -284,6 +288,11 @@ class Model:
         outputs = [o.name for o in self.outputs]
         if len(set(outputs)) != len(outputs) or "done" in outputs:
             raise ValueError(f"model {self.name}: outputs {outputs} repeat or use the reserved name 'done'")
+        if any(o.per_event for o in self.outputs):
+            if self.catalog_size not in [a.name for a in self.axes] or self.catalog_count not in outputs \
+                    or self.output(self.catalog_count).per_event:
+                raise ValueError(f"model {self.name}: per-event outputs need catalog_size (an axis: the most "
+                                 "events of a run) and catalog_count (a per-run output: the events catalogued)")
         if not self.initial_state:
             object.__setattr__(self, "initial_state", (0.0,) * len(self.state))
 
@@ -318,6 +327,11 @@ class Model:
     @property
     def float_outputs(self) -> tuple[str, ...]:
         return tuple(o.name for o in self.outputs if o.dtype == "float64" and not o.per_event)
+
+    @property
+    def catalog_outputs(self) -> tuple[Output, ...]:
+        """The ``per_event`` outputs (catalogs, one value per event of a run)."""
+        return tuple(o for o in self.outputs if o.per_event)
 
     def slots(self, n_pieces: int = 1) -> Slots:
         return Slots(self.parameters, n_pieces)

@@ -208,6 +208,10 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
         from ..models.rate_state.store_report import blocks
 
         return b + blocks(ds, model, out, figures, stem)
+    if model.catalog_outputs:   # a catalog model (the chain): its runs and catalogs, no slip Δ
+        from ..models.chain.store_report import chain_store_blocks
+
+        return b + chain_store_blocks(ds, model)
     for i, law in enumerate(laws):
         b.append(("h3", f"Law {law}"))
         fig, _ = _figure_law(ds, model, i, law)

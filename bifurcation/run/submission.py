@@ -97,9 +97,15 @@ def _report(values: dict) -> list[int]:
 
 def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
     """Worker task: compute a tile and write it into its chunk of the store."""
+    from ..models import get_model
     from ..store import write_tile
 
-    values = compute_tile(tile)
+    checkpoints = None
+    if get_model(tile.model).checkpoint:   # long runs save their state into the store as they go
+        from ..store.catalog import tile_checkpoints
+
+        checkpoints = tile_checkpoints(store, run_id, tile)
+    values = compute_tile(tile, checkpoints)
     write_tile(store, tile, values, run_id)
     return _report(values)
 

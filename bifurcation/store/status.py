@@ -18,7 +18,8 @@ import numpy as np
 __all__ = ["StudyStatus", "study_status"]
 
 #: Outcomes that are results, not failures (any other status of a done point is counted as a failure).
-_RESULTS = ("stick-slip", "creep", "steady-sliding", "limit-cycle", "unbounded-growth", "no-hopf-point")
+_RESULTS = ("stick-slip", "creep", "complete", "steady-sliding", "limit-cycle", "unbounded-growth",
+            "no-hopf-point")
 #: The rate is measured over the tiles the current writer finished in the last this many seconds.
 _RATE_WINDOW = 300.0
 
