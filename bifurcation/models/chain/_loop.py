@@ -186,15 +186,11 @@ class ChainLoop:
         while True:
             # a new segment's window: the blocks slipping now and their neighbours (blocks that slipped
             # earlier in the event and stopped leave it: a slip pulse keeps a window of its own width)
-            while True:
-                idx = self._members()
-                # blocks at the threshold start now (simultaneous failures)
-                due = idx[~self.slipping[idx] & (self.sigma[idx] >= 1)]
-                if not due.size:
-                    break
-                for j in due:
-                    self._start(int(j))
-            idx, m, bond, selfc = self._layout(idx)
+            # blocks at the threshold start now (simultaneous failures; anywhere in the chain: a block
+            # outside the window at σ ≥ 1 would otherwise give a far bound τ ≤ 0)
+            for j in np.flatnonzero(~self.slipping & (self.sigma >= 1)):
+                self._start(int(j))
+            idx, m, bond, selfc = self._layout(self._members())
             self._widest = max(self._widest, idx.size)
             wi = window_integrator(self.law, m, self.precision, self.energy, self.compact_above)
             outcome = self._integrate(wi, idx, bond, selfc)
