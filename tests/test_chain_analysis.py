@@ -129,37 +129,57 @@ def test_sweep_steps_are_measured_in_loading_cycles():
 
 
 def test_report_runner_writes_report_figures_and_data(tmp_path):
-    """A tiny workflow through the report runner: REPORT.md with both tables, figures, data.json."""
+    """A tiny workflow through the report runner: every section, the figures, data.json, and a Speed
+    section of an existing REPORT.md carried over unchanged."""
     import json
 
     from bifurcation.models.chain.report import main
 
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "REPORT.md").write_text("# old\n\n## Speed (bench)\n\nrates 1.5x\n\n## Verdict\nold verdict\n")
     wf = tmp_path / "tiny.toml"
     wf.write_text(f"""
 [study]
 name = "tiny"
-out = "{tmp_path / 'out'}"
+out = "{out}"
+workers = 2
 [chain]
 law = "carlson-langer"
 ell = 1.0
 nu = 1e-3
 ends = "free"
 amplitude = 0.1
-seed = 1
-[catalog]
-n = 8
-nu_f = [0.2]
-events = 120
-skip = 20
 [sweep]
-sizes = [1, 4]
-nu_f = [0.2, 0.3]
-events_per_step = [5, 5]
+sizes = [1, 4, 8, 16]
+seeds = [1, 2, 2, 2]
+nu_f = [0.2, 0.4]
+nu_f_max = [0.4, 0.4, 0.4, 0.4]
+cycles_per_step = [1, 1, 1, 1]
+transient_cycles = 1
+max_events_per_step = 500
+[catalog]
+sizes = [8]
+events = [150]
+nu_f = [0.2]
+seed = 1
+skip = 20
+[threshold]
+ells = [1.0]
+nus = [1e-6]
+level = 0.01
+scan_nu = 1e-6
+scan_points = 5
 """)
     main([str(wf)])
-    out = tmp_path / "out"
     text = (out / "REPORT.md").read_text()
-    assert "Aki–Utsu" in text and "Loop width" in text
-    assert (out / "fig_mfd.png").stat().st_size > 1000 and (out / "fig_hysteresis.png").stat().st_size > 1000
+    for head in ("## Lone-block threshold", "## Order parameter", "### Finite-size scaling", "## Magnitude–frequency",
+                 "## Speed (bench)", "## Verdict on the four claims"):
+        assert head in text
+    assert "rates 1.5x" in text and "old verdict" not in text
+    for fig in ("fig_order", "fig_fss", "fig_mfd", "fig_threshold"):
+        assert (out / f"{fig}.png").stat().st_size > 1000
     data = json.loads((out / "data.json").read_text())
-    assert [s["n"] for s in data["sweeps"]] == [1, 4] and data["catalogs"][0]["events"] == 100
+    assert [r["n"] for r in data["sweeps"]["table"]] == [1, 4, 8, 16]
+    assert data["catalogs"][0]["events"] == 130
+    assert data["sweeps"]["fss"]["slip_per_block.jump"]["points"] == 3
