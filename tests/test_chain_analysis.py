@@ -101,6 +101,10 @@ def test_hysteresis_jump_width_and_area_of_a_known_loop():
     assert h["width"] == 1 and h["width_at"] == 2 and h["area"] == 1
     assert math.isclose(h["jump_sigma"], 0.1 * math.sqrt(2)) and math.isclose(h["width_sigma"], 0.1 * math.sqrt(2))
     assert math.isclose(h["area_sigma"], math.sqrt(2 * 0.01 * (0.25 * 2 + 1 + 1)))
+    # a step left out (NaN): a jump across the gap is not a neighbouring change and is not measured
+    gap = hysteresis([0, 1, 2, 3], [1, np.nan, 0, 0], [1, np.nan, 1, 0], se, se)
+    assert gap["jump"] == 0 and gap["jump_at"] == [2.0, 3.0] and gap["width"] == 1 and gap["area"] == 1
+    assert math.isnan(hysteresis([0, 1], [np.nan, np.nan], [1, 1], se[:2], se[:2])["jump"])
 
 
 def test_sweep_of_one_block_gives_the_single_block_delta():
@@ -115,6 +119,8 @@ def test_sweep_of_one_block_gives_the_single_block_delta():
     for nf, d in zip(nus, out["slip_per_block"]):
         assert abs(d / float(bf.slip("carlson-langer", nu=1e-3, nu_f=nf).delta) - 1) < 1e-12
     assert np.allclose(out["psi"], out["closure"]) and np.all(np.abs(np.array(out["psi"]) - 1) < 0.3)
+    # one event lasts ~10 time units against a recurrence of ~Δ/ν ~ 1000: the block is mostly stuck
+    assert all(0 < f < 0.05 for f in out["slip_fraction"]) and all(0 < e < 0.05 for e in out["longest_event"])
 
 
 def test_sweep_steps_are_measured_in_loading_cycles():

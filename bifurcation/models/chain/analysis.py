@@ -118,6 +118,10 @@ def sweep_nu_f(law, *, n: int, ell: float, nu: float, nu_f_values, cycles_per_st
       O(ν) in creep (docs/chain.md, "Order parameter");
     * closure = Σ P / (N ν ΔT): 1 in a steady state, off by the stress stored or released during the
       step, of order (largest event's P)/(N ν ΔT);
+    * slip_fraction = Σ duration / ΔT, the fraction of the step's time during which some block slips,
+      and longest_event = ν · (longest duration), in loading cycles. Events are separated only while
+      slip_fraction ≪ 1: as N ν grows the chain is rarely all stuck, one "event" merges many slips
+      (or the whole chain slides for cycles), and D then measures the merged event, not a block's slip;
     * events, cycles = ν ΔT, mean n_blocks, status.
 
     A transient of ``transient_cycles`` (default: one step) at the first ν_f is run first and
@@ -130,28 +134,32 @@ def sweep_nu_f(law, *, n: int, ell: float, nu: float, nu_f_values, cycles_per_st
     u0 = check_initial(n, ell, ends, None, amplitude, seed)
     loop = ChainLoop(resolve_law(law), n, ell, nu, float(nu_f_values[0]), ends, u0)
     threshold = math.ceil(spanning_fraction * n)
-    keys = ("psi", "slip_per_block", "closure", "events", "cycles", "mean_n_blocks", "status")
+    keys = ("psi", "slip_per_block", "closure", "slip_fraction", "longest_event", "events", "cycles", "mean_n_blocks",
+            "status")
     out = {k: [] for k in keys}
 
     def step(cycles):
-        t0, p, nb, status = float(loop.t), [], [], "complete"
+        t0, p, nb, dur, status = float(loop.t), [], [], [], "complete"
         while nu * (float(loop.t) - t0) < cycles and len(p) < max_events_per_step:
             r = loop.run(1)
             p += [float(x) for x in r["catalog"]["potency"]]
             nb += list(r["catalog"]["n_blocks"])
+            dur += [float(x) for x in r["catalog"]["duration"]]
             if str(r["status"]) != "complete":
                 status = str(r["status"])
                 break
-        return np.array(p), np.array(nb, dtype=np.int64), float(loop.t) - t0, status
+        return np.array(p), np.array(nb, dtype=np.int64), np.array(dur), float(loop.t) - t0, status
 
     step(cycles_per_step if transient_cycles is None else transient_cycles)
     for nf in nu_f_values:
         loop.nu_f = loop.dtype(nf)
-        p, nb, dt, status = step(cycles_per_step)
+        p, nb, dur, dt, status = step(cycles_per_step)
         load = n * nu * dt
         out["psi"].append(float(p[nb >= threshold].sum() / load) if dt > 0 else math.nan)
         out["slip_per_block"].append(float(p.sum() / nb.sum()) if nb.size else math.nan)
         out["closure"].append(float(p.sum() / load) if dt > 0 else math.nan)
+        out["slip_fraction"].append(float(dur.sum() / dt) if dt > 0 else math.nan)
+        out["longest_event"].append(nu * float(dur.max()) if dur.size else math.nan)
         out["events"].append(int(p.size))
         out["cycles"].append(nu * dt)
         out["mean_n_blocks"].append(float(nb.mean()) if nb.size else math.nan)
@@ -170,13 +178,18 @@ def hysteresis(nu_f_up, up, down, se_up, se_down) -> dict:
     * width: max_i |up_i − down_i| and its σ (the maximum of noisy differences is biased upwards,
       by about one σ when no loop is there);
     * area: Σ_i (down_i − up_i) w_i with trapezoid weights w_i, and its σ (signed, not biased).
+
+    NaN values (steps left out) are skipped; all NaN gives NaN.
     """
     x = np.asarray(nu_f_up, dtype=float)
     up, down = np.asarray(up, dtype=float), np.asarray(down, dtype=float)
     su, sd = np.asarray(se_up, dtype=float), np.asarray(se_down, dtype=float)
     d = np.diff(up)
-    i = int(np.nanargmax(np.abs(d)))
     diff = down - up
+    if np.all(np.isnan(d)) or np.all(np.isnan(diff)):
+        return {k: math.nan for k in ("jump", "jump_sign", "jump_sigma", "width", "width_sigma", "width_at",
+                                      "area", "area_sigma")} | {"jump_at": [math.nan, math.nan]}
+    i = int(np.nanargmax(np.abs(d)))
     j = int(np.nanargmax(np.abs(diff)))
     w = np.zeros_like(x)
     w[:-1] += np.diff(x) / 2
@@ -184,7 +197,7 @@ def hysteresis(nu_f_up, up, down, se_up, se_down) -> dict:
     return {"jump": float(abs(d[i])), "jump_sign": float(np.sign(d[i])), "jump_sigma": float(math.hypot(su[i], su[i + 1])),
             "jump_at": [float(x[i]), float(x[i + 1])],
             "width": float(abs(diff[j])), "width_sigma": float(math.hypot(su[j], sd[j])), "width_at": float(x[j]),
-            "area": float(np.sum(w * diff)), "area_sigma": float(math.sqrt(np.sum(w**2 * (su**2 + sd**2))))}
+            "area": float(np.nansum(w * diff)), "area_sigma": float(math.sqrt(np.nansum(w**2 * (su**2 + sd**2))))}
 
 
 def finite_size_fit(sizes, values, sigmas) -> dict:

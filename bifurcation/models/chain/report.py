@@ -29,11 +29,11 @@ __all__ = ["main"]
 
 def _sweep(args):
     c, sw, n, seed, grid, cycles = args
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     out = sweep_nu_f(c["law"], n=n, ell=c["ell"], nu=c["nu"], nu_f_values=grid + grid[::-1], cycles_per_step=cycles,
                      max_events_per_step=sw["max_events_per_step"], transient_cycles=sw["transient_cycles"],
                      ends=c["ends"], amplitude=c["amplitude"], seed=seed)
-    out.update(n=n, seed=seed, seconds=time.perf_counter() - t0)
+    out.update(n=n, seed=seed, seconds=time.perf_counter() - t0, cpu=time.process_time() - c0)
     return out
 
 
@@ -41,12 +41,13 @@ def _catalog(args):
     from .simulate import chain
 
     c, cat, n, nu_f, events = args
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     r = chain(c["law"], n=n, ell=c["ell"], nu=c["nu"], nu_f=nu_f, ends=c["ends"], amplitude=c["amplitude"],
               seed=cat["seed"], events=events)
     s = cat["skip"]
     one = _one_block(c["law"], n, c["ell"], c["nu"], nu_f, c["ends"], r.potency[s:], r.n_blocks[s:], r.hypocentre[s:])
-    return {"n": n, "nu_f": nu_f, "seconds": time.perf_counter() - t0, "status": str(r.status), "one_block": one,
+    return {"n": n, "nu_f": nu_f, "seconds": time.perf_counter() - t0, "cpu": time.process_time() - c0,
+            "status": str(r.status), "one_block": one,
             "potency": r.potency[s:].tolist(), "n_blocks": r.n_blocks[s:].tolist(),
             "hypocentre": r.hypocentre[s:].tolist(), "t_start": r.t_start[s:].tolist()}
 
@@ -55,14 +56,14 @@ def _threshold(args):
     from .threshold import lone_block_crossing, lone_block_nu_f_star, lone_block_slip, lone_block_stiffness
 
     c, th, ell, end = args
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     rows = [lone_block_crossing(c["law"], ell=ell, nu=nu, end=end, level=th["level"]) for nu in th["nus"]]
     k = lone_block_stiffness(ell, end)
     ratio = np.linspace(0.7, 1.3, th["scan_points"])
     star = lone_block_nu_f_star(ell, end)
     scan = [k * lone_block_slip(c["law"], ell=ell, nu=th["scan_nu"], nu_f=r * star, end=end) for r in ratio]
     return {"ell": ell, "end": end, "rows": rows, "scan_ratio": ratio.tolist(), "scan_delta": scan, "scan_nu": th["scan_nu"],
-            "seconds": time.perf_counter() - t0}
+            "seconds": time.perf_counter() - t0, "cpu": time.process_time() - c0}
 
 
 def _jobs(cfg):
@@ -83,28 +84,45 @@ def main(argv=None) -> None:
     cfg = tomllib.loads(path.read_text())
     out = Path(cfg["study"]["out"])
     out.mkdir(parents=True, exist_ok=True)
+    if "--from-data" in argv[1:]:     # re-render REPORT.md and figures from data.json, no runs
+        data = json.loads((out / "data.json").read_text())
+        data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
+        _render(out, cfg, path, data)
+        return
     t0 = time.perf_counter()
     with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
         futures = [(f.__name__, pool.submit(f, a)) for f, a, _ in _jobs(cfg)]
         results = {"_sweep": [], "_catalog": [], "_threshold": []}
         for name, fut in futures:
             results[name].append(fut.result())
+            r = results[name][-1]
+            print(f"{time.perf_counter() - t0:6.0f} s  {name[1:]} N = {r.get('n', '-')} seed/ν_f/ℓ = "
+                  f"{r.get('seed', r.get('nu_f', r.get('ell')))}: {r['cpu']:.0f} cpu s", file=sys.stderr, flush=True)
     wall = time.perf_counter() - t0
-    data = {"workflow": path.read_text(), "wall_seconds": wall,
-            "sweeps": _sweep_stats(results["_sweep"]), "catalogs": [_catalog_stats(c) for c in results["_catalog"]],
+    cpu = sum(r["cpu"] for rs in results.values() for r in rs)
+    data = {"workflow": path.read_text(), "wall_seconds": wall, "cpu_seconds": cpu,
+            "sweeps": _sweep_stats(results["_sweep"], cfg), "catalogs": [_catalog_stats(c) for c in results["_catalog"]],
             "threshold": sorted(results["_threshold"], key=lambda d: (d["ell"], d["end"]))}
     data["sweeps"]["runs"] = results["_sweep"]
+    for st, c in zip(data["catalogs"], results["_catalog"]):
+        st["cpu"] = c["cpu"]
     data["catalogs"].sort(key=lambda d: (d["n"], d["nu_f"]))
-    (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
-    from ._report_figures import figures
+    import os
 
-    figures(out, data)
+    data["load_average"] = os.getloadavg()[1]     # 5-minute load at the end: the machine is shared
+    (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+    _render(out, cfg, path, data)
+    print(f"wrote {out}/REPORT.md in {wall:.0f} s")
+
+
+def _render(out: Path, cfg, path: Path, data) -> None:
+    from ._report_figures import figures
     from ._report_text import report_text
 
+    figures(out, data)
     old = out / "REPORT.md"
     speed = _section(old.read_text(), "## Speed") if old.exists() else ""
-    old.write_text(report_text(cfg, path, data, wall, speed))
-    print(f"wrote {out}/REPORT.md in {wall:.0f} s")
+    old.write_text(report_text(cfg, path, data, data["wall_seconds"], speed))
 
 
 def _section(text: str, head: str) -> str:
@@ -116,35 +134,47 @@ def _section(text: str, head: str) -> str:
     return text[i + 1: None if j < 0 else j].rstrip() + "\n"
 
 
-def _sweep_stats(runs) -> dict:
-    """Per N: seed-mean and standard error of D and Ψ on both branches, jump, loop, and the FSS fits."""
+def _sweep_stats(runs, cfg) -> dict:
+    """Per N: seed-mean and standard error of D and Ψ on both branches, jump, loop, and the FSS fits.
+
+    D is left out (NaN) at the steps where an event of some seed lasted longer than
+    ``sweep.longest_event`` loading cycles (default 0.5): there blocks reload and slip again within
+    one catalogued event (the chain slides for cycles), and D measures that event, not a block's slip
+    (analysis.sweep_nu_f)."""
     per_n = {}
     for r in runs:
         per_n.setdefault(r["n"], []).append(r)
     sizes = sorted(per_n)
     table = []
+    limit = cfg["sweep"].get("longest_event", 0.5)
     for n in sizes:
         rs = per_n[n]
         k = len(rs[0]["nu_f"]) // 2
+        merged = np.max([r.get("longest_event", [0.0] * 2 * k) for r in rs], axis=0) > limit
         row = {"n": n, "seeds": len(rs), "nu_f": rs[0]["nu_f"][:k],
-               "events": int(sum(sum(r["events"]) for r in rs)), "seconds": float(sum(r["seconds"] for r in rs)),
+               "events": int(sum(sum(r["events"]) for r in rs)), "seconds": float(sum(r["cpu"] for r in rs)),
                "cycles_min": float(min(min(r["cycles"]) for r in rs)),
-               "closure": [float(np.min([r["closure"] for r in rs])), float(np.max([r["closure"] for r in rs]))]}
+               "closure": [float(np.min([r["closure"] for r in rs])), float(np.max([r["closure"] for r in rs]))],
+               "slip_fraction_max": float(np.max([r.get("slip_fraction", [math.nan]) for r in rs])),
+               "longest_event": float(np.max([r.get("longest_event", [math.nan]) for r in rs]))}
         for key in ("slip_per_block", "psi"):
             a = np.array([r[key] for r in rs], dtype=float)
+            if key == "slip_per_block":
+                a[:, merged] = np.nan
             up, down = a[:, :k], a[:, k:][:, ::-1]
             se = (lambda x: x.std(axis=0, ddof=1) / math.sqrt(len(rs))) if len(rs) > 1 else (lambda x: 0 * x[0])
             m_up, m_down, s_up, s_down = up.mean(0), down.mean(0), se(up), se(down)
             row[key] = {"up": m_up.tolist(), "down": m_down.tolist(), "se_up": s_up.tolist(),
                         "se_down": s_down.tolist(), **hysteresis(row["nu_f"], m_up, m_down, s_up, s_down)}
+        row["merged_steps"] = int(merged.sum())
         table.append(row)
-    chains = [r for r in table if r["n"] > 1]
     fss = {}
     for key in ("slip_per_block", "psi"):
+        chains = [r for r in table if r["n"] > 1]
         for q in ("jump", "width"):
             fss[f"{key}.{q}"] = finite_size_fit([r["n"] for r in chains], [r[key][q] for r in chains],
                                                 [r[key][q + "_sigma"] for r in chains])
-    return {"table": table, "fss": fss}
+    return {"table": table, "fss": fss, "longest_event_limit": limit}
 
 
 def _catalog_stats(c) -> dict:
