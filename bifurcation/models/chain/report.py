@@ -152,7 +152,7 @@ def _sweep_stats(runs, cfg) -> dict:
         k = len(rs[0]["nu_f"]) // 2
         merged = np.max([r.get("longest_event", [0.0] * 2 * k) for r in rs], axis=0) > limit
         row = {"n": n, "seeds": len(rs), "nu_f": rs[0]["nu_f"][:k],
-               "events": int(sum(sum(r["events"]) for r in rs)), "seconds": float(sum(r["cpu"] for r in rs)),
+               "events": int(sum(sum(r["events"]) for r in rs)), "seconds": float(sum(r.get("cpu", math.nan) for r in rs)),
                "cycles_min": float(min(min(r["cycles"]) for r in rs)),
                "closure": [float(np.min([r["closure"] for r in rs])), float(np.max([r["closure"] for r in rs]))],
                "slip_fraction_max": float(np.max([r.get("slip_fraction", [math.nan]) for r in rs])),
@@ -167,6 +167,8 @@ def _sweep_stats(runs, cfg) -> dict:
             row[key] = {"up": m_up.tolist(), "down": m_down.tolist(), "se_up": s_up.tolist(),
                         "se_down": s_down.tolist(), **hysteresis(row["nu_f"], m_up, m_down, s_up, s_down)}
         row["merged_steps"] = int(merged.sum())
+        le = np.array([r.get("longest_event", [math.nan] * 2 * k) for r in rs], dtype=float).max(axis=0)
+        row["longest_event_up"], row["longest_event_down"] = le[:k].tolist(), le[k:][::-1].tolist()
         table.append(row)
     fss = {}
     for key in ("slip_per_block", "psi"):
