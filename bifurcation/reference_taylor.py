@@ -152,6 +152,21 @@ def _linear_then_exp():
                         (lambda x: _Add(_Const(1), x, -1), lambda x: _Mul(_Const("0.5"), e_series(x))), (False, True))
 
 
+def _algebraic_square():
+    """Φ = 1/(1 + x/2)² (Φ'(0) = −1; algebraic, fades like 4/x²)."""
+    half_x = lambda x: _Add(_Const(1), _Mul(_Const("0.5"), x), 1)  # noqa: E731
+    return (lambda x: 1 / (1 + x / 2) ** 2), lambda x: _Div(_Const(1), _Mul(half_x(x), half_x(x)))
+
+
+def _three_pieces():
+    """Φ = 1 − x on [0, 1/2), 3/4 − x/2 on [1/2, 3/2), 0 above: two breakpoints, continuous, crossed
+    up and down in one cycle (the slope halves at the first, friction vanishes at the second)."""
+    return ReferenceLaw("piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)", ("0.5", "1.5"),
+                        (lambda x: 1 - x, lambda x: mpmath.mpf("0.75") - x / 2, lambda x: mpmath.mpf(0)),
+                        (lambda x: _Add(_Const(1), x, -1), lambda x: _Add(_Const("0.75"), _Mul(_Const("0.5"), x), -1),
+                         lambda x: _Const(0)), (False, False, False))
+
+
 def _piecewise_linear():
     """Eq. (12): Φ = 1 − x on [0, 1), 0 above (a cross-check against ``reference.piecewise_linear_exact``)."""
     return ReferenceLaw("piecewise(1 - x, 1, 0)", ("1",), (lambda x: 1 - x, lambda x: mpmath.mpf(0)),
@@ -168,6 +183,9 @@ REFERENCE_LAWS = {
     "1/(1 + x)": _smooth("1/(1 + x)", *_carlson_langer(), capped=False),
     "piecewise(1 - x, 0.5, 0.5*exp(1 - 2*x))": _linear_then_exp(),
     "piecewise(1 - x, 1, 0)": _piecewise_linear(),
+    "exp(-x - x^2/2)": _smooth("exp(-x - x^2/2)", *_exp_poly([0, 1, "0.5"])),
+    "1/(1 + x/2)^2": _smooth("1/(1 + x/2)^2", *_algebraic_square(), capped=False),
+    "piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)": _three_pieces(),
 }
 
 
@@ -262,15 +280,21 @@ def _integrate(law: ReferenceLaw, nu, nu_f, u, v, forcing: bool, dps: int, t_max
             if moving and vs[j - 1] > 0 >= vs[j]:
                 cut, event = _root(lambda s: _horner(cv, s), grid[j - 1], grid[j]), "stop"
                 break
+        stop_cut = cut
         for b in law.breakpoints:
             target = mpmath.mpf(b) * nu_f
             for j in range(1, _SCAN + 1):
-                if grid[j] > cut:
+                if grid[j - 1] >= stop_cut:
                     break
-                if (vs[j - 1] - target) * (vs[j] - target) < 0:
-                    s = _root(lambda s: _horner(cv, s) - target, grid[j - 1], grid[j])
+                # the interval that holds the stop ends there: a crossing of the breakpoint before the
+                # stop in that same interval (V falls from above b·ν_f through 0 within 1/_SCAN of a
+                # step, as on a friction-free piece at small ν_f) must be seen, not stepped over
+                end = min(grid[j], stop_cut)
+                v_end = vs[j] if end == grid[j] else _horner(cv, end)
+                if (vs[j - 1] - target) * (v_end - target) < 0:
+                    s = _root(lambda s: _horner(cv, s) - target, grid[j - 1], end)
                     if s < cut:
-                        cut, event = s, ("switch", b, vs[j] > target)
+                        cut, event = s, ("switch", b, v_end > target)
                     break
         if event == "stop":
             return t + cut, _horner(cu, cut), steps

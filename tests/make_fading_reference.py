@@ -39,6 +39,10 @@ NUS = (1e-3, 1e-11, 1e-18)
 NU_FS = (1e-4, 1e-3, 7.5e-3, 0.05, 0.3, 1.0)
 OTHER_NU_FS = (1e-3, 0.05)
 LIMIT_NU_FS = (1e-3, 0.05, 0.5)
+#: laws added after the first file: a Gaussian fade, an algebraic square, three pieces (two breakpoints),
+#: each on both sides of the transition (ν_f = 0.45 stick-slip, 0.7 creep at these ν)
+LATER = ("exp(-x - x^2/2)", "1/(1 + x/2)^2", "piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)")
+LATER_NU_FS = (1e-3, 0.05, 0.45, 0.7)
 
 
 def _jobs():
@@ -69,6 +73,12 @@ def _jobs():
         for nu_f in OTHER_NU_FS:
             yield "cycle", law, 1e-3, nu_f
         for nu_f in LIMIT_NU_FS:
+            yield "limit", law, None, nu_f
+    for law in LATER:
+        for nu_f in LATER_NU_FS:
+            for nu in (1e-3, 1e-12):
+                yield "cycle", law, nu, nu_f
+        for nu_f in (0.05, 0.45):
             yield "limit", law, None, nu_f
 
 
