@@ -24,12 +24,13 @@ _LAZY = {
     "law_names": "laws",
     "limit": "engine",
     "open_store": "store",
+    "read_catalog": "store",
     "resolve_law": "laws",
     "slip": "engine",
     "submit": "run",
 }
 
 __all__ = ["FIELDS", "FrictionLaw", "InputError", "LIMIT_FIELDS", "LimitResult", "SlipResult", "Status", "chain",
-           "law_names", "limit", "open_store", "resolve_law", "slip", "submit"]
+           "law_names", "limit", "open_store", "read_catalog", "resolve_law", "slip", "submit"]
 
 __getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

@@ -115,3 +115,15 @@ def test_a_damaged_store_is_one_line_naming_the_repair(store):
         assert result.exit_code == 2, (damage, result.output)
         [line] = result.output.splitlines()
         assert "damaged done array" in line and "verify --store" in line and "--repair" in line
+
+
+def test_a_status_code_is_named_by_its_flag_value_not_its_position(store):
+    # unresolved is code 7 while the flags list 7 values (0..5 and 7): a lookup by list position read it
+    # as "code 7"; a point that the engine could not vouch for must be named as such
+    workflow, path, run_id = store
+    first = next(iter(iter_tiles(workflow)))
+    values = compute_tile(first)
+    values["status"].ravel()[0] = 7
+    write_tile(path, first, values, run_id)
+    statuses = study_status(path).per_label["piecewise-linear"]["statuses"]
+    assert statuses.get("unresolved") == 1 and not any(k.startswith("code") for k in statuses)

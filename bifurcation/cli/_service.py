@@ -24,7 +24,8 @@ def _numbers(name: str):
 
 @click.command("submit", epilog=examples(
     'bifurcation submit workflows/paper-fig3.toml --workers 2',
-    'bifurcation submit workflows/critical-point.toml --workers 2'))
+    'bifurcation submit workflows/critical-point.toml --workers 2',
+    'bifurcation submit workflows/chain-study.toml --workers 2'))
 @click.argument("workflow", metavar="WORKFLOW")
 @click.option("--store", metavar="PATH", default=None,
               help="Zarr store (default: results/<study name>.zarr). Resumed if it holds this workflow.")
@@ -86,7 +87,8 @@ def _option_names() -> dict:
 
 @click.command("query", epilog=examples(
     'bifurcation query --store results/paper-fig3.zarr --nu 1e-9 --nu-f 0.4',
-    'bifurcation query --store results/paper-fig3.zarr --nu-f 0.4 --json'))
+    'bifurcation query --store results/paper-fig3.zarr --nu-f 0.4 --json',
+    'bifurcation query --store results/chain-study.zarr --n 16 --nu-f 0.2 --catalog'))
 @O.STORE
 @click.option("--law", multiple=True, help="Law label (repeatable; a formula matches by its expression). Default: all.")
 @_axis_options
@@ -94,7 +96,10 @@ def _option_names() -> dict:
 @O.FORMAT
 @click.option("--json", "as_json", is_flag=True, help="Print JSON (the same as --format json).")
 @click.option("--done-only", is_flag=True, help="Only points already computed.")
-def query_cmd(store: str, law, nearest: bool, fmt: str, as_json: bool, done_only: bool, **axes) -> None:
+@click.option("--catalog", is_flag=True,
+              help="Print the per-event catalog of the one run selected (a chain store): one row per event.")
+def query_cmd(store: str, law, nearest: bool, fmt: str, as_json: bool, done_only: bool, catalog: bool,
+              **axes) -> None:
     """Print the points of a store selected by law and by the axes of its model (exact labels; streamed:
     memory independent of the store)."""
     from ..errors import InputError
@@ -106,6 +111,8 @@ def query_cmd(store: str, law, nearest: bool, fmt: str, as_json: bool, done_only
         fmt = "json"
 
     notes: list[str] = []
+    if catalog:
+        return _print_catalog(store, law, nearest, fmt, notes, axes)
     try:   # the selection and every selected chunk are checked here, before any output
         records = iter_records(store, law=law or None, computed_only=done_only, nearest=nearest, notes=notes,
                                **{k: v for k, v in axes.items() if v})
@@ -117,6 +124,33 @@ def query_cmd(store: str, law, nearest: bool, fmt: str, as_json: bool, done_only
     for note in notes:
         click.echo(f"bifurcation: note: {note}", err=True)
     write_records(records, fmt, sys.stdout, law_width=records.law_width)
+
+
+def _print_catalog(store, law, nearest, fmt, notes, axes) -> None:
+    """``query --catalog``: the run's record on stderr (table, CSV) or in the JSON, then one row per event."""
+    from ..errors import InputError
+    from ..store.catalog import read_catalog
+    from ..store.query import write_records
+
+    try:
+        out = read_catalog(store, law=list(law) or None, nearest=nearest, notes=notes,
+                           **{k: list(v) for k, v in axes.items() if v})
+    except InputError as exc:
+        name = _option_names().get(exc.argument)
+        if name is None:
+            raise
+        fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
+    for note in notes:
+        click.echo(f"bifurcation: note: {note}", err=True)
+    run = out.pop("run")
+    if fmt == "json":
+        echo_json({"run": run, **{k: v.tolist() for k, v in out.items()}})
+        return
+    click.echo("run: " + ", ".join(f"{k} = {v}" for k, v in run.items()), err=True)
+    keys = ("event", *out)
+    count = len(next(iter(out.values())))
+    rows = ({"event": i, **{k: v[i].item() for k, v in out.items()}} for i in range(count))
+    write_records(rows, fmt, sys.stdout, law_width=5, keys=keys)
 
 
 COMMANDS = [submit_cmd, query_cmd]

@@ -14,11 +14,13 @@ __all__ = ["solve"]
 
 
 def solve(model, label: str, points: dict, *, precision: str = "double", t_max: float = DEFAULT_T_MAX,
-          max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1) -> dict:
+          max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1, checkpoints=None) -> dict:
     """Run ``model`` (a ``bifurcation.models.Model`` or its name) for ``label`` at every point.
 
     ``points`` maps each axis of the model to an array of values (all of one shape). Returns a dict
     of the model's outputs (arrays of that shape) and ``messages`` (flat index → text).
+    ``checkpoints`` (a runner model that checkpoints, ``bifurcation.store.catalog.Checkpoints``) is
+    handed to the runner; per-event outputs are object arrays of per-point arrays.
     """
     from ..models import get_model
     from .cycle import run_model
@@ -31,8 +33,9 @@ def solve(model, label: str, points: dict, *, precision: str = "double", t_max: 
     shape = arrays[0].shape
     flat = {a.name: np.ascontiguousarray(v).ravel() for a, v in zip(spec.axes, arrays)}
     run = spec.runner if spec.runner is not None else run_model
+    extra = {"checkpoints": checkpoints} if checkpoints is not None else {}
     fields, messages = run(spec, label, flat, precision=precision, t_max=t_max, max_steps=max_steps,
-                           batch=batch)
+                           batch=batch, **extra)
     out = {name: np.asarray(value).reshape(shape) for name, value in fields.items()}
     out["messages"] = messages
     return out

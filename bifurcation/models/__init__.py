@@ -4,10 +4,10 @@
 and statuses. Adding a model means one module here and one line in ``_REGISTRY``, or
 ``register(model)`` at run time (for a model that lives elsewhere, e.g. in a test).
 
-``MODELS`` / ``model_module`` name the model *packages* that are not declarations yet (the
-rate-and-state slider, ``rate_state``, has its own spec, engine and study; moving it onto the
-contract above is its next step): they are listed, imported on first use, and served by their own
-commands.
+``MODELS`` / ``model_module`` name the model *packages* that are not declarations yet: they are
+listed, imported on first use, and served by their own commands. (The rate-and-state slider is a
+declaration, ``rate-state``; its package ``rate_state`` also keeps its own ``hopf`` and ``continue``
+commands. The chain is a declaration too, ``chain``; its package keeps its ``chain`` command.)
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ __all__ = ["ACTIONS", "Axis", "DEFAULT_MODEL", "Event", "Labels", "MODELS", "Mod
            "System", "get_model", "model_module", "model_names", "register"]
 
 #: Model packages that are not declarations yet: name → implementing module (relative to this package).
-MODELS = {"chain": ".chain", "rate-state": ".rate_state"}
+MODELS = {"chain": ".chain"}
 
 
 def model_module(name: str):
@@ -37,6 +37,8 @@ DEFAULT_MODEL = "single-block"
 _REGISTRY = {
     "single-block": "single_block:SINGLE_BLOCK",
     "damped-block": "damped_block:DAMPED_BLOCK",
+    "rate-state": "rate_state.model:RATE_STATE",
+    "chain": "chain.model:CHAIN",
 }
 _LOADED: dict[str, Model] = {}
 

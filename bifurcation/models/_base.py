@@ -64,6 +64,9 @@ class Axis:
     dtype: str = "float64"            # "int64" for counts (blocks, seeds)
     structural: bool = False
     parameter: str | None = None      # runtime slot set by this axis (default: ``name``)
+    #: The one point a workflow without a ``[grid.<name>]`` table takes (None: the table is required),
+    #: so that a model of many axes keeps simple workflows short.
+    default: float | None = None
 
     def __post_init__(self) -> None:
         if not self.name.isidentifier():
@@ -75,6 +78,8 @@ class Axis:
             raise ValueError(f"axis {self.name}: bounds {self.bounds} are not an increasing (positive for log) pair")
         if self.dtype not in ("float64", "int64"):
             raise ValueError(f"axis {self.name}: dtype {self.dtype!r} is not float64 or int64")
+        if self.default is not None and not lo <= self.default <= hi:
+            raise ValueError(f"axis {self.name}: default {self.default} is outside its bounds {self.bounds}")
 
     def cast(self, value):
         """``value`` as this axis's Python type (int for counts)."""
@@ -262,6 +267,10 @@ class Model:
     initial: Callable | None = None
     #: The model's own engine for one label over flat points (see above); None: the generic engine.
     runner: Callable | None = None
+    #: For models with ``per_event`` outputs (catalogs): the axis whose value is the most events a run
+    #: catalogs (its capacity in the store), and the per-run output that counts the events catalogued.
+    catalog_size: str | None = None
+    catalog_count: str | None = None
 
     def __post_init__(self) -> None:
         if self.runner is None and (self.equations is None or self.classify is None):
@@ -279,6 +288,11 @@ class Model:
         outputs = [o.name for o in self.outputs]
         if len(set(outputs)) != len(outputs) or "done" in outputs:
             raise ValueError(f"model {self.name}: outputs {outputs} repeat or use the reserved name 'done'")
+        if any(o.per_event for o in self.outputs):
+            if self.catalog_size not in [a.name for a in self.axes] or self.catalog_count not in outputs \
+                    or self.output(self.catalog_count).per_event:
+                raise ValueError(f"model {self.name}: per-event outputs need catalog_size (an axis: the most "
+                                 "events of a run) and catalog_count (a per-run output: the events catalogued)")
         if not self.initial_state:
             object.__setattr__(self, "initial_state", (0.0,) * len(self.state))
 
@@ -300,9 +314,24 @@ class Model:
                 return o
         raise KeyError(name)
 
+    def status_name(self, code: int) -> str:
+        """The name of stored status ``code``: the model's own (``statuses``), else ``bifurcation.Status``'s."""
+        for status in self.statuses:
+            if int(status) == int(code):
+                return str(status)
+        try:
+            return str(Status(int(code)))
+        except ValueError:
+            return f"code {int(code)}"
+
     @property
     def float_outputs(self) -> tuple[str, ...]:
         return tuple(o.name for o in self.outputs if o.dtype == "float64" and not o.per_event)
+
+    @property
+    def catalog_outputs(self) -> tuple[Output, ...]:
+        """The ``per_event`` outputs (catalogs, one value per event of a run)."""
+        return tuple(o for o in self.outputs if o.per_event)
 
     def slots(self, n_pieces: int = 1) -> Slots:
         return Slots(self.parameters, n_pieces)

@@ -129,6 +129,18 @@ def _transitions(ds, model, law_index: int) -> list[list[str]]:
     return rows
 
 
+def _state_laws(label: str):
+    """A rate-state label's equation(s) and source(s), in the shape of a friction law's row."""
+    from types import SimpleNamespace
+
+    from ..models.rate_state.laws import resolve_state_law
+    from ..models.rate_state.model import resolve_label
+
+    laws = [resolve_state_law(name) for name in resolve_label(label)]
+    return SimpleNamespace(equation="; ".join(law.equation for law in laws),
+                           source="; ".join(law.source for law in laws))
+
+
 def _status(code) -> str:
     from ..engine.result import Status
 
@@ -178,7 +190,7 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
     rows = []
     for law in laws:
         try:
-            spec = resolve_law(law)
+            spec = resolve_law(law) if model.name != "rate-state" else _state_laws(law)
             rows.append([law, spec.equation, spec.source])
         except Exception as exc:  # noqa: BLE001 — a label this version cannot read is still listed
             rows.append([law, "(cannot be read by this version)", str(exc)])
@@ -187,11 +199,19 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
               [[ax.name, ax.symbol, _fmt_value(_labels(ds, ax.name)[0]), _fmt_value(_labels(ds, ax.name)[-1]),
                 str(ds.sizes[ax.name]), ax.units, ax.scale] for ax in model.axes]))
     status = np.asarray(ds["status"].values)
-    statuses = (Status.NOT_COMPUTED, *model.statuses)
+    statuses = (Status.NOT_COMPUTED, *(s for s in model.statuses if int(s) != int(Status.NOT_COMPUTED)))
     b.append(("p", "Points per status:"))
     b.append(("table", ["law", *(str(s) for s in statuses)],
               [[law, *(str(int(np.count_nonzero(status[i] == int(s)))) for s in statuses)]
                for i, law in enumerate(laws)]))
+    if model.name == "rate-state":   # no slip Δ: its own section (Hopf points, attracting states along κ)
+        from ..models.rate_state.store_report import blocks
+
+        return b + blocks(ds, model, out, figures, stem)
+    if model.catalog_outputs:   # a catalog model (the chain): its runs and catalogs, no slip Δ
+        from ..models.chain.store_report import chain_store_blocks
+
+        return b + chain_store_blocks(ds, model)
     for i, law in enumerate(laws):
         b.append(("h3", f"Law {law}"))
         fig, _ = _figure_law(ds, model, i, law)
@@ -261,8 +281,12 @@ def write_store_report(sources, out) -> dict:
     figures: list = []
     titles = ", ".join(repr(ds.attrs.get("title", "?")) for ds in stores)
     blocks: list = [("h1", f"Study report: {titles}")]
-    blocks.append(("p", "Every number below is read from the stores or computed from them by this package; units: "
-                        "Δ in F0/k, velocities in V0 = F0/√(mk), times in √(m/k) (docs/physics.md)."))
+    from ..store.layout import store_model
+
+    units = ("units: Δ in F0/k, velocities in V0 = F0/√(mk), times in √(m/k) (docs/physics.md)"
+             if any(store_model(ds.attrs) != "rate-state" for ds in stores) else
+             "units: those of the workflow's own V_lp, Dc and M (docs/rate-state.md)")
+    blocks.append(("p", f"Every number below is read from the stores or computed from them by this package; {units}."))
     for k, ds in enumerate(stores):
         blocks += _store_blocks(ds, out, figures, f"store{k}")
     if _holds_paper_laws(stores):

@@ -49,6 +49,7 @@ def _tile_task(tile, store: str, run_id: str) -> dict:
 def _finalize(store: str, lock_token: str, entry: dict, *results) -> dict:
     """Worker task after every tile: the run's line in the store history, then the lock released."""
     from ..engine.result import Status
+    from ..models import get_model
     from ..store import record_submit
     from ..store.lock import lock_path
 
@@ -59,9 +60,10 @@ def _finalize(store: str, lock_token: str, entry: dict, *results) -> dict:
         for i, n in enumerate(r.get("counts", ())):
             counts[i] += n
     errors = [r["error"] for r in results if "error" in r][:5]
+    model = get_model(entry.pop("model", None))
     entry = {**entry, "computed": computed, "failed": failed,
              "wall_time": round(time.time() - entry.pop("started"), 3),
-             "statuses": {str(Status(i)): n for i, n in enumerate(counts) if n}, "errors": errors}
+             "statuses": {model.status_name(i): n for i, n in enumerate(counts) if n}, "errors": errors}
     try:
         record_submit(store, entry)
     finally:
@@ -91,7 +93,7 @@ def run_detached(client, workflow, path: Path, run_id: str, done, lock, command:
     futures = [client.submit(_tile_task, tile, store, run_id, key=f"bifurcation-tile-{tile.name}-{token[:8]}",
                              pure=False) for tile in tiles]
     entry = {"command": command, "skipped": skipped, "cluster": f"detached on {client.scheduler.address}",
-             "started": time.time()}
+             "started": time.time(), "model": workflow.model}
     key = finalize_key(token)
     # the lock names the run before the run exists: a submit that looks in between waits for it
     holder = json.loads(lock_path(path).read_text(encoding="utf-8"))

@@ -97,9 +97,15 @@ def _report(values: dict) -> list[int]:
 
 def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
     """Worker task: compute a tile and write it into its chunk of the store."""
+    from ..models import get_model
     from ..store import write_tile
 
-    values = compute_tile(tile)
+    checkpoints = None
+    if get_model(tile.model).checkpoint:   # long runs save their state into the store as they go
+        from ..store.catalog import tile_checkpoints
+
+        checkpoints = tile_checkpoints(store, run_id, tile)
+    values = compute_tile(tile, checkpoints)
     write_tile(store, tile, values, run_id)
     return _report(values)
 
@@ -258,7 +264,7 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
     summary = Summary(study=workflow.name, store=str(path), points=workflow.n_points, computed=computed,
                       skipped=skipped, failed=failed, tiles=n_tiles, wall_time=wall,
                       compute_time=compute_time,
-                      statuses={str(Status(i)): int(n) for i, n in enumerate(statuses) if n},
+                      statuses={workflow.spec.status_name(i): int(n) for i, n in enumerate(statuses) if n},
                       cluster=cluster_name, errors=tuple(errors[:5]), repaired=repaired)
     try:
         record_submit(path, {"command": command, "computed": computed, "skipped": skipped, "failed": failed,

@@ -105,7 +105,7 @@ def _points(axes) -> dict[str, np.ndarray]:
     return {name: g for (name, _), g in zip(axes, grids)}
 
 
-def compute_tile(tile: Tile) -> dict[str, np.ndarray]:
+def compute_tile(tile: Tile, checkpoints=None) -> dict[str, np.ndarray]:
     """Run the engine on the tile's points: a dict of the store's variables, each of the tile's shape.
 
     Points outside ``tile.todo`` are left at the store's fill values (NaN, 0, ``done = False``).
@@ -120,10 +120,13 @@ def compute_tile(tile: Tile) -> dict[str, np.ndarray]:
     mask = np.ones(shape, dtype=bool) if tile.todo is None else np.asarray(tile.todo, dtype=bool)
     kinds, fill = variables(model), fills(model)
     out = {name: np.full(shape, fill[name], dtype=kinds[name]) for name in kinds if name != "done"}
+    for output in model.catalog_outputs:   # per-event outputs: one array per run (store.catalog)
+        out[output.name] = np.empty(shape, dtype=object)
+        out[output.name].fill(np.empty(0, dtype=output.dtype))
     out["done"] = mask.copy()
     if mask.any():
         result = solve(model, tile.law, {k: v[mask] for k, v in points.items()}, precision=tile.precision,
-                       t_max=tile.t_max, max_steps=tile.max_steps, batch=tile.batch)
+                       t_max=tile.t_max, max_steps=tile.max_steps, batch=tile.batch, checkpoints=checkpoints)
         for name in out:
             if name != "done":
                 out[name][mask] = result[name]
@@ -139,6 +142,7 @@ def compute_serial(workflow) -> dict[str, np.ndarray]:
     points = _points(workflow.grid)
     results = [solve(model, law, points, precision=workflow.precision, t_max=workflow.t_max,
                      max_steps=workflow.max_steps, batch=workflow.batch) for law in workflow.laws]
-    out = {name: np.stack([np.asarray(r[name]) for r in results]) for name in variables(model) if name != "done"}
+    names = [*(n for n in variables(model) if n != "done"), *(o.name for o in model.catalog_outputs)]
+    out = {name: np.stack([np.asarray(r[name]) for r in results]) for name in names}
     out["done"] = np.ones(workflow.shape, dtype=bool)
     return out

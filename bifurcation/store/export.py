@@ -150,6 +150,10 @@ def export(store, out, fmt: str | None = None) -> dict:
     try:
         if fmt == "netcdf":
             ds = cf_dataset(path)
+            from .catalog import catalog_dataset, has_catalog
+
+            if has_catalog(path):   # per-event catalogs as CF contiguous ragged arrays (store.catalog)
+                ds = ds.merge(catalog_dataset(path), combine_attrs="override")
             ds.to_netcdf(tmp, engine="netcdf4")
             points = int(np.prod([ds.sizes[d] for d in ds["done"].dims]))
         else:

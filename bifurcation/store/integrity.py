@@ -247,6 +247,12 @@ def scan(path) -> tuple[list[Damage], int, int]:
         damage += reader.check(tile)
         n_tiles += 1
         n_chunks += sum(reader.exists(name, tile) for name in reader.variables)
+    from .catalog import catalog_damage, has_catalog
+
+    if has_catalog(path):   # per-event catalogs: every chunk decoded, every done run's chunks present
+        more, n_more = catalog_damage(path, reader)
+        damage += more
+        n_chunks += n_more
     return damage, n_tiles, n_chunks
 
 
@@ -258,10 +264,15 @@ def damaged_tiles(damage: list[Damage], kinds=("damaged", "unfinished")) -> list
 
 def clear_tiles(path, tiles: list[tuple]) -> None:
     """Delete every chunk of ``tiles`` (``done`` first), so that a resume recomputes exactly them."""
+    from .catalog import clear_catalogs, has_catalog
+
     reader = TileReader(path)
+    catalogs = has_catalog(path)
     for tile in tiles:
         for name in [DONE, *(n for n in reader.variables if n != DONE)]:
             (reader.path / reader.key(name, tuple(tile))).unlink(missing_ok=True)
+        if catalogs:   # after done: the runs' catalogs and checkpoints go with their tile
+            clear_catalogs(path, reader.shape, reader.region(tuple(tile)))
 
 
 def restore_metadata(path) -> list[str]:

@@ -54,11 +54,11 @@ def _model(model):
 
 
 def variables(model=None) -> dict:
-    """The data variables of ``model``'s store (name → dtype) in write order: outputs, then ``done``."""
+    """The (grid) data variables of ``model``'s store (name → dtype) in write order: the per-run
+    outputs, then ``done``. Per-event outputs are catalogs (``bifurcation.store.catalog``)."""
     spec = _model(model)
+    # per-event outputs are not grid variables: they live in the store's catalog group (store.catalog)
     out = {o.name: np.dtype(o.dtype) for o in spec.outputs if not o.per_event}
-    if any(o.per_event for o in spec.outputs):
-        raise NotImplementedError(f"model {spec.name}: per-event outputs need a catalog layout (docs/models.md)")
     out["done"] = np.dtype("bool")
     return out
 

@@ -35,7 +35,8 @@ def columns(model=None) -> tuple[str, ...]:
     from ..models import get_model
 
     spec = get_model(model)
-    rest = [o.name for o in spec.outputs if o.name != "status" and o.name not in spec.float_outputs]
+    rest = [o.name for o in spec.outputs
+            if o.name != "status" and o.name not in spec.float_outputs and not o.per_event]
     return (spec.labels.name, *(a.name for a in reversed(spec.axes)), "status", *spec.float_outputs, *rest)
 
 
@@ -87,17 +88,20 @@ class _Records:
         self.axes = [a.name for a in reversed(model.axes)]
         self.floats = model.float_outputs
         self.others = [o.name for o in model.outputs if o.name != "status" and o.name not in self.floats]
+        # a model may declare its own status codes (rate-state's RateStateStatus)
+        self.status_names = {**_STATUS_NAMES, **{int(s): str(s) for s in model.statuses}}
 
     def make(self, label: str, coords: dict, status: int, values: dict) -> dict:
         record = {self.label: label}
         for name in self.axes:
             record[name] = coords[name]
-        record["status"] = _STATUS_NAMES[status]
+        record["status"] = self.status_names[status]
         for name in self.floats:
             x = values[name]
             record[name] = x if math.isfinite(x) else None
         for name in self.others:
-            record[name] = values[name]
+            if name in values:   # a per-event output (a catalog) is no value of the point
+                record[name] = values[name]
         return record
 
 
@@ -231,7 +235,7 @@ def _dataset_records(ds, model, selected, computed_only) -> Iterator[dict]:
     sub = ds.isel(selected)
     dims = model.dims
     maker = _Records(model)
-    names = [o.name for o in model.outputs]
+    names = [o.name for o in model.outputs if not o.per_event]
     values = {name: np.asarray(sub[name].values) for name in (*names, "done")}
     coords = {d: np.asarray(sub[d].values) for d in dims}
     for index in np.ndindex(values["status"].shape):

@@ -18,7 +18,8 @@ import numpy as np
 __all__ = ["StudyStatus", "study_status"]
 
 #: Outcomes that are results, not failures (any other status of a done point is counted as a failure).
-_RESULTS = ("stick-slip", "creep")
+_RESULTS = ("stick-slip", "creep", "complete", "steady-sliding", "limit-cycle", "unbounded-growth",
+            "no-hopf-point")
 #: The rate is measured over the tiles the current writer finished in the last this many seconds.
 _RATE_WINDOW = 300.0
 
@@ -131,8 +132,11 @@ def study_status(path) -> StudyStatus:
         status = np.asarray(_read(path, group, "status"))
     meta = json.loads((path / "done" / "zarr.json").read_text(encoding="utf-8"))
     dims = meta.get("dimension_names") or [f"dim_{i}" for i in range(done.ndim)]
-    names = (group["status"].attrs.get("flag_meanings") or "").split()
-    name_of = (lambda code: names[code] if 0 <= code < len(names) else f"code {code}")
+    # CF flags: meaning i belongs to flag_values[i] (codes need not be 0..n−1: unresolved is 7)
+    flag_attrs = group["status"].attrs
+    meanings = (flag_attrs.get("flag_meanings") or "").split()
+    by_code = dict(zip((int(v) for v in flag_attrs.get("flag_values") or range(len(meanings))), meanings))
+    name_of = (lambda code: by_code.get(code, f"code {code}"))
 
     def outcomes(mask, where=()) -> dict:
         codes, counts = np.unique(status[where][mask], return_counts=True)

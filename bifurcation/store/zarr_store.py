@@ -140,8 +140,9 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     coords = {label: (label, np.array(workflow.laws, dtype=object), coords_attrs[label])}
     for axis, values in workflow.grid:
         coords[axis] = (axis, np.array(values, dtype=model.axis(axis).dtype), coords_attrs[axis])
-    for name in coords:   # the coordinates carry a checksum too
-        encoding[name] = {"compressors": chunk_codecs()}
+    for name in coords:   # the coordinates carry a checksum too, and are written even when they equal the
+        # fill value (a chain's periodic = [0]): a coordinate chunk missing is damage (integrity)
+        encoding[name] = {"compressors": chunk_codecs(), "write_empty_chunks": True}
     attrs = provenance(workflow, command)
     ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
     # "a" into a directory that holds only the writer's lock (checked above: no store, nothing else)
@@ -149,6 +150,14 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     try:
         with _quiet():
             ds.to_zarr(str(path), mode=mode, compute=False, encoding=encoding, zarr_format=3, consolidated=True)
+        if model.catalog_outputs:   # the ragged per-event arrays (store.catalog), then one consolidation
+            import zarr
+
+            from .catalog import create_catalog
+
+            create_catalog(path, workflow)
+            with _quiet():
+                zarr.consolidate_metadata(str(path))
     except OSError:   # disk full, quota: leave no half-made store behind (the lock stays with its holder)
         _clear(path)
         raise
@@ -236,6 +245,12 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
     """
     arrays = _arrays(str(path), run_id)
     region = tile.region
+    catalogs = [k for k in values if k not in arrays]
+    if catalogs:   # per-event outputs: each run's catalog chunks before the tile's per-run outputs
+        from ..models import get_model
+        from .catalog import write_catalogs
+
+        write_catalogs(path, arrays["done"].shape, tile, values, get_model(tile.model), run_id)
     if tile.todo is not None:
         keep = ~np.asarray(tile.todo, dtype=bool)
         values = {name: np.where(keep, arrays[name][region][0], values[name]) for name in arrays}
@@ -244,6 +259,10 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
             if name == "done":
                 _check_run(str(path), run_id)   # again just before done: nothing claims a foreign tile
             array[region] = np.asarray(values[name], dtype=array.dtype)[None]
+    if catalogs:   # done is written: the runs' checkpoints are no longer needed
+        from .catalog import drop_checkpoints
+
+        drop_checkpoints(path, arrays["done"].shape, tile, values["done"])
 
 
 def record_submit(path, entry: dict) -> None:

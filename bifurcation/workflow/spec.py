@@ -1,7 +1,8 @@
 r"""Workflows: a study over a model's grid (labels × its axes), written as a TOML file.
 
 The model (``[model] name``, default ``single-block``) declares the axes: one ``[grid.<axis>]`` table
-per axis and one ``[tiles]`` key per axis, with the bounds the model declares. The schema below is
+per axis (an axis with a ``default`` may be left out: its one point is that default) and one
+``[tiles]`` key per axis, with the bounds the model declares. The schema below is
 the single block's (axes ``nu_f`` and ``nu``); ``bifurcation.models.get_model(name).axes`` lists
 another model's.
 
@@ -34,6 +35,8 @@ Schema (every key is checked; unknown keys, wrong types and impossible values ar
     [tiles]                          # optional: tile (= store chunk) shape, default 64 × 64
     nu_f = 64
     nu = 64
+    catalog = 1000                   # models with per-event outputs (the chain) only: events per
+                                     # catalog chunk and per checkpoint (bifurcation.store.catalog)
 
 Each axis is the sorted union of its points with exact duplicates removed. Range and log points are
 computed in decimal arithmetic and rounded once, so a range that passes through 0.4 yields exactly
@@ -81,6 +84,10 @@ _RANGE_POINTS_MAX = 100_000
 #: Most SIMD lanes: far above any vector unit's width (AVX-512 holds 8 doubles); more is a typo.
 _BATCH_MAX = 64
 _ENGINE_KEYS = ("precision", "t_max", "max_steps", "batch")
+#: Events per chunk of a run's catalog and per checkpoint (models with per-event outputs: ``[tiles]
+#: catalog = C``; bifurcation.store.catalog).
+CATALOG_CHUNK = 1000
+_CATALOG_CHUNK_MAX = 1 << 20
 
 
 def _set(obj, name, value) -> None:
@@ -108,11 +115,12 @@ class Workflow:
     max_steps: int = DEFAULT_MAX_STEPS
     batch: int = 1                           # heyoka SIMD lanes (see bifurcation.slip)
     tiles: tuple = ()                        # chunk shape, one size per axis
+    catalog_chunk: int = 0                   # events per catalog chunk and checkpoint (0: no catalogs)
     source: str | None = field(default=None, compare=False, repr=False)
 
     def __init__(self, name, laws, *, model=None, grid=None, description="", precision="double",
                  t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS, batch=1, tiles=None, source=None,
-                 **axes) -> None:
+                 catalog_chunk=None, **axes) -> None:
         spec = get_model(model)
         points = dict(grid or {})
         for key, value in axes.items():
@@ -128,6 +136,7 @@ class Workflow:
                      ("source", source)):
             _set(self, k, v)
         self._check(spec, points, tiles)
+        _set(self, "catalog_chunk", _check_catalog_chunk(spec, catalog_chunk))
 
     def _check(self, spec, points, tiles) -> None:
         if not isinstance(self.name, str) or not _NAME.match(self.name):
@@ -148,6 +157,8 @@ class Workflow:
                              "give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
         grid = []
         for axis in spec.axes:
+            if axis.name not in points and axis.default is not None:
+                points[axis.name] = (axis.default,)
             if axis.name not in points:
                 raise InputError(f"grid.{axis.name}", None, "is missing",
                                  f"add a table [grid.{axis.name}] ({axis.long_name})")
@@ -209,6 +220,8 @@ class Workflow:
             canonical["batch"] = self.batch
         if self.model != DEFAULT_MODEL:   # the single block's stores predate models: keep their prints
             canonical["model"] = self.model
+        if self.catalog_chunk:
+            canonical["catalog_chunk"] = self.catalog_chunk
         return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()
 
     @property
@@ -231,7 +244,8 @@ class Workflow:
                   f"max_steps = {self.max_steps}", f"batch = {self.batch}", ""]
         for axis, values in self.grid:
             lines += [f"[grid.{axis}]", f"values = {floats(values)}", ""]
-        lines += ["[tiles]", *(f"{axis} = {size}" for (axis, _), size in zip(self.grid, self.tiles)), ""]
+        lines += ["[tiles]", *(f"{axis} = {size}" for (axis, _), size in zip(self.grid, self.tiles))]
+        lines += [f"catalog = {self.catalog_chunk}", ""] if self.catalog_chunk else [""]
         return "\n".join(lines)
 
 
@@ -281,6 +295,21 @@ def _check_axis(key: str, values, axis) -> tuple:
             raise InputError(key, x, "is not a whole number", f"give whole numbers for {axis.symbol}")
     out = union(points)
     return tuple(int(x) for x in out) if axis.dtype == "int64" else out
+
+
+def _check_catalog_chunk(spec, size) -> int:
+    """``[tiles] catalog``: events per chunk of a run's catalog (models with per-event outputs only)."""
+    if not spec.catalog_outputs:
+        if size is not None:
+            raise InputError("tiles.catalog", size, f"is not a key of model {spec.name!r} (it has no catalogs)",
+                             "leave it out")
+        return 0
+    if size is None:
+        return CATALOG_CHUNK
+    if isinstance(size, bool) or not isinstance(size, int):
+        raise InputError("tiles.catalog", size, "is not an integer", f"give a whole number such as {CATALOG_CHUNK}")
+    check_range("tiles.catalog", size, 1, _CATALOG_CHUNK_MAX)
+    return size
 
 
 def _check_tiles(spec, tiles) -> tuple[int, ...]:
@@ -333,15 +362,20 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
     axis_names = tuple(a.name for a in spec.axes)
     engine = root.table("engine", (key, *_ENGINE_KEYS))
     grid = root.table("grid", axis_names)
-    tiles = root.table("tiles", axis_names, required=False)
+    tile_keys = (*axis_names, "catalog") if spec.catalog_outputs else axis_names
+    tiles = root.table("tiles", tile_keys, required=False)
 
     laws = engine.array(key, fix=f"write {key} = [\"{spec.labels.example}\"]")
     # Workflow checks the engine options and tiles (with the same dotted keys) on construction
     options = {name: engine.raw(name) for name in _ENGINE_KEYS if engine.has(name)}
     if tiles is not None:
         options["tiles"] = {name: tiles.raw(name) for name in axis_names if tiles.has(name)}
-    axes = {axis.name: _axis_points(grid.table(axis.name, ("values", "ranges", "log")), axis)
-            for axis in spec.axes}
+        if tiles.has("catalog"):
+            options["catalog_chunk"] = tiles.raw("catalog")
+    # an axis with a default may be left out (Workflow takes its one default point)
+    tables = {axis: grid.table(axis.name, ("values", "ranges", "log"), required=axis.default is None)
+              for axis in spec.axes}
+    axes = {axis.name: _axis_points(table, axis) for axis, table in tables.items() if table is not None}
     return Workflow(
         name=study.string("name", fix="add name = \"my-study\" to [study]"),
         description=study.string("description", ""),

@@ -27,7 +27,7 @@ from ._system import compiled, rhs_expressions
 from .hopf import HopfPoint, hopf_point, steady_state
 from .spec import SliderSpec
 
-__all__ = ["Branch", "BranchPoint", "ReturnMap", "continue_cycles"]
+__all__ = ["Branch", "BranchPoint", "ReturnMap", "continue_cycles", "continue_in_v_lp", "period_by_simulation"]
 
 
 @dataclass(frozen=True)
@@ -44,6 +44,7 @@ class BranchPoint:
     multipliers: tuple           # nontrivial Floquet multipliers (complex)
     residual: float              # |P(w) − w| at the converged point
     status: str                  # "ok", or "no-convergence" / "no-return" (not vouched for)
+    v_lp: float = math.nan       # the load-point velocity of this cycle (set on a branch in V_lp)
 
 
 @dataclass(frozen=True)
@@ -66,7 +67,9 @@ class ReturnMap:
         self.x0 = math.log(self.v_lp)
         self.last_failure = ""
 
-    def __call__(self, w, k):
+    def __call__(self, w, k, v_lp=None):
+        if v_lp is not None:   # a branch in V_lp: the section x = ln V_lp moves with it
+            self.v_lp, self.x0 = float(v_lp), math.log(v_lp)
         c, ta, spec = self.c, self.c.integrator, self.spec
         ta.time = 0.0
         ta.state[0] = self.x0
@@ -236,13 +239,115 @@ def period_by_simulation(branch: Branch, index: int, precision: str = "double") 
 
     p = branch.points[index]
     spec = branch.spec
+    v_lp = p.v_lp if math.isfinite(p.v_lp) else branch.v_lp
     run = SliderSpec(a=spec.a, b=spec.b, dc=spec.dc, state_law=spec.state_law, k=p.k, mass=spec.mass)
     n = spec.n_states
     turns = 1.5 if precision == "quad" else 2.5
-    r = run_spec(run, load_history(branch.v_lp), [0.0, turns * p.period], ln_v0=math.log(branch.v_lp),
-                 ln_theta0=list(p.w[:n]), z0=p.w[n] if spec.inertial else 0.0, thresholds=[branch.v_lp],
+    r = run_spec(run, load_history(v_lp), [0.0, turns * p.period], ln_v0=math.log(v_lp),
+                 ln_theta0=list(p.w[:n]), z0=p.w[n] if spec.inertial else 0.0, thresholds=[v_lp],
                  precision=precision, max_steps=5_000_000)
     ups = [t for (t, s), c in zip(r.crossing_states, r.crossings) if c[2] > 0]
     if precision == "quad":
         return float(ups[0]) if ups else math.nan
     return float(ups[1] - ups[0]) if len(ups) > 1 else math.nan
+
+
+def continue_in_v_lp(branch: Branch, index: int, *, points: int = 30, step: float = 0.05, max_step: float = 1.0,
+                     v_lp_range=(1e-6, 1e6), max_steps: int = 200_000) -> Branch:
+    """Continue the cycle ``branch.points[index]`` in the load-point velocity at fixed k.
+
+    Unknowns X = (w, λ) with λ = ln V_lp (V_lp spans decades); residual P(w; k, V_lp) − w on the section
+    x = ln V_lp, which moves with λ. Same predictor-corrector, tangent, fold and period-doubling tests as
+    ``continue_cycles``. Quasi-static, V_lp only rescales a cycle (ln V − ln V_lp and V_lp·T do not
+    depend on it: docs/rate-state.md); with inertia it moves k_c = (b − a)/Dc·[1 + M V_lp²/(a Dc)], so
+    the branch ends where κ = k/k_c(V_lp) reaches the Hopf point. Each point's ``kappa`` is k over the
+    closed-form k_c at its V_lp (NaN with two state variables).
+    """
+    from .hopf import closed_form
+
+    spec, start = branch.spec, branch.points[index]
+    k = start.k
+    m = len(start.w)
+    v0 = start.v_lp if math.isfinite(start.v_lp) else branch.v_lp
+    pmap = ReturnMap(spec, v0, t_max=1e300, max_steps=max_steps)
+    scale = np.ones(m)
+    if spec.inertial:
+        scale[-1] = max(sum(spec.b) - spec.a, spec.a)
+    weights = np.append(1 / scale, 1.0)
+
+    def G(X):
+        r = pmap(X[:m], k, math.exp(X[m]))
+        if r is None:
+            raise _NoReturn
+        return r[0] - X[:m]
+
+    def kappa_at(v):
+        k_c = closed_form(spec, v)[0]
+        return k / float(k_c) if spec.n_states == 1 else math.nan
+
+    def newton(X, extra, extra_grad, iters=10):
+        hvec = 1e-7 * np.maximum(np.abs(X), 1 / weights)
+        g, J = _jac(G, X, hvec)
+        A = np.vstack([J, extra_grad])
+        ok = False
+        for _ in range(iters):
+            dX = np.linalg.solve(A, np.append(g, extra(X)))
+            X = X - dX
+            g = G(X)
+            if np.max(np.abs(dX) * weights) < 1e-12 * max(1.0, np.max(np.abs(X) * weights)):
+                ok = True
+                break
+        ok = ok and np.max(np.abs(g)) < 1e-10 * max(1.0, np.max(np.abs(X[:m])))
+        if ok:
+            _, J = _jac(G, X, hvec)
+        return X, J, ok
+
+    def point(X, J, ok):
+        v = math.exp(X[m])
+        r = pmap(X[:m], k, v)
+        mult = np.linalg.eigvals(J[:, :m] + np.eye(m))
+        return BranchPoint(kappa_at(v), k, r[1], tuple(X[:m]), r[2], r[3], v * r[1],
+                           tuple(complex(z) for z in mult), float(np.max(np.abs(r[0] - X[:m]))),
+                           "ok" if ok else "no-convergence", v)
+
+    X = np.append(np.array(start.w, dtype=float), math.log(v0))
+    hvec = 1e-7 * np.maximum(np.abs(X), 1 / weights)
+    _, J = _jac(G, X, hvec)
+    _, _, vt = np.linalg.svd(J * (1 / weights)[None, :])
+    tau = vt[-1]
+    if tau[m] < 0:
+        tau = -tau   # towards larger V_lp first
+    out = [point(X, J, True)]
+    s, folds, pds = step, [], []
+    stop = f"reached {points} points"
+    lo, hi = math.log(v_lp_range[0]), math.log(v_lp_range[1])
+    while len(out) < points:
+        X_pred = X + s * tau / weights
+        try:
+            X_new, J, ok = newton(X_pred, lambda Y: np.dot((Y - X_pred) * weights, tau), tau * weights)
+        except (_NoReturn, np.linalg.LinAlgError):
+            ok = False
+        if not ok:
+            s /= 2
+            if s < 1e-4:
+                stop = (f"stopped at V_lp = {math.exp(X[m]):.6g}: no converged cycle within a step of 1e-4 "
+                        f"(the return map failed: {pmap.last_failure or 'no Newton convergence'})")
+                break
+            continue
+        _, _, vt = np.linalg.svd(J * (1 / weights)[None, :])
+        t_new = vt[-1] if np.dot(vt[-1], tau) >= 0 else -vt[-1]
+        p = point(X_new, J, ok)
+        if np.sign(t_new[m]) != np.sign(tau[m]) and min(abs(t_new[m]), abs(tau[m])) > 1e-7:
+            folds.append(len(out) - 1)
+        prev = np.array(out[-1].multipliers)
+        if np.any(np.isclose(np.array(p.multipliers).imag, 0)) and \
+                np.any((np.array(p.multipliers).real + 1) * (prev.real + 1) < 0):
+            pds.append(len(out) - 1)
+        out.append(p)
+        X, tau = X_new, t_new
+        s = min(s * 1.5, max_step)
+        if not lo < X[m] < hi:
+            stop = f"left the range at V_lp = {math.exp(X[m]):.6g} (V_lp in {tuple(v_lp_range)})"
+            break
+    return Branch(spec, v0, branch.hopf, tuple(out), tuple(folds), tuple(pds),
+                  {"stop": stop, "parameter": "v_lp", "k": k})

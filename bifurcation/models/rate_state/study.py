@@ -27,7 +27,9 @@ from ...errors import InputError
 __all__ = ["BranchSpec", "StudySpec", "load_study", "run_study"]
 
 _SLIDER_KEYS = {"a", "b", "dc", "v_lp"}
-_BRANCH_KEYS = {"label", "state_law", "eta", "points", "max_step", "kappa_min", "kappa_max", *_SLIDER_KEYS}
+_BRANCH_KEYS = {"label", "state_law", "eta", "points", "max_step", "kappa_min", "kappa_max", "parameter",
+                "start_point", "v_lp_min", "v_lp_max", *_SLIDER_KEYS}
+_PARAMETERS = ("kappa", "v_lp")
 _HOPF_KEYS = {"b_over_a", "v_lp", "eta", "bautin"}
 
 
@@ -44,6 +46,12 @@ class BranchSpec:
     max_step: float
     kappa_min: float
     kappa_max: float
+    #: "kappa": the branch in k/k_c from the Hopf point; "v_lp": the cycle ``start_point`` of that branch
+    #: (computed with the same keys) continued in V_lp at its k, within [v_lp_min, v_lp_max]
+    parameter: str = "kappa"
+    start_point: int = 0
+    v_lp_min: float = 1e-6
+    v_lp_max: float = 1e6
 
     @property
     def mass(self):
@@ -120,7 +128,8 @@ def load_study(path) -> StudySpec:
             points=_num(f"branch[{i}].points", merged.get("points", 30), 2, integer=True),
             max_step=_num(f"branch[{i}].max_step", merged.get("max_step", 0.5), 0),
             kappa_min=_num(f"branch[{i}].kappa_min", merged.get("kappa_min", 0.05), 0),
-            kappa_max=_num(f"branch[{i}].kappa_max", merged.get("kappa_max", 20.0), 1)))
+            kappa_max=_num(f"branch[{i}].kappa_max", merged.get("kappa_max", 20.0), 1),
+            **_v_lp_keys(i, merged)))
     hopf = doc.get("hopf", {})
     _unknown("hopf", hopf, _HOPF_KEYS)
 
@@ -136,6 +145,27 @@ def load_study(path) -> StudySpec:
     return StudySpec(name, str(study.get("description", "")), tuple(out),
                      lst("b_over_a", [1.1, 2.0, 10.0], 1), lst("v_lp", [1e-3, 1.0, 1e3], 0),
                      lst("eta", [0.0, 1.0], -1e-300), text, bautin)
+
+
+def _v_lp_keys(i: int, br: dict) -> dict:
+    """The keys of a branch in V_lp (``parameter = "v_lp"``), checked."""
+    parameter = br.get("parameter", "kappa")
+    if parameter not in _PARAMETERS:
+        raise InputError(f"branch[{i}].parameter", parameter, "is not a continuation parameter",
+                         f"use one of {', '.join(_PARAMETERS)}")
+    if parameter == "kappa":
+        extra = sorted({"start_point", "v_lp_min", "v_lp_max"} & set(br))
+        if extra:
+            raise InputError(f"branch[{i}].{extra[0]}", br[extra[0]], "is only for a branch in V_lp",
+                             'add parameter = "v_lp", or remove the key')
+        return {}
+    lo = _num(f"branch[{i}].v_lp_min", br.get("v_lp_min", 1e-6), 0)
+    hi = _num(f"branch[{i}].v_lp_max", br.get("v_lp_max", 1e6), lo)
+    if not lo < br["v_lp"] < hi:
+        raise InputError(f"branch[{i}].v_lp", br["v_lp"], f"is not inside [v_lp_min, v_lp_max] = [{lo:g}, {hi:g}]",
+                         "start the branch inside its range")
+    return {"parameter": parameter, "v_lp_min": lo, "v_lp_max": hi,
+            "start_point": _num(f"branch[{i}].start_point", br.get("start_point", 1), -1, integer=True)}
 
 
 def _closed_form_sweep(spec: StudySpec, echo) -> list:
@@ -186,7 +216,7 @@ def run_study(path, out_dir=None, echo=print) -> dict:
     """Run the workflow at ``path``; write ``<out>/branches.zarr``, ``REPORT.md`` and the figure."""
     import pathlib
 
-    from .continuation import continue_cycles, period_by_simulation
+    from .continuation import continue_cycles, continue_in_v_lp, period_by_simulation
     from .hopf import lyapunov_by_simulation
     from .spec import SliderSpec
 
@@ -200,8 +230,19 @@ def run_study(path, out_dir=None, echo=print) -> dict:
     results = []
     for br in spec.branches:
         t0 = time.perf_counter()
-        branch = continue_cycles(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, v_lp=br.v_lp, mass=br.mass,
-                                 points=br.points, max_step=br.max_step, kappa_range=(br.kappa_min, br.kappa_max))
+        if br.parameter == "kappa":
+            branch = continue_cycles(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, v_lp=br.v_lp, mass=br.mass,
+                                     points=br.points, max_step=br.max_step, kappa_range=(br.kappa_min, br.kappa_max))
+        else:
+            start = continue_cycles(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, v_lp=br.v_lp, mass=br.mass,
+                                    points=max(br.start_point + 1, 2), max_step=br.max_step,
+                                    kappa_range=(br.kappa_min, br.kappa_max))
+            if br.start_point >= len(start.points):
+                raise InputError(f"{br.label}: start_point", br.start_point,
+                                 f"is beyond the {len(start.points)} points of the branch in κ ({start.meta['stop']})",
+                                 "give a smaller start_point")
+            branch = continue_in_v_lp(start, br.start_point, points=br.points, max_step=br.max_step,
+                                      v_lp_range=(br.v_lp_min, br.v_lp_max))
         # Second turn in double where the cycle is at most mildly unstable; where a multiplier exceeds 10
         # the first turn's rounding is amplified that much before the second, so the check runs in real128.
         checks = [abs(period_by_simulation(branch, i, "double" if max(abs(z) for z in p.multipliers) < 10

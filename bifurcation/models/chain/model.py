@@ -1,0 +1,158 @@
+"""The Burridge–Knopoff chain as a model of the registry: one run (an event catalog) per point.
+
+A study of chains is a workflow with ``[model] name = "chain"`` (docs/chain.md, "Studies"): labels
+are friction laws (the single block's ``LAW``), the axes are the chain's parameters, and each point
+of the grid is one run of ``ChainLoop`` — the first ``events`` events of the chain started from the
+seeded random state of ``bifurcation.chain(..., amplitude=A, seed=S)``:
+
+    σ_j = ℓ²(U_{j+1} − 2U_j + U_{j−1}) − U_j + νt,   V̇_j = σ_j − Φ(V_j/ν_f) while V_j > 0.
+
+Per run the store keeps ``status``, ``events_done``, ``t_end``, ``steps`` and ``resumed``; per event
+(a ragged catalog, ``bifurcation.store.catalog``) ``t_start``, ``hypocentre``, ``n_blocks``,
+``potency``, ``duration`` and ``max_velocity``. ``t_max`` and ``max_steps`` of the workflow bound one
+event (beyond them the run stops with ``no-stop`` and keeps the events before).
+
+Runs are long, so the model checkpoints (``checkpoint=True``): the runner saves its state every
+``checkpoint.every`` events (at the catalog's chunk boundaries) and a run that finds a checkpoint
+resumes from it; the catalog is the same bit for bit (``chain.checkpoint``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...bounds import NU_BOUNDS, NU_F_BOUNDS
+from .._base import Axis, Model, Output
+from ..single_block import LAW
+from .result import CATALOG_ATTRS, ChainStatus
+
+__all__ = ["AXES", "CHAIN", "CHAIN_OUTPUTS", "run_chains"]
+
+AXES = (
+    Axis("n", "N", "number of blocks N", bounds=(1, 1 << 20), example=16, default_tile=1, dtype="int64",
+         structural=True),
+    Axis("ell", "ℓ", "coupling ℓ (ℓ² = k_c/k_p, the coil spring over the pulling spring)", bounds=(0.0, 1e3),
+         example=1.0, default_tile=1),
+    Axis("nu", "ν", "pulling speed ν (in V0)", bounds=NU_BOUNDS, scale="log", example=1e-3, default_tile=1),
+    Axis("nu_f", "ν_f", "friction velocity ν_f (in V0)", bounds=NU_F_BOUNDS, example=0.3, default_tile=1),
+    Axis("amplitude", "A", "amplitude A of the random initial displacements u_j = A r_j + c", bounds=(0.0, 1e3),
+         example=0.5, default_tile=1),
+    Axis("seed", "S", "seed of numpy.random.default_rng for the initial displacements", bounds=(0, 2**62),
+         example=1, default_tile=1, dtype="int64"),
+    Axis("events", "K", "events computed per run", bounds=(1, 10**9), example=1000, default_tile=1,
+         dtype="int64"),
+    Axis("periodic", "ends", "chain ends: 0 free (U_0 ≡ U_1), 1 periodic (U_0 ≡ U_N)", bounds=(0, 1), example=0,
+         default_tile=1, dtype="int64"),
+)
+
+_PER_EVENT_DTYPES = {"hypocentre": "int64", "n_blocks": "int64"}
+
+CHAIN_OUTPUTS = (
+    Output("status", "outcome of the run (see bifurcation.models.chain.ChainStatus)", dtype="int8",
+           fill=0),
+    Output("events_done", "events catalogued (K unless the run stopped early)", dtype="int64", fill=0),
+    Output("t_end", "time after the last event, all blocks stuck (NaN: the run stopped early)", "sqrt(m/k)"),
+    Output("steps", "Taylor steps of the catalogued events", dtype="int64", fill=0),
+    Output("resumed", "events restored from a checkpoint when this run was last computed (0: none)",
+           dtype="int64", fill=0),
+    *(Output(name, CATALOG_ATTRS[name][0], CATALOG_ATTRS[name][1], dtype=_PER_EVENT_DTYPES.get(name, "float64"),
+             fill=-1 if name in _PER_EVENT_DTYPES else np.nan, per_event=True)
+      for name in ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")),
+)
+
+
+def _ints(values) -> np.ndarray:
+    return np.asarray(values, dtype=np.int64)
+
+
+def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps=1_000_000, batch=1,
+               checkpoints=None) -> tuple[dict, dict]:
+    """The runner: one chain run per point (flat per-axis arrays in ``points``).
+
+    ``checkpoints`` (optional, ``bifurcation.store.catalog.Checkpoints``): ``load(i)`` gives the saved
+    state and catalog of point ``i`` (or None), ``save(i, state, catalog)`` is called every
+    ``checkpoints.every`` events. Returns the per-run outputs (arrays over the points) and the
+    catalogs (object arrays of per-run arrays), and messages (point index → text) for runs that
+    stopped early.
+    """
+    from ...laws import resolve_law
+    from ._loop import ChainLoop
+    from ._validate import check_initial
+    from .checkpoint import restore, snapshot
+
+    law = resolve_law(label)
+    size = np.size(points["n"])
+    per_run = {o.name: np.full(size, o.fill, dtype=o.dtype) for o in CHAIN_OUTPUTS if not o.per_event}
+    catalogs = {o.name: np.empty(size, dtype=object) for o in CHAIN_OUTPUTS if o.per_event}
+    messages = {}
+    every = checkpoints.every if checkpoints is not None else None
+    for i in range(size):
+        n, seed, events = int(points["n"][i]), int(points["seed"][i]), int(points["events"][i])
+        ell = float(points["ell"][i])
+        ends = "periodic" if int(points["periodic"][i]) else "free"
+        u = check_initial(n, ell, ends, None, float(points["amplitude"][i]), seed)
+        loop = ChainLoop(law, n, ell, float(points["nu"][i]), float(points["nu_f"][i]), ends, u,
+                         precision=precision, t_max=t_max, max_steps=max_steps)
+        cat = {name: [] for name in (*catalogs, "steps")}
+        status, message, resumed = ChainStatus.COMPLETE, "", 0
+        saved = checkpoints.load(i) if checkpoints is not None else None
+        if saved is not None:
+            restore(loop, saved["state"])
+            for name in catalogs:
+                cat[name] = list(saved["catalog"][name])
+            cat["steps"] = [int(saved["steps"])]      # the steps so far, as one entry
+            resumed = len(cat["t_start"])
+        while len(cat["t_start"]) < events:
+            done = len(cat["t_start"])
+            chunk = events - done if every is None else min(every - done % every, events - done)
+            out = loop.run(chunk)
+            for name in cat:
+                cat[name].extend(out["catalog"][name])
+            if out["status"] != ChainStatus.COMPLETE:
+                status, message = out["status"], out["message"]
+                break
+            done = len(cat["t_start"])
+            if every is not None and done % every == 0 and done < events:
+                checkpoints.save(i, snapshot(loop), {k: _as_array(k, cat[k]) for k in catalogs},
+                                 steps=int(sum(cat["steps"])))
+        for name in catalogs:
+            catalogs[name][i] = _as_array(name, cat[name])
+        per_run["status"][i] = int(status)
+        per_run["events_done"][i] = len(cat["t_start"])
+        # a run that stopped early stopped inside an event: no time at which all blocks are stuck
+        per_run["t_end"][i] = float(loop.t) if status == ChainStatus.COMPLETE else np.nan
+        per_run["steps"][i] = int(sum(cat["steps"]))
+        per_run["resumed"][i] = resumed
+        if message:
+            messages[i] = message
+    return {**per_run, **catalogs}, messages
+
+
+def _as_array(name: str, values) -> np.ndarray:
+    if name in _PER_EVENT_DTYPES:
+        return _ints(values)
+    return np.array([float(x) for x in values], dtype=np.float64)
+
+
+CHAIN = Model(
+    name="chain",
+    title="Burridge–Knopoff chain of N blocks, every stop, start and friction switch exact",
+    description="σ_j = ℓ²(U_{j+1} − 2U_j + U_{j−1}) − U_j + νt, V̇_j = σ_j − Φ(V_j/ν_f) while a block slips; "
+                "one run of K events per point, its catalog (t_start, hypocentre, n_blocks, potency, duration, "
+                "max_velocity) stored per event (docs/chain.md)",
+    source="Burridge and Knopoff, BSSA 57, 341 (1967); Carlson and Langer, PRA 40, 6470 (1989); "
+           "Vasconcelos, PRL 76, 4865 (1996)",
+    labels=LAW,
+    axes=AXES,
+    parameters=(),
+    state=(),
+    events=(),
+    outputs=CHAIN_OUTPUTS,
+    statuses=tuple(ChainStatus),
+    equations=None,
+    classify=None,
+    checkpoint=True,
+    runner=run_chains,
+    catalog_size="events",
+    catalog_count="events_done",
+)

@@ -1,0 +1,196 @@
+"""Where a perturbed steady slide goes: steady sliding, a limit cycle, unbounded growth, or not resolved.
+
+One point of the ``rate-state`` model (``model.py``): a slider (``SliderSpec`` at k = κ k_c) started at
+steady sliding with ln V raised by ``PERTURBATION`` (θ_i and the net force at their steady values) is
+integrated by the engine's compiled Taylor integrator (``_system.compiled``; non-terminal events at
+V = V_lp give the state on the section x = ln V_lp, crossed upwards, at its exact times). After each
+stretch of ``CHUNK_PERIODS`` linear periods 2π/ω_c:
+
+- **steady sliding** when the state is within ``STEADY_TOL`` of the steady state (every component:
+  ln V, ln θ_i, and the net force over Σb − a) and closer than at the previous check: at that
+  distance the nonlinear terms are 1e-16 of the linear ones, so a decay that holds there goes on;
+- **limit cycle** when two successive section states agree to ``CANDIDATE_TOL`` and Newton on the
+  return map (``continuation.ReturnMap``; DP by central differences) converges to a fixed point whose
+  Floquet multipliers are all inside the unit circle and which the run's last section state is
+  within ``BASIN_TOL`` of (so the run is on its way there), spanning more than ``MIN_AMPLITUDE`` in
+  ln V (not the trace of the steady state on the section); the outputs are that cycle's period,
+  max and min ln V over it and slip V_lp·T, and its largest |multiplier|;
+- **unbounded growth** when ln(V/V_lp) exceeds ``BLOWUP`` or the integrator stalls with V large (the
+  quasi-static slider below k_c: V → ∞ in finite time, the step size falls below the resolution of t);
+- **not resolved** when the step or time budget ends first (``max_steps`` per point; ``MAX_PERIODS``),
+  the integrator stalls at small V, or Newton does not converge: no number is given.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["BASIN_TOL", "BLOWUP", "CANDIDATE_TOL", "CHUNK_PERIODS", "Fate", "MAX_PERIODS", "MIN_AMPLITUDE", "PERTURBATION",
+           "STEADY_TOL", "fate"]
+
+#: ln V − ln V_lp at the start (θ_i at steady state at V_lp; no net force).
+PERTURBATION = 1e-2
+#: Steady sliding: every scaled component of u − u* below this (the decay is linear there).
+STEADY_TOL = 1e-9
+#: Two successive section states this close (scaled): try Newton for a cycle.
+CANDIDATE_TOL = 1e-5
+#: The run's last section state must be this close (scaled) to the converged cycle.
+BASIN_TOL = 1e-3
+#: A cycle must span more than this in ln V (a fixed point of P that close to steady sliding is its trace).
+MIN_AMPLITUDE = 1e-6
+#: ln(V/V_lp) beyond which growth is called unbounded (V > 5.5e34 V_lp).
+BLOWUP = 80.0
+#: Integration stretch between checks, and the time budget, in linear periods 2π/ω_c.
+CHUNK_PERIODS = 4.0
+MAX_PERIODS = 4000.0
+
+
+@dataclass(frozen=True)
+class Fate:
+    """The outcome of one point (``kind`` in steady / cycle / unbounded / unresolved)."""
+
+    kind: str
+    message: str = ""
+    period: float = math.nan
+    ln_v_max: float = math.nan
+    ln_v_min: float = math.nan
+    slip: float = math.nan
+    multiplier_max: float = math.nan
+    steps: int = 0
+
+
+def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> Fate:
+    """Integrate the perturbed steady slide of ``spec`` at load-point velocity ``v_lp`` (module docstring)."""
+    import heyoka as hy
+
+    from ._system import compiled
+
+    c = compiled(spec.state_law, spec.inertial, 1, "double")
+    ta = c.integrator
+    x_star = math.log(v_lp)
+    y_star = np.array([math.log(law.steady_factor * d / v_lp) for law, d in zip(spec.laws, spec.dc)])
+    u_star = np.concatenate([[x_star], y_star, [0.0] if spec.inertial else []])
+    scale = np.ones(u_star.size)
+    if spec.inertial:
+        scale[-1] = max(sum(spec.b) - spec.a, spec.a)
+    start = u_star.copy()
+    start[0] += PERTURBATION
+    ta.time = 0.0
+    ta.state[:] = start
+    ta.pars[:] = [spec.a, spec.k, v_lp, spec.mass or 1.0, *spec.b, *spec.dc, x_star]
+    ta.reset_cooldowns()
+    rec = c.recorder
+    rec.reset(0.0)
+    rec.x0 = float(start[0])
+    t_end = min(MAX_PERIODS * period0, t_max)
+    chunk = CHUNK_PERIODS * period0
+    steps, last_dist, tried, seen = 0, math.inf, math.inf, 0
+
+    last_x = [float(start[0])]   # ln V after the last successful step
+
+    def below_blowup(integrator) -> bool:
+        last_x[0] = float(integrator.state[0])
+        return last_x[0] - x_star <= BLOWUP
+
+    while True:
+        target = min(float(ta.time) + chunk, t_end)
+        # the callback stops the run once ln(V/V_lp) passes BLOWUP, before exp(x) can overflow in a step
+        res = ta.propagate_until(target, max_steps=max(max_steps - steps, 1), callback=below_blowup)
+        outcome = res[0]
+        steps += res[3]
+        x = float(ta.state[0])
+        where = f"t = {float(ta.time):.6g} (ln V/V_lp = {x - x_star:.4g}) after {steps} Taylor steps"
+        top = max([e[1] for e in rec.extrema[seen:]] + [x])
+        seen = len(rec.extrema)
+        if top - x_star > BLOWUP or (outcome != hy.taylor_outcome.time_limit and x - x_star > 10
+                                     and steps < max_steps):
+            return Fate("unbounded", f"V grows without bound: {where}", steps=steps)
+        if outcome == hy.taylor_outcome.err_nf_state:
+            if last_x[0] - x_star > 20:   # the step from V > 5e8 V_lp overflowed: V blows up in finite time
+                return Fate("unbounded", f"V grows without bound: non-finite after ln V/V_lp = "
+                            f"{last_x[0] - x_star:.4g}, {steps} Taylor steps", steps=steps)
+            return Fate("unresolved", f"non-finite state after ln V/V_lp = {last_x[0] - x_star:.4g}, {steps} "
+                        "Taylor steps", steps=steps)
+        if outcome != hy.taylor_outcome.time_limit:
+            why = "step budget spent" if steps >= max_steps else "step size fell below the resolution of t"
+            # with inertia the fast mode a/(M V) limits explicit steps at small V (docs/rate-state.md)
+            return Fate("unresolved", f"{why} at {where}", steps=steps)
+        dist = float(np.max(np.abs(np.asarray(ta.state, dtype=float) - u_star) / scale))
+        if dist < STEADY_TOL and dist < last_dist:
+            return Fate("steady", steps=steps)
+        last_dist = dist
+        ups = _last_upward(rec, 2)
+        if len(ups) >= 2:
+            w_scale = scale[1:]
+            moved = float(np.max(np.abs(ups[-1] - ups[-2]) / w_scale))
+            if moved < CANDIDATE_TOL * max(1.0, float(np.max(np.abs(ups[-1]) / w_scale))) and moved < tried / 10:
+                tried = moved
+                found = _cycle(spec, v_lp, ups[-1], w_scale, t_max=period0 * 1e3, max_steps=max_steps)
+                if found is not None:
+                    w, period, top_c, bottom_c, mult = found
+                    # a fixed point of P at the steady state's trace (amplitude ~ 0) is not a cycle
+                    if top_c - bottom_c > MIN_AMPLITUDE and np.max(np.abs(ups[-1] - w) / w_scale) < BASIN_TOL \
+                            and mult < 1:
+                        return Fate("cycle", period=period, ln_v_max=top_c, ln_v_min=bottom_c, slip=v_lp * period,
+                                    multiplier_max=mult, steps=steps)
+                # the return map has its own compiled integrator (section=True): the run resumes here
+        if float(ta.time) >= t_end:
+            return Fate("unresolved", f"neither steady sliding nor a cycle within {float(ta.time):.6g} "
+                        f"({float(ta.time) / period0:.0f} linear periods); last distance to steady sliding "
+                        f"{dist:.3g}", steps=steps)
+
+
+def _last_upward(rec, count: int) -> list:
+    """The section coordinates (ln θ_i[, z]) of the last ``count`` upward crossings of V = V_lp, oldest first."""
+    out = []
+    for (_, state), crossing in zip(reversed(rec.crossing_states), reversed(rec.crossings)):
+        if crossing[2] > 0:
+            out.append(np.asarray(state[1:], dtype=float))
+            if len(out) == count:
+                break
+    return out[::-1]
+
+
+def _cycle(spec, v_lp, w0, w_scale, *, t_max, max_steps):
+    """Newton on the return map P(w) − w = 0 from ``w0``: (w, period, max ln V, min ln V, max |μ|) or None."""
+    from .continuation import ReturnMap
+
+    pmap = ReturnMap(spec, v_lp, t_max=t_max, max_steps=max_steps)
+
+    def G(w):
+        r = pmap(w, spec.k)
+        if r is None:
+            raise _NoReturn
+        return r[0] - w
+
+    def jac(w):
+        h = 1e-7 * np.maximum(np.abs(w), w_scale)
+        cols = [(G(w + h[j] * e) - G(w - h[j] * e)) / (2 * h[j]) for j, e in enumerate(np.eye(w.size))]
+        return np.array(cols).T
+
+    w = np.array(w0, dtype=float)
+    try:
+        J = jac(w)
+        for _ in range(8):
+            g = G(w)
+            dw = np.linalg.solve(J, -g)
+            w = w + dw
+            if np.max(np.abs(dw) / w_scale) < 1e-12 * max(1.0, float(np.max(np.abs(w) / w_scale))):
+                break
+        else:
+            return None
+        J = jac(w)
+        r = pmap(w, spec.k)
+    except (_NoReturn, np.linalg.LinAlgError):
+        return None
+    if r is None or np.max(np.abs(r[0] - w) / w_scale) > 1e-10 * max(1.0, float(np.max(np.abs(w) / w_scale))):
+        return None
+    mult = float(np.max(np.abs(np.linalg.eigvals(J + np.eye(w.size)))))
+    return w, r[1], r[2], r[3], mult
+
+
+class _NoReturn(Exception):
+    pass
