@@ -10,7 +10,8 @@ import math
 
 import numpy as np
 
-__all__ = ["b_value", "magnitude_frequency", "recurrence", "spanning_excess", "sweep_nu_f"]
+__all__ = ["b_value", "finite_size_fit", "hysteresis", "magnitude_frequency", "recurrence", "spanning_excess",
+           "sweep_nu_f"]
 
 _LOG10E = math.log10(math.e)
 
@@ -26,23 +27,55 @@ def magnitude_frequency(potency, per_decade: int = 10) -> dict:
 
 
 def b_value(potency, *, m_min: float | None = None, m_max: float | None = None) -> dict:
-    r"""Aki–Utsu maximum-likelihood b-value for continuous magnitudes m = log10 P on [m_min, m_max].
+    r"""Maximum-likelihood b-value for continuous magnitudes m = log10 P on [m_min, m_max].
 
-    .. math:: \hat b = \frac{\log_{10} e}{\bar m - m_{min}}, \qquad \sigma_b = \hat b/\sqrt{n}
+    Without an upper cut, Aki's estimator (Aki, Bull. Earthq. Res. Inst. 43, 237 (1965)):
 
-    (Aki, Bull. Earthq. Res. Inst. 43, 237 (1965); the upper cut ``m_max`` excludes the system-spanning
-    events, whose excess is measured apart). ``m_min`` defaults to the 10th percentile of m.
+    .. math:: \hat b = \frac{\log_{10} e}{\bar m - m_{min}}, \qquad \sigma_b = \hat b/\sqrt{n}.
+
+    With ``m_max`` (here: below the system-spanning events, whose excess is measured apart) the
+    magnitudes follow an exponential truncated at Δ = m_max − m_min, and the likelihood equation for
+    β = b ln 10 (Page, Bull. Seismol. Soc. Am. 58, 1131 (1968)) is
+
+    .. math:: \bar m - m_{min} = \frac{1}{\beta} - \frac{\Delta e^{-\beta\Delta}}{1 - e^{-\beta\Delta}},
+
+    solved by bisection; σ_β from the Fisher information
+    n [1/β² − Δ² e^{−βΔ}/(1 − e^{−βΔ})²]. Aki's formula on a truncated sample is biased high.
+    ``m_min`` defaults to the 10th percentile of m. Fewer than 10 magnitudes, or a mean at or above
+    the middle of the range (no decreasing exponential fits), give NaN.
     """
     m = np.log10(np.asarray(potency, dtype=float))
     if m_min is None:
         m_min = float(np.percentile(m, 10))
     sel = m[(m >= m_min) & (m <= (np.inf if m_max is None else m_max))]
     n = sel.size
-    if n < 10 or sel.mean() <= m_min:
-        return {"b": math.nan, "sigma": math.nan, "m_min": m_min, "m_max": m_max, "n": int(n)}
-    b = _LOG10E / (sel.mean() - m_min)
-    return {"b": float(b), "sigma": float(b / math.sqrt(n)), "m_min": float(m_min),
-            "m_max": None if m_max is None else float(m_max), "n": int(n)}
+    out = {"m_min": float(m_min), "m_max": None if m_max is None else float(m_max), "n": int(n)}
+    mean = float(sel.mean()) - m_min if n else math.nan
+    if n < 10 or not mean > 0:
+        return {"b": math.nan, "sigma": math.nan, **out}
+    if m_max is None:
+        b = _LOG10E / mean
+        return {"b": float(b), "sigma": float(b / math.sqrt(n)), **out}
+    width = m_max - m_min
+    if mean >= width / 2:
+        return {"b": math.nan, "sigma": math.nan, **out}
+    lo, hi = 1e-9 / width, 1.0 / mean          # the mean decreases from Δ/2 (β → 0) to 0 (β → ∞)
+    while hi - lo > 1e-13 * hi:
+        beta = 0.5 * (lo + hi)
+        if _truncated_mean(beta, width) > mean:
+            lo = beta
+        else:
+            hi = beta
+    beta = 0.5 * (lo + hi)
+    e = math.exp(-beta * width)
+    info = n * (1 / beta**2 - width**2 * e / (1 - e) ** 2)
+    return {"b": beta * _LOG10E, "sigma": _LOG10E / math.sqrt(info), **out}
+
+
+def _truncated_mean(beta: float, width: float) -> float:
+    """Mean of an exponential of rate β truncated to [0, width]."""
+    e = math.exp(-beta * width)
+    return 1 / beta - width * e / (1 - e)
 
 
 def spanning_excess(potency, n_blocks, n: int, fit: dict) -> dict:
@@ -68,18 +101,31 @@ def recurrence(t_start, mask) -> dict:
     return {"count": int(t.size), "mean": float(dt.mean()), "cv": float(dt.std() / dt.mean())}
 
 
-def sweep_nu_f(law, *, n: int, ell: float, nu: float, nu_f_values, events_per_step: int, ends: str = "free",
+def sweep_nu_f(law, *, n: int, ell: float, nu: float, nu_f_values, cycles_per_step: float = 3.0,
+               max_events_per_step: int = 200_000, transient_cycles: float | None = None, ends: str = "free",
                amplitude: float = 0.1, seed: int = 1, spanning_fraction: float = 1.0) -> dict:
-    """ν_f changed in steps within one run (no restart between steps); per step the order parameter
+    r"""ν_f changed in steps within one run (no restart between steps), each step ``cycles_per_step``
+    loading cycles long: events are run until the driver has advanced by ν ΔT ≥ ``cycles_per_step``
+    units of slip per block (or ``max_events_per_step`` events; ``cycles`` says what was reached).
 
-        Ψ = Σ_{spanning events} P / (N ν ΔT),
+    Per step, with ΔT the time from the end of the step's last event before to the end of its last
+    event (loading included):
 
-    the fraction of the long-run slip (N ν per unit time) released by events that involve at least
-    ``spanning_fraction``·N blocks, ΔT the time covered by the step's events (from the first start to
-    the end of the last event). Ψ → 1 when the chain moves as one (stick-slip), → 0 when it slips
-    in small events or creeps. ``events_per_step`` events at the first ν_f are run first and
-    discarded (the transient from the random start). With k events per step Ψ carries an O(1/k)
-    error from the loading time left over from the step before.
+    * Ψ = Σ_{spanning} P / (N ν ΔT): the slip per block per unit of driver slip carried by events
+      that involve at least ``spanning_fraction``·N blocks (→ 1 when the chain moves as one);
+    * D = Σ P / Σ n_blocks: the mean slip of a block in an event it takes part in. For N = 1 it is
+      the single block's Δ, the seed's order parameter; as ν → 0 it stays O(1) in stick-slip and is
+      O(ν) in creep (docs/chain.md, "Order parameter");
+    * closure = Σ P / (N ν ΔT): 1 in a steady state, off by the stress stored or released during the
+      step, of order (largest event's P)/(N ν ΔT);
+    * slip_fraction = Σ duration / ΔT, the fraction of the step's time during which some block slips,
+      and longest_event = ν · (longest duration), in loading cycles. Events are separated only while
+      slip_fraction ≪ 1: as N ν grows the chain is rarely all stuck, one "event" merges many slips
+      (or the whole chain slides for cycles), and D then measures the merged event, not a block's slip;
+    * events, cycles = ν ΔT, mean n_blocks, status.
+
+    A transient of ``transient_cycles`` (default: one step) at the first ν_f is run first and
+    discarded (the random start).
     """
     from ...laws import resolve_law
     from ._loop import ChainLoop
@@ -87,18 +133,103 @@ def sweep_nu_f(law, *, n: int, ell: float, nu: float, nu_f_values, events_per_st
 
     u0 = check_initial(n, ell, ends, None, amplitude, seed)
     loop = ChainLoop(resolve_law(law), n, ell, nu, float(nu_f_values[0]), ends, u0)
-    loop.run(events_per_step)     # the transient from the random start is not part of the loop
-    psi, mean_size, statuses = [], [], []
     threshold = math.ceil(spanning_fraction * n)
+    keys = ("psi", "slip_per_block", "closure", "slip_fraction", "longest_event", "events", "cycles", "mean_n_blocks",
+            "status")
+    out = {k: [] for k in keys}
+
+    def step(cycles):
+        t0, p, nb, dur, status = float(loop.t), [], [], [], "complete"
+        while nu * (float(loop.t) - t0) < cycles and len(p) < max_events_per_step:
+            r = loop.run(1)
+            p += [float(x) for x in r["catalog"]["potency"]]
+            nb += list(r["catalog"]["n_blocks"])
+            dur += [float(x) for x in r["catalog"]["duration"]]
+            if str(r["status"]) != "complete":
+                status = str(r["status"])
+                break
+        return np.array(p), np.array(nb, dtype=np.int64), np.array(dur), float(loop.t) - t0, status
+
+    step(cycles_per_step if transient_cycles is None else transient_cycles)
     for nf in nu_f_values:
         loop.nu_f = loop.dtype(nf)
-        t0 = float(loop.t)
-        out = loop.run(events_per_step)
-        cat = out["catalog"]
-        statuses.append(str(out["status"]))
-        p = np.array([float(x) for x in cat["potency"]])
-        nb = np.array(cat["n_blocks"])
-        span_t = float(loop.t) - t0
-        psi.append(float(p[nb >= threshold].sum() / (n * nu * span_t)) if span_t > 0 else math.nan)
-        mean_size.append(float(nb.mean()) if nb.size else math.nan)
-    return {"nu_f": list(map(float, nu_f_values)), "psi": psi, "mean_n_blocks": mean_size, "status": statuses}
+        p, nb, dur, dt, status = step(cycles_per_step)
+        load = n * nu * dt
+        out["psi"].append(float(p[nb >= threshold].sum() / load) if dt > 0 else math.nan)
+        out["slip_per_block"].append(float(p.sum() / nb.sum()) if nb.size else math.nan)
+        out["closure"].append(float(p.sum() / load) if dt > 0 else math.nan)
+        out["slip_fraction"].append(float(dur.sum() / dt) if dt > 0 else math.nan)
+        out["longest_event"].append(nu * float(dur.max()) if dur.size else math.nan)
+        out["events"].append(int(p.size))
+        out["cycles"].append(nu * dt)
+        out["mean_n_blocks"].append(float(nb.mean()) if nb.size else math.nan)
+        out["status"].append(status)
+    return {"nu_f": list(map(float, nu_f_values)), **out}
+
+
+def hysteresis(nu_f_up, up, down, se_up, se_down) -> dict:
+    r"""Jump and loop of an order parameter measured with ν_f going up, then down over the same values.
+
+    ``up``/``down`` (and their standard errors) are aligned with ``nu_f_up`` (ascending). Returns
+
+    * jump: the largest change |x_{i+1} − x_i| between neighbouring ν_f on the up branch, its sign,
+      place and σ = √(se_i² + se_{i+1}²) (on a grid it is bounded by the grid: a continuous curve
+      gives a jump that shrinks with the spacing, a discontinuous one does not);
+    * width: max_i |up_i − down_i| and its σ (the maximum of noisy differences is biased upwards,
+      by about one σ when no loop is there);
+    * area: Σ_i (down_i − up_i) w_i with trapezoid weights w_i, and its σ (signed, not biased).
+
+    NaN values (steps left out) are skipped; all NaN gives NaN.
+    """
+    x = np.asarray(nu_f_up, dtype=float)
+    up, down = np.asarray(up, dtype=float), np.asarray(down, dtype=float)
+    su, sd = np.asarray(se_up, dtype=float), np.asarray(se_down, dtype=float)
+    d = np.diff(up)
+    diff = down - up
+    if np.all(np.isnan(d)) or np.all(np.isnan(diff)):
+        return {k: math.nan for k in ("jump", "jump_sign", "jump_sigma", "width", "width_sigma", "width_at",
+                                      "area", "area_sigma")} | {"jump_at": [math.nan, math.nan]}
+    i = int(np.nanargmax(np.abs(d)))
+    j = int(np.nanargmax(np.abs(diff)))
+    w = np.zeros_like(x)
+    w[:-1] += np.diff(x) / 2
+    w[1:] += np.diff(x) / 2
+    return {"jump": float(abs(d[i])), "jump_sign": float(np.sign(d[i])), "jump_sigma": float(math.hypot(su[i], su[i + 1])),
+            "jump_at": [float(x[i]), float(x[i + 1])],
+            "width": float(abs(diff[j])), "width_sigma": float(math.hypot(su[j], sd[j])), "width_at": float(x[j]),
+            "area": float(np.nansum(w * diff)), "area_sigma": float(math.sqrt(np.nansum(w**2 * (su**2 + sd**2))))}
+
+
+def finite_size_fit(sizes, values, sigmas) -> dict:
+    r"""Finite-size scaling of a jump or loop width: y(N) = A N^{−θ} against y(N) = y_∞.
+
+    The power law is fitted by weighted least squares on ln y (σ_{ln y} = σ_y/y, points with y ≤ 0 or
+    σ ≤ 0 left out):
+
+    .. math:: \hat\theta = -\frac{S\,S_{xy} - S_x S_y}{S\,S_{xx} - S_x^2},\qquad
+              \sigma_\theta^2 = \frac{S}{S\,S_{xx} - S_x^2},
+
+    x = ln N, sums weighted by 1/σ²_{ln y}; the constant by the weighted mean. θ > 0 beyond its error
+    means the quantity vanishes as N grows (a transition that turns continuous); θ compatible with 0
+    and an acceptable constant fit means it persists; both fits acceptable means the data cannot tell.
+    χ² and degrees of freedom are returned for both.
+    """
+    n, y, s = (np.asarray(a, dtype=float) for a in (sizes, values, sigmas))
+    ok = (y > 0) & (s > 0) & np.isfinite(y) & np.isfinite(s)
+    n, y, s = n[ok], y[ok], s[ok]
+    out = {"sizes": n.tolist(), "points": int(n.size)}
+    if n.size < 2:
+        return {**out, "theta": math.nan, "theta_sigma": math.nan, "amplitude": math.nan,
+                "chi2_power": math.nan, "dof_power": 0, "constant": math.nan, "constant_sigma": math.nan,
+                "chi2_constant": math.nan, "dof_constant": 0}
+    x, ly, w = np.log(n), np.log(y), (y / s) ** 2
+    S, Sx, Sy, Sxx, Sxy = w.sum(), (w * x).sum(), (w * ly).sum(), (w * x * x).sum(), (w * x * ly).sum()
+    det = S * Sxx - Sx**2
+    slope, icpt = (S * Sxy - Sx * Sy) / det, (Sxx * Sy - Sx * Sxy) / det
+    chi2_pl = float(np.sum(w * (ly - icpt - slope * x) ** 2))
+    wc = 1 / s**2
+    c = float(np.sum(wc * y) / wc.sum())
+    chi2_c = float(np.sum(wc * (y - c) ** 2))
+    return {**out, "theta": float(-slope), "theta_sigma": float(math.sqrt(S / det)), "amplitude": float(math.exp(icpt)),
+            "chi2_power": chi2_pl, "dof_power": int(n.size - 2), "constant": c,
+            "constant_sigma": float(1 / math.sqrt(wc.sum())), "chi2_constant": chi2_c, "dof_constant": int(n.size - 1)}

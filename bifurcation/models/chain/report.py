@@ -1,9 +1,12 @@
-"""The chain report: magnitude–frequency statistics, hysteresis loops, a verdict table.
+"""The chain report: lone-block threshold, order parameter and hysteresis with finite-size scaling,
+magnitude–frequency statistics, a verdict table.
 
     PYTHONPATH=. python -m bifurcation.models.chain.report workflows/chain-report.toml
 
-Runs the catalogs and ν_f sweeps of the workflow on two processes, writes ``REPORT.md``,
-``data.json`` and the figures into the workflow's ``out`` directory.
+Runs the workflow's ν_f sweeps (several seeds per N), catalogs and lone-block checks on two
+processes and writes ``REPORT.md``, ``data.json`` and the figures into the workflow's ``out``
+directory. A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
+carried over unchanged. Sections and verdicts: ``_report_text``.
 """
 
 from __future__ import annotations
@@ -18,33 +21,61 @@ from pathlib import Path
 
 import numpy as np
 
-from .analysis import b_value, magnitude_frequency, recurrence, spanning_excess, sweep_nu_f
+from .analysis import (b_value, finite_size_fit, hysteresis, magnitude_frequency, recurrence, spanning_excess,
+                       sweep_nu_f)
 
 __all__ = ["main"]
+
+
+def _sweep(args):
+    c, sw, n, seed, grid, cycles = args
+    t0, c0 = time.perf_counter(), time.process_time()
+    out = sweep_nu_f(c["law"], n=n, ell=c["ell"], nu=c["nu"], nu_f_values=grid + grid[::-1], cycles_per_step=cycles,
+                     max_events_per_step=sw["max_events_per_step"], transient_cycles=sw["transient_cycles"],
+                     ends=c["ends"], amplitude=c["amplitude"], seed=seed)
+    out.update(n=n, seed=seed, seconds=time.perf_counter() - t0, cpu=time.process_time() - c0)
+    return out
 
 
 def _catalog(args):
     from .simulate import chain
 
-    cfg, nu_f = args
-    c, cat = cfg["chain"], cfg["catalog"]
-    t0 = time.perf_counter()
-    r = chain(c["law"], n=cat["n"], ell=c["ell"], nu=c["nu"], nu_f=nu_f, ends=c["ends"],
-              amplitude=c["amplitude"], seed=c["seed"], events=cat["events"])
+    c, cat, n, nu_f, events = args
+    t0, c0 = time.perf_counter(), time.process_time()
+    r = chain(c["law"], n=n, ell=c["ell"], nu=c["nu"], nu_f=nu_f, ends=c["ends"], amplitude=c["amplitude"],
+              seed=cat["seed"], events=events)
     s = cat["skip"]
-    return {"nu_f": nu_f, "seconds": time.perf_counter() - t0, "status": str(r.status),
-            "potency": r.potency[s:].tolist(), "n_blocks": r.n_blocks[s:].tolist(), "t_start": r.t_start[s:].tolist()}
+    one = _one_block(c["law"], n, c["ell"], c["nu"], nu_f, c["ends"], r.potency[s:], r.n_blocks[s:], r.hypocentre[s:])
+    return {"n": n, "nu_f": nu_f, "seconds": time.perf_counter() - t0, "cpu": time.process_time() - c0,
+            "status": str(r.status), "one_block": one,
+            "potency": r.potency[s:].tolist(), "n_blocks": r.n_blocks[s:].tolist(),
+            "hypocentre": r.hypocentre[s:].tolist(), "t_start": r.t_start[s:].tolist()}
 
 
-def _sweep(args):
-    cfg, n, k = args
-    c, sw = cfg["chain"], cfg["sweep"]
-    up = list(sw["nu_f"])
-    t0 = time.perf_counter()
-    out = sweep_nu_f(c["law"], n=n, ell=c["ell"], nu=c["nu"], nu_f_values=up + up[::-1], events_per_step=k,
-                     ends=c["ends"], amplitude=c["amplitude"], seed=c["seed"])
-    out.update(n=n, events_per_step=k, seconds=time.perf_counter() - t0)
-    return out
+def _threshold(args):
+    from .threshold import lone_block_crossing, lone_block_nu_f_star, lone_block_slip, lone_block_stiffness
+
+    c, th, ell, end = args
+    t0, c0 = time.perf_counter(), time.process_time()
+    rows = [lone_block_crossing(c["law"], ell=ell, nu=nu, end=end, level=th["level"]) for nu in th["nus"]]
+    k = lone_block_stiffness(ell, end)
+    ratio = np.linspace(0.7, 1.3, th["scan_points"])
+    star = lone_block_nu_f_star(ell, end)
+    scan = [k * lone_block_slip(c["law"], ell=ell, nu=th["scan_nu"], nu_f=r * star, end=end) for r in ratio]
+    return {"ell": ell, "end": end, "rows": rows, "scan_ratio": ratio.tolist(), "scan_delta": scan, "scan_nu": th["scan_nu"],
+            "seconds": time.perf_counter() - t0, "cpu": time.process_time() - c0}
+
+
+def _jobs(cfg):
+    c, sw, cat, th = cfg["chain"], cfg["sweep"], cfg["catalog"], cfg["threshold"]
+    jobs = []
+    for n, seeds, top, cycles in zip(sw["sizes"], sw["seeds"], sw["nu_f_max"], sw["cycles_per_step"]):
+        grid = [float(x) for x in sw["nu_f"] if x <= top + 1e-12]
+        jobs += [(_sweep, (c, sw, n, s, grid, cycles), n * cycles) for s in range(1, seeds + 1)]
+    for n, events in zip(cat["sizes"], cat["events"]):
+        jobs += [(_catalog, (c, cat, n, nf, events), events * n / 500) for nf in cat["nu_f"]]
+    jobs += [(_threshold, (c, th, ell, end), 0) for ell in th["ells"] for end in (False, True)]
+    return sorted(jobs, key=lambda j: -j[2])      # the longest first: two workers stay busy to the end
 
 
 def main(argv=None) -> None:
@@ -53,102 +84,155 @@ def main(argv=None) -> None:
     cfg = tomllib.loads(path.read_text())
     out = Path(cfg["study"]["out"])
     out.mkdir(parents=True, exist_ok=True)
+    if "--from-data" in argv[1:]:     # re-render REPORT.md and figures from data.json, no runs
+        data = json.loads((out / "data.json").read_text())
+        data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
+        _render(out, cfg, path, data)
+        return
     t0 = time.perf_counter()
-    jobs_sw = [(cfg, n, k) for n, k in zip(cfg["sweep"]["sizes"], cfg["sweep"]["events_per_step"])]
-    jobs_cat = [(cfg, nf) for nf in cfg["catalog"]["nu_f"]]
-    with ProcessPoolExecutor(2) as pool:
-        f_sw = [pool.submit(_sweep, j) for j in reversed(jobs_sw)]
-        f_cat = [pool.submit(_catalog, j) for j in jobs_cat]
-        sweeps = sorted((f.result() for f in f_sw), key=lambda d: d["n"])
-        cats = [f.result() for f in f_cat]
+    with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
+        futures = [(f.__name__, pool.submit(f, a)) for f, a, _ in _jobs(cfg)]
+        results = {"_sweep": [], "_catalog": [], "_threshold": []}
+        for name, fut in futures:
+            results[name].append(fut.result())
+            r = results[name][-1]
+            print(f"{time.perf_counter() - t0:6.0f} s  {name[1:]} N = {r.get('n', '-')} seed/ν_f/ℓ = "
+                  f"{r.get('seed', r.get('nu_f', r.get('ell')))}: {r['cpu']:.0f} cpu s", file=sys.stderr, flush=True)
     wall = time.perf_counter() - t0
-    n = cfg["catalog"]["n"]
-    stats = []
-    for c in cats:
-        p, nb = np.array(c["potency"]), np.array(c["n_blocks"])
-        span = nb == n
-        m_max = float(np.log10(p[span]).min()) - 0.05 if span.any() else None
-        fit = b_value(p, m_max=m_max)
-        stats.append({"nu_f": c["nu_f"], "events": int(p.size), "fit": fit,
-                      "spanning": spanning_excess(p, nb, n, fit),
-                      "recurrence_spanning": recurrence(c["t_start"], span),
-                      "mfd": {k: v.tolist() for k, v in magnitude_frequency(p).items()}})
-    (out / "data.json").write_text(json.dumps({"workflow": path.read_text(), "wall_seconds": wall,
-                                               "catalogs": stats, "sweeps": sweeps}, indent=1))
-    _figures(out, cats, stats, sweeps, n)
-    _write_report(out, cfg, path, stats, sweeps, wall)
+    cpu = sum(r["cpu"] for rs in results.values() for r in rs)
+    data = {"workflow": path.read_text(), "wall_seconds": wall, "cpu_seconds": cpu,
+            "sweeps": _sweep_stats(results["_sweep"], cfg), "catalogs": [_catalog_stats(c) for c in results["_catalog"]],
+            "threshold": sorted(results["_threshold"], key=lambda d: (d["ell"], d["end"]))}
+    data["sweeps"]["runs"] = results["_sweep"]
+    for st, c in zip(data["catalogs"], results["_catalog"]):
+        st["cpu"] = c["cpu"]
+    data["catalogs"].sort(key=lambda d: (d["n"], d["nu_f"]))
+    import os
+
+    data["load_average"] = os.getloadavg()[1]     # 5-minute load at the end: the machine is shared
+    (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+    _render(out, cfg, path, data)
     print(f"wrote {out}/REPORT.md in {wall:.0f} s")
 
 
-def _figures(out: Path, cats, stats, sweeps, n) -> None:
-    import matplotlib
+def _render(out: Path, cfg, path: Path, data) -> None:
+    from ._report_figures import figures
+    from ._report_text import report_text
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-    for s in stats:
-        e, c = np.array(s["mfd"]["edges"]), np.array(s["mfd"]["counts"])
-        mid = (e[1:] + e[:-1]) / 2
-        ax[0].semilogy(mid[c > 0], c[c > 0], "o-", ms=3, label=f"ν_f = {s['nu_f']}, b = {s['fit']['b']:.2f}")
-        pot = np.array(s["mfd"]["potency"])
-        ax[1].semilogy(mid[pot > 0], pot[pot > 0], "o-", ms=3, label=f"ν_f = {s['nu_f']}")
-    ax[0].set(xlabel="m = log10 P", ylabel="events per 0.1 in m", title=f"magnitude–frequency, N = {n}")
-    ax[1].set(xlabel="m = log10 P", ylabel="potency per 0.1 in m")
-    ax[0].legend(fontsize=8), ax[1].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "fig_mfd.png", dpi=110)
-    plt.close(fig)
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for sw in sweeps:
-        k = len(sw["nu_f"]) // 2
-        line, = ax.plot(sw["nu_f"][:k], sw["psi"][:k], "o-", ms=3, label=f"N = {sw['n']} (up)")
-        ax.plot(sw["nu_f"][k:], sw["psi"][k:], "s--", ms=3, color=line.get_color())
-    ax.axvline(1 / (2 * math.sqrt(3)), color="gray", lw=0.8)
-    ax.set(xlabel="ν_f", ylabel="Ψ (slip carried by system-spanning events)",
-           title="ν_f up (solid) then down (dashed) within one run")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "fig_hysteresis.png", dpi=110)
-    plt.close(fig)
+    figures(out, data)
+    old = out / "REPORT.md"
+    speed = _section(old.read_text(), "## Speed") if old.exists() else ""
+    old.write_text(report_text(cfg, path, data, data["wall_seconds"], speed))
 
 
-def _write_report(out: Path, cfg, path: Path, stats, sweeps, wall) -> None:
-    c = cfg["chain"]
-    lines = [
-        "# Burridge–Knopoff chains, event-exact: report", "",
-        f"Produced by `PYTHONPATH=. python -m bifurcation.models.chain.report {path}` in {wall:.0f} s on "
-        "2 processes (model and algorithm: docs/chain.md). Law " + c["law"] + f", ℓ = {c['ell']}, "
-        f"ν = {c['nu']}, {c['ends']} ends, random start A = {c['amplitude']}, seed {c['seed']}. "
-        "Event sequences are chaotic (docs/chain.md, Precision), so digits of individual events depend "
-        "on the CPU's rounding; the statistics below do not, within their errors.", "",
-        "## Magnitude–frequency (N = %d)" % cfg["catalog"]["n"], "",
-        "![mfd](fig_mfd.png)", "",
-        "b is the Aki–Utsu estimate above the 10th percentile of m: meaningful only where the figure "
-        "shows an exponential (Gutenberg–Richter) tail.", "",
-        "| ν_f | events | b (Aki–Utsu) | fit range m | spanning events | GR-expected | excess | "
-        "recurrence of spanning: mean, CV |", "|---|---|---|---|---|---|---|---|"]
-    for s in stats:
-        f, sp, rc = s["fit"], s["spanning"], s["recurrence_spanning"]
-        rng = f"[{f['m_min']:.2f}, {f['m_max']:.2f}]" if f["m_max"] is not None else f"≥ {f['m_min']:.2f}"
-        lines.append(f"| {s['nu_f']} | {s['events']} | {f['b']:.2f} ± {f['sigma']:.2f} (n = {f['n']}) | {rng} | "
-                     f"{sp['spanning']} ({100 * sp['fraction']:.1f} %) | {sp['expected']:.3g} | {sp['excess']:.3g} | "
-                     f"{rc['mean']:.4g}, {rc['cv']:.2f} |")
-    lines += ["", "## Order parameter and hysteresis (ν_f up, then down, within one run)", "",
-              "Ψ = slip released by system-spanning events / (N ν ΔT) per ν_f step (analysis.sweep_nu_f). "
-              "The gray line is the lone-block threshold 1/(2√(1+2ℓ²)) (docs/chain.md).", "",
-              "![hysteresis](fig_hysteresis.png)", "",
-              "| N | events/step | " + " | ".join(f"{x:g}" for x in sweeps[0]["nu_f"]) + " | seconds |",
-              "|---|---|" + "---|" * len(sweeps[0]["nu_f"]) + "---|"]
-    for sw in sweeps:
-        lines.append(f"| {sw['n']} | {sw['events_per_step']} | " + " | ".join(f"{p:.3f}" for p in sw["psi"])
-                     + f" | {sw['seconds']:.0f} |")
-    lines += ["", "Loop width: max over ν_f of |Ψ(up) − Ψ(down)|:", ""]
-    for sw in sweeps:
-        k = len(sw["nu_f"]) // 2
-        up, down = np.array(sw["psi"][:k]), np.array(sw["psi"][k:][::-1])
-        lines.append(f"- N = {sw['n']}: {np.nanmax(np.abs(up - down)):.3f}")
-    (out / "REPORT.md").write_text("\n".join(lines) + "\n")
+def _section(text: str, head: str) -> str:
+    """The section of ``text`` that starts with the heading ``head``, up to the next '## ' heading."""
+    i = text.find("\n" + head)
+    if i < 0:
+        return ""
+    j = text.find("\n## ", i + 1)
+    return text[i + 1: None if j < 0 else j].rstrip() + "\n"
+
+
+def _sweep_stats(runs, cfg) -> dict:
+    """Per N: seed-mean and standard error of D and Ψ on both branches, jump, loop, and the FSS fits.
+
+    D is left out (NaN) at the steps where an event of some seed lasted longer than
+    ``sweep.longest_event`` loading cycles (default 0.5): there blocks reload and slip again within
+    one catalogued event (the chain slides for cycles), and D measures that event, not a block's slip
+    (analysis.sweep_nu_f)."""
+    per_n = {}
+    for r in runs:
+        per_n.setdefault(r["n"], []).append(r)
+    sizes = sorted(per_n)
+    table = []
+    limit = cfg["sweep"].get("longest_event", 0.5)
+    for n in sizes:
+        rs = per_n[n]
+        k = len(rs[0]["nu_f"]) // 2
+        merged = np.max([r.get("longest_event", [0.0] * 2 * k) for r in rs], axis=0) > limit
+        row = {"n": n, "seeds": len(rs), "nu_f": rs[0]["nu_f"][:k],
+               "events": int(sum(sum(r["events"]) for r in rs)), "seconds": float(sum(r.get("cpu", math.nan) for r in rs)),
+               "cycles_min": float(min(min(r["cycles"]) for r in rs)),
+               "closure": [float(np.min([r["closure"] for r in rs])), float(np.max([r["closure"] for r in rs]))],
+               "slip_fraction_max": float(np.max([r.get("slip_fraction", [math.nan]) for r in rs])),
+               "longest_event": float(np.max([r.get("longest_event", [math.nan]) for r in rs]))}
+        for key in ("slip_per_block", "psi"):
+            a = np.array([r[key] for r in rs], dtype=float)
+            if key == "slip_per_block":
+                a[:, merged] = np.nan
+            up, down = a[:, :k], a[:, k:][:, ::-1]
+            se = (lambda x: x.std(axis=0, ddof=1) / math.sqrt(len(rs))) if len(rs) > 1 else (lambda x: 0 * x[0])
+            m_up, m_down, s_up, s_down = up.mean(0), down.mean(0), se(up), se(down)
+            row[key] = {"up": m_up.tolist(), "down": m_down.tolist(), "se_up": s_up.tolist(),
+                        "se_down": s_down.tolist(), **hysteresis(row["nu_f"], m_up, m_down, s_up, s_down)}
+        row["merged_steps"] = int(merged.sum())
+        le = np.array([r.get("longest_event", [math.nan] * 2 * k) for r in rs], dtype=float).max(axis=0)
+        row["longest_event_up"], row["longest_event_down"] = le[:k].tolist(), le[k:][::-1].tolist()
+        table.append(row)
+    fss = {}
+    for key in ("slip_per_block", "psi"):
+        chains = [r for r in table if r["n"] > 1]
+        for q in ("jump", "width"):
+            fss[f"{key}.{q}"] = finite_size_fit([r["n"] for r in chains], [r[key][q] for r in chains],
+                                                [r[key][q + "_sigma"] for r in chains])
+    return {"table": table, "fss": fss, "longest_event_limit": limit}
+
+
+def _catalog_stats(c) -> dict:
+    """b-value above the magnitude of completeness of the multi-block events (the lone-block events
+    sit in an atom fixed by the closed form) and below the system-spanning events, spanning excess,
+    recurrence of large events, log-binned counts and potency."""
+    n = c["n"]
+    p, nb = np.array(c["potency"]), np.array(c["n_blocks"])
+    m = np.log10(p)
+    span, large = nb == n, nb >= max(2, n // 2)
+    multi = nb >= 2
+    mfd_multi = magnitude_frequency(p[multi]) if multi.sum() > 10 else None
+    if mfd_multi is not None:     # maximum curvature: the most populated bin of the multi-block events
+        i = int(np.argmax(mfd_multi["counts"]))
+        m_min = float(mfd_multi["edges"][i])
+    else:
+        m_min = float(np.percentile(m, 10))
+    m_max = float(m[span].min()) - 0.05 if span.any() else float(m.max())
+    fit = b_value(p[multi], m_min=m_min, m_max=m_max)
+    fit.update(_ks(m[multi], fit))
+    return {"n": n, "nu_f": c["nu_f"], "events": int(p.size), "seconds": c["seconds"], "status": c["status"],
+            "fit": fit, "spanning": spanning_excess(p, nb, n, fit),
+            "recurrence_spanning": recurrence(c["t_start"], span), "recurrence_large": recurrence(c["t_start"], large),
+            "large_fraction": float(large.mean()), "one_block": c["one_block"],
+            "mfd": {k: v.tolist() for k, v in magnitude_frequency(p).items()}}
+
+
+def _ks(m, fit) -> dict:
+    """KS distance between the fitted truncated exponential and the magnitudes in the fit range, with
+    the 5 % critical value 1.36/√n (estimated b: the test is then conservative)."""
+    if not math.isfinite(fit["b"]):
+        return {"ks": math.nan, "ks_crit": math.nan}
+    lo, hi, beta = fit["m_min"], fit["m_max"], fit["b"] * math.log(10)
+    x = np.sort(m[(m >= lo) & (m <= hi)]) - lo
+    cdf = -np.expm1(-beta * x) / -math.expm1(-beta * (hi - lo))
+    i = np.arange(1, x.size + 1)
+    return {"ks": float(max(np.max(i / x.size - cdf), np.max(cdf - (i - 1) / x.size))),
+            "ks_crit": 1.36 / math.sqrt(x.size)}
+
+
+def _one_block(law, n, ell, nu, nu_f, ends, potency, n_blocks, hypocentre) -> dict:
+    """Lone-block events of the catalog against the closed form P = Δ(ν/√k, √k ν_f)/k (docs/chain.md):
+    each starts stuck at σ = 1 among stuck neighbours, so its potency is fixed by the single block."""
+    import bifurcation as bf
+
+    from .threshold import lone_block_stiffness
+
+    one = n_blocks == 1
+    end = (ends == "free") & ((hypocentre == 0) | (hypocentre == n - 1))
+    out = {"count": int(one.sum())}
+    for name, sel, at_end in (("interior", one & ~end, False), ("end", one & end, True)):
+        k = lone_block_stiffness(ell, at_end)
+        ref = float(bf.slip(law, nu=nu / math.sqrt(k), nu_f=nu_f * math.sqrt(k)).delta) / k
+        dev = np.abs(potency[sel] / ref - 1) if sel.any() else np.array([math.nan])
+        out[name] = {"count": int(sel.sum()), "closed_form": ref, "max_rel_dev": float(np.max(dev))}
+    return out
 
 
 if __name__ == "__main__":
