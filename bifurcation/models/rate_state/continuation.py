@@ -132,28 +132,8 @@ def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, points: int = 60, e
             raise _NoReturn
         return r[0] - X[:m]
 
-    def newton(X, extra, extra_grad, iters=10):
-        """Chord Newton (DG from the predictor, fresh residuals), then DG once more at the solution.
-
-        Converged when the step is below 1e-13 of the unknowns' size: P is computed to ~1e-15
-        relative, so the residual of a large cycle cannot go below ~1e-15·|w| and is not the test.
-        """
-        hvec = 1e-7 * np.maximum(np.abs(X), 1 / weights)
-        g, J = _jac(G, X, hvec)
-        A = np.vstack([J, extra_grad])
-        ok = False
-        for _ in range(iters):
-            F = np.append(g, extra(X))
-            dX = np.linalg.solve(A, F)
-            X = X - dX
-            g = G(X)
-            if np.max(np.abs(dX) * weights) < 1e-12 * max(1.0, np.max(np.abs(X) * weights)):
-                ok = True
-                break
-        ok = ok and np.max(np.abs(g)) < 1e-10 * max(1.0, np.max(np.abs(X[:m])))
-        if ok:
-            _, J = _jac(G, X, hvec)
-        return X, J, ok
+    def newton(X, extra, extra_grad):
+        return _newton(G, X, weights, m, extra, extra_grad)
 
     def point(X, J, ok):
         r = pmap(X[:m], X[m] * h.k_c)
@@ -181,8 +161,56 @@ def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, points: int = 60, e
     X_prev, X = starts[0][0], starts[1][0]
     tau = (X - X_prev) * weights
     tau /= np.linalg.norm(tau)
-    s = step
-    folds, pds = [], []
+
+    def leaves(X, p):
+        if not (kappa_range[0] < X[m] < kappa_range[1]) or p.ln_v_min < min_ln_v:
+            return f"left the range at κ = {X[m]:.6g} (κ in {kappa_range}, ln V_min > {min_ln_v})"
+        return None
+
+    folds, pds, stop = _arclength(X, tau, out, newton, point, weights, m, step=step, max_step=max_step,
+                                  points=points, leaves=leaves, failure=lambda: pmap.last_failure,
+                                  where=lambda X: f"κ = {X[m]:.6g}")
+    return Branch(spec, float(v_lp), h, tuple(out), tuple(folds), tuple(pds), {"stop": stop})
+
+
+class _NoReturn(Exception):
+    pass
+
+
+def _newton(G, X, weights, m, extra, extra_grad, iters=10):
+    """Chord Newton on (G(X) = 0, extra(X) = 0) (DG from the predictor, fresh residuals), then DG once
+    more at the solution. Returns (X, DG, converged).
+
+    Converged when the step is below 1e-13 of the unknowns' size: P is computed to ~1e-15 relative,
+    so the residual of a large cycle cannot go below ~1e-15·|w| and is not the test.
+    """
+    hvec = 1e-7 * np.maximum(np.abs(X), 1 / weights)
+    g, J = _jac(G, X, hvec)
+    A = np.vstack([J, extra_grad])
+    ok = False
+    for _ in range(iters):
+        dX = np.linalg.solve(A, np.append(g, extra(X)))
+        X = X - dX
+        g = G(X)
+        if np.max(np.abs(dX) * weights) < 1e-12 * max(1.0, np.max(np.abs(X) * weights)):
+            ok = True
+            break
+    ok = ok and np.max(np.abs(g)) < 1e-10 * max(1.0, np.max(np.abs(X[:m])))
+    if ok:
+        _, J = _jac(G, X, hvec)
+    return X, J, ok
+
+
+def _arclength(X, tau, out, newton, point, weights, m, *, step, max_step, points, leaves, failure, where):
+    """Pseudo-arclength predictor–corrector from (X, tau), appending ``point``s to ``out`` until
+    ``points`` of them, ``leaves(X, p)`` names why the branch left its range, or the step falls below
+    1e-4. Returns (fold indices, period-doubling indices, why it stopped).
+
+    The parameter is X[m]. A fold is where its tangent component turns; on the vertical family of a
+    degenerate Hopf point (the parameter fixed for every amplitude) that component is rounding noise
+    whose sign means nothing: ignored below 1e-7. A period doubling is a real multiplier crossing −1.
+    """
+    s, folds, pds = step, [], []
     stop = f"reached {points} points"
     while len(out) < points:
         X_pred = X + s * tau / weights
@@ -193,35 +221,28 @@ def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, points: int = 60, e
         if not ok:
             s /= 2
             if s < 1e-4:
-                stop = (f"stopped at κ = {X[m]:.6g}: no converged cycle within a step of 1e-4 (the return map "
-                        f"failed: {pmap.last_failure or 'no Newton convergence'})")
+                stop = (f"stopped at {where(X)}: no converged cycle within a step of 1e-4 (the return map "
+                        f"failed: {failure() or 'no Newton convergence'})")
                 break
             continue
-        # New tangent: the kernel of DG, oriented along the old one.
+        # the new tangent: the kernel of DG, oriented along the old one
         _, _, vt = np.linalg.svd(J * (1 / weights)[None, :])
-        t_new = vt[-1]
-        if np.dot(t_new, tau) < 0:
-            t_new = -t_new
+        t_new = vt[-1] if np.dot(vt[-1], tau) >= 0 else -vt[-1]
         p = point(X_new, J, ok)
-        # A fold: κ turns. On the vertical family of a degenerate Hopf point (κ = 1 for every amplitude)
-        # the κ-component of the tangent is rounding noise whose sign means nothing: ignored below 1e-7.
         if np.sign(t_new[m]) != np.sign(tau[m]) and min(abs(t_new[m]), abs(tau[m])) > 1e-7:
             folds.append(len(out) - 1)
-        prev_mult = np.array(out[-1].multipliers)
+        prev = np.array(out[-1].multipliers)
         if np.any(np.isclose(np.array(p.multipliers).imag, 0)) and \
-                np.any((np.array(p.multipliers).real + 1) * (prev_mult.real + 1) < 0):
+                np.any((np.array(p.multipliers).real + 1) * (prev.real + 1) < 0):
             pds.append(len(out) - 1)
         out.append(p)
         X, tau = X_new, t_new
         s = min(s * 1.5, max_step)
-        if not (kappa_range[0] < X[m] < kappa_range[1]) or p.ln_v_min < min_ln_v:
-            stop = f"left the range at κ = {X[m]:.6g} (κ in {kappa_range}, ln V_min > {min_ln_v})"
+        why = leaves(X, p)
+        if why:
+            stop = why
             break
-    return Branch(spec, float(v_lp), h, tuple(out), tuple(folds), tuple(pds), {"stop": stop})
-
-
-class _NoReturn(Exception):
-    pass
+    return folds, pds, stop
 
 
 def period_by_simulation(branch: Branch, index: int, precision: str = "double") -> float:
@@ -285,22 +306,8 @@ def continue_in_v_lp(branch: Branch, index: int, *, points: int = 30, step: floa
         k_c = closed_form(spec, v)[0]
         return k / float(k_c) if spec.n_states == 1 else math.nan
 
-    def newton(X, extra, extra_grad, iters=10):
-        hvec = 1e-7 * np.maximum(np.abs(X), 1 / weights)
-        g, J = _jac(G, X, hvec)
-        A = np.vstack([J, extra_grad])
-        ok = False
-        for _ in range(iters):
-            dX = np.linalg.solve(A, np.append(g, extra(X)))
-            X = X - dX
-            g = G(X)
-            if np.max(np.abs(dX) * weights) < 1e-12 * max(1.0, np.max(np.abs(X) * weights)):
-                ok = True
-                break
-        ok = ok and np.max(np.abs(g)) < 1e-10 * max(1.0, np.max(np.abs(X[:m])))
-        if ok:
-            _, J = _jac(G, X, hvec)
-        return X, J, ok
+    def newton(X, extra, extra_grad):
+        return _newton(G, X, weights, m, extra, extra_grad)
 
     def point(X, J, ok):
         v = math.exp(X[m])
@@ -318,36 +325,15 @@ def continue_in_v_lp(branch: Branch, index: int, *, points: int = 30, step: floa
     if tau[m] < 0:
         tau = -tau   # towards larger V_lp first
     out = [point(X, J, True)]
-    s, folds, pds = step, [], []
-    stop = f"reached {points} points"
     lo, hi = math.log(v_lp_range[0]), math.log(v_lp_range[1])
-    while len(out) < points:
-        X_pred = X + s * tau / weights
-        try:
-            X_new, J, ok = newton(X_pred, lambda Y: np.dot((Y - X_pred) * weights, tau), tau * weights)
-        except (_NoReturn, np.linalg.LinAlgError):
-            ok = False
-        if not ok:
-            s /= 2
-            if s < 1e-4:
-                stop = (f"stopped at V_lp = {math.exp(X[m]):.6g}: no converged cycle within a step of 1e-4 "
-                        f"(the return map failed: {pmap.last_failure or 'no Newton convergence'})")
-                break
-            continue
-        _, _, vt = np.linalg.svd(J * (1 / weights)[None, :])
-        t_new = vt[-1] if np.dot(vt[-1], tau) >= 0 else -vt[-1]
-        p = point(X_new, J, ok)
-        if np.sign(t_new[m]) != np.sign(tau[m]) and min(abs(t_new[m]), abs(tau[m])) > 1e-7:
-            folds.append(len(out) - 1)
-        prev = np.array(out[-1].multipliers)
-        if np.any(np.isclose(np.array(p.multipliers).imag, 0)) and \
-                np.any((np.array(p.multipliers).real + 1) * (prev.real + 1) < 0):
-            pds.append(len(out) - 1)
-        out.append(p)
-        X, tau = X_new, t_new
-        s = min(s * 1.5, max_step)
+
+    def leaves(X, p):
         if not lo < X[m] < hi:
-            stop = f"left the range at V_lp = {math.exp(X[m]):.6g} (V_lp in {tuple(v_lp_range)})"
-            break
+            return f"left the range at V_lp = {math.exp(X[m]):.6g} (V_lp in {tuple(v_lp_range)})"
+        return None
+
+    folds, pds, stop = _arclength(X, tau, out, newton, point, weights, m, step=step, max_step=max_step,
+                                  points=points, leaves=leaves, failure=lambda: pmap.last_failure,
+                                  where=lambda X: f"V_lp = {math.exp(X[m]):.6g}")
     return Branch(spec, v0, branch.hopf, tuple(out), tuple(folds), tuple(pds),
                   {"stop": stop, "parameter": "v_lp", "k": k})
