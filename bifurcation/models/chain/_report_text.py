@@ -46,8 +46,10 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
     L = ["# Burridge–Knopoff chains, event-exact: report", "",
          f"Produced by `PYTHONPATH=. python -m bifurcation.models.chain.report {path}` in {wall:.0f} s of wall "
          f"time on {cfg['study'].get('workers', 2)} worker processes"
-         + (f", {data['cpu_seconds']:.0f} CPU seconds in all (the shared machine's 5-minute load was "
-            f"{data['load_average']:.1f} at the end, so the wall time is several times an idle run's)"
+         + (f", {data['cpu_seconds']:.0f} CPU seconds in all (5-minute load average "
+            f"{data['load_average']:.1f} at the end"
+            + (": other jobs shared the cores, so the wall time is longer than an idle run's)"
+               if data["load_average"] > 2.5 else ")")
             if "cpu_seconds" in data else "") + " (model and algorithm: docs/chain.md; the "
          "definitions used here: docs/chain.md, \"Order parameter and hysteresis\"). Law " + c["law"] +
          f", ℓ = {ell:g}, ν = {c['nu']:g}, {c['ends']} ends, random start of amplitude {c['amplitude']}. "
