@@ -132,3 +132,23 @@ def test_cli_format_choices_are_the_formats():
     # the CLI takes its choices from the constant (bifurcation.cli._options)
     (option,) = [p for p in cli.get_command(None, "query").params if p.name == "fmt"]
     assert tuple(option.type.choices) == FORMATS
+
+
+def test_a_streamed_table_fits_the_models_longest_status_name():
+    # rate-state's "unbounded-growth" is longer than every single-block status: the streamed table
+    # (fixed widths, written as records come) must size its status column from the store's model
+    import io
+
+    from bifurcation.models import get_model
+    from bifurcation.store.query import RecordStream, _status_width, write_records
+
+    model = get_model("rate-state")
+    rows = [{"state_law": "aging", "status": "unbounded-growth", "k": 0.25},
+            {"state_law": "aging", "status": "steady-sliding", "k": 0.5}]
+    out = io.StringIO()
+    write_records(RecordStream(iter(rows), 5, ("state_law", "status", "k"), _status_width(model)), "table", out,
+                  law_width=5)
+    lines = out.getvalue().splitlines()
+    assert _status_width(model) == len("unbounded-growth")
+    # the k column starts at one offset in the header and in every row
+    assert len({line.index(value) for line, value in zip(lines, ("k", "0.25", "0.5"))}) == 1

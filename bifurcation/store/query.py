@@ -124,8 +124,10 @@ class RecordStream:
     """The records of a query, iterated one at a time; ``law_width`` is the longest label, ``keys``
     the record keys (the columns of the store's model)."""
 
-    def __init__(self, records: Iterator[dict], law_width: int, keys=COLUMNS) -> None:
+    def __init__(self, records: Iterator[dict], law_width: int, keys=COLUMNS, status_width: int | None = None) -> None:
         self._records, self.law_width, self.keys = records, law_width, tuple(keys)
+        #: the longest status name of the store's model ("unbounded-growth"), for a streamed table
+        self.status_width = status_width
 
     def __iter__(self) -> Iterator[dict]:
         return self._records
@@ -148,11 +150,16 @@ def iter_records(store, *, law=None, computed_only: bool = False, nearest: bool 
         labels[model.labels.name] = [str(x) for x in labels[model.labels.name]]
         selected = _selection(model, labels, law, axes, nearest, notes)
         width = max(map(len, labels[model.labels.name]))
-        return RecordStream(_dataset_records(store, model, selected, computed_only), width, columns(model))
+        return RecordStream(_dataset_records(store, model, selected, computed_only), width, columns(model),
+                            _status_width(model))
     plan = _Plan(store, law, axes, nearest, notes)
     plan.check()
     return RecordStream(plan.records(computed_only), max(map(len, plan.labels[plan.model.labels.name])),
-                        columns(plan.model))
+                        columns(plan.model), _status_width(plan.model))
+
+
+def _status_width(model) -> int:
+    return max(len(name) for name in _Records(model).status_names.values())
 
 
 class _Plan:
@@ -302,10 +309,11 @@ def write_records(records: Iterable[dict], fmt: str, out: TextIO, *, law_width: 
             writer.writerow([record.get(c) for c in keys])
             n += 1
         return n
+    status_width = getattr(records, "status_width", None)
     if law_width is None:
         records = list(records)
         law_width = max((len(str(r.get(keys[0], ""))) for r in records), default=0)
-    widths = [max(len(c), _width(c, law_width, k)) for k, c in enumerate(keys)]
+    widths = [max(len(c), _width(c, law_width, k, status_width)) for k, c in enumerate(keys)]
     out.write("  ".join(c.ljust(w) for c, w in zip(keys, widths)).rstrip() + "\n")
     for record in records:
         cells = [_cell(record.get(c)) or "-" for c in keys]
@@ -329,11 +337,11 @@ def _json_scalar(value) -> str:
     return int.__repr__(value)
 
 
-def _width(column: str, law_width: int, position: int) -> int:
+def _width(column: str, law_width: int, position: int, status_width: int | None = None) -> int:
     if position == 0:
         return law_width
     if column == "status":
-        return max(len(name) for name in _STATUS_NAMES.values())
+        return status_width or max(len(name) for name in _STATUS_NAMES.values())
     if column == "steps":
         return 8   # max_steps ≤ 10^7 (bifurcation.bounds)
     return _FLOAT_WIDTH
