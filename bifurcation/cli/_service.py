@@ -116,14 +116,19 @@ def query_cmd(store: str, law, nearest: bool, fmt: str, as_json: bool, done_only
     try:   # the selection and every selected chunk are checked here, before any output
         records = iter_records(store, law=law or None, computed_only=done_only, nearest=nearest, notes=notes,
                                **{k: v for k, v in axes.items() if v})
-    except InputError as exc:   # name the options as the user typed them
-        name = _option_names().get(exc.argument)
-        if name is None:
-            raise
-        fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
+    except InputError as exc:
+        _fail_as_option(exc)
     for note in notes:
         click.echo(f"bifurcation: note: {note}", err=True)
     write_records(records, fmt, sys.stdout, law_width=records.law_width)
+
+
+def _fail_as_option(exc) -> None:
+    """A selection error named by the option as the user typed it (``--nu-f``, not ``nu_f``)."""
+    name = _option_names().get(exc.argument)
+    if name is None:
+        raise exc
+    fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
 
 
 def _print_catalog(store, law, nearest, fmt, notes, axes) -> None:
@@ -136,10 +141,7 @@ def _print_catalog(store, law, nearest, fmt, notes, axes) -> None:
         out = read_catalog(store, law=list(law) or None, nearest=nearest, notes=notes,
                            **{k: list(v) for k, v in axes.items() if v})
     except InputError as exc:
-        name = _option_names().get(exc.argument)
-        if name is None:
-            raise
-        fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
+        _fail_as_option(exc)
     for note in notes:
         click.echo(f"bifurcation: note: {note}", err=True)
     run = out.pop("run")

@@ -17,15 +17,21 @@ def _is_int(x) -> bool:
     return not isinstance(x, bool) and isinstance(x, (int, np.integer))
 
 
+def _nonnegative(name: str, value, fix: str) -> float:
+    """``value`` as a finite float ≥ 0, else a one-line error naming ``name``."""
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise InputError(name, value, "is not a number", fix) from None
+    if not math.isfinite(out) or out < 0:
+        raise InputError(name, value, "must be finite and ≥ 0", fix)
+    return out
+
+
 def check_size(n, ell, ends) -> tuple[int, float, str]:
     if not _is_int(n) or n < 1:
         raise InputError("n", n, "is not a number of blocks", "give an integer N ≥ 1, e.g. 64")
-    try:
-        ell_f = float(ell)
-    except (TypeError, ValueError):
-        raise InputError("ell", ell, "is not a number", "give a coupling ℓ ≥ 0, e.g. 1") from None
-    if not math.isfinite(ell_f) or ell_f < 0:
-        raise InputError("ell", ell, "must be finite and ≥ 0", "give a coupling ℓ ≥ 0, e.g. 1")
+    ell_f = _nonnegative("ell", ell, "give a coupling ℓ ≥ 0, e.g. 1")
     if ends not in ENDS:
         raise InputError("ends", ends, "is not a boundary condition", "use 'free' or 'periodic'")
     return int(n), ell_f, ends
@@ -59,12 +65,7 @@ def check_initial(n: int, ell: float, ends: str, u0, amplitude, seed) -> np.ndar
     if u0 is None:
         if amplitude is None:
             raise InputError("amplitude", None, "is missing", "give u0=array or amplitude=A (and seed=S)")
-        try:
-            amp = float(amplitude)
-        except (TypeError, ValueError):
-            raise InputError("amplitude", amplitude, "is not a number", "give an amplitude A ≥ 0, e.g. 0.5") from None
-        if not math.isfinite(amp) or amp < 0:
-            raise InputError("amplitude", amplitude, "must be finite and ≥ 0", "give an amplitude A ≥ 0, e.g. 0.5")
+        amp = _nonnegative("amplitude", amplitude, "give an amplitude A ≥ 0, e.g. 0.5")
         if seed is not None and not _is_int(seed):
             raise InputError("seed", seed, "is not an integer", "give an integer seed, e.g. 1")
         rng = np.random.default_rng(0 if seed is None else int(seed))
