@@ -48,7 +48,7 @@ class ChainLoop:
     def __init__(self, law: FrictionLaw, n: int, ell: float, nu: float, nu_f: float, ends: str,
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
                  t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
-                 compact_above: int = COMPACT_ABOVE) -> None:
+                 compact_above: int = COMPACT_ABOVE, timing: bool = False) -> None:
         from ...engine._integrator import fp_info
 
         _, dtype, _ = fp_info(precision)
@@ -72,7 +72,10 @@ class ChainLoop:
         #: windows up to this size use heyoka's full mode (faster steps, long first compile)
         self.compact_above = compact_above
         self.wall: list[float] = []   # seconds per event (benchmarks: cost against event size)
-        self.cpu: list[float] = []    # CPU seconds of this process per event (the same, on a shared machine)
+        #: CPU seconds of this process per event, with ``timing`` only: a CPU clock is a system call
+        #: that costs ~150 µs in some sandboxes (measured here: 8 % of a run at N = 256)
+        self.cpu: list[float] = []
+        self.timing = timing
         self.widest: list[int] = []   # per event, the most blocks one window held
         #: how often each way of starting a block happened (tests check that every path is exercised)
         self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
@@ -80,6 +83,9 @@ class ChainLoop:
         self._near = [(j, *self._neighbours(j)) for j in range(n)]
         self._slip: set = set()      # the blocks slipping now (during an event)
         self._windows: dict = {}     # per window size M: its compiled integrator
+        self._layouts: dict = {}     # per window (its blocks, sorted): ``_window_layout``
+        # the segment's slip, summed exactly rounded in double (math.fsum) and in the dtype otherwise
+        self._sum = math.fsum if dtype is np.float64 else sum
         # the hot path's scalars: Python floats in double (numpy scalars cost several times more per
         # operation and round the same), the dtype's own scalars otherwise (real128 in quad)
         self._scalar = float if dtype is np.float64 else (lambda x: x)
@@ -116,6 +122,17 @@ class ChainLoop:
         return sorted(window)
 
     def _layout(self, idx: list) -> tuple[list, int, list, list]:
+        """``_window_layout``, cached: windows recur (a pulse crossing the chain passes the same
+        stretches again and again), and the cache is bounded."""
+        key = tuple(idx)
+        hit = self._layouts.get(key)
+        if hit is None:
+            if len(self._layouts) >= 8192:
+                self._layouts.clear()
+            hit = self._layouts[key] = self._window_layout(idx)
+        return hit
+
+    def _window_layout(self, idx: list) -> tuple[list, int, list, list]:
         """Window positions of the blocks ``idx`` (sorted): (chain index per position, M, bonds, self
         couplings). Position i is bonded to i + 1 where the two blocks are chain neighbours.
 
@@ -152,7 +169,7 @@ class ChainLoop:
         return dict(catalog=cat, status=status, message=message)
 
     def _event(self, cat: dict) -> tuple[bool, str]:
-        started, cpu = time.perf_counter(), time.process_time()
+        started, cpu = time.perf_counter(), time.process_time() if self.timing else 0.0
         dtype = self.dtype
         h = int(np.argmax(self.sigma))
         jump = 1 - self.sigma[h]
@@ -162,12 +179,17 @@ class ChainLoop:
         if self.energy:   # the quiescent phase stretches the pulling springs; no energy is dissipated
             self.y += jump
         t_start = self.t
-        self.slipping[h], self.vel[h], self.piece[h] = True, 0, 0
-        self._touched, self._slip = {h}, {h}
+        # during the event, the blocks it touches keep their velocity, piece and displacement in
+        # dicts (a few entries, read and written per segment); the arrays are updated at its end
+        self._v, self._pc, self._u = {}, {}, {}
+        self._touched, self._slip = set(), set()
+        self._start(h)
         self._widest = 0
+        self._hot = self._scalars()
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
                        work=dtype(0), diss=dtype(0), elastic=dtype(0))
         ok, message = self._segments()
+        self._flush()
         ev = self.ev
         cat["t_start"].append(t_start)
         cat["hypocentre"].append(h)
@@ -177,7 +199,8 @@ class ChainLoop:
         cat["max_velocity"].append(self.nu * ev["vmax"])
         cat["steps"].append(ev["steps"])
         self.wall.append(time.perf_counter() - started)
-        self.cpu.append(time.process_time() - cpu)
+        if self.timing:
+            self.cpu.append(time.process_time() - cpu)
         self.widest.append(self._widest)
         if self.energy:
             cat["driver_work"].append(ev["work"])
@@ -189,6 +212,18 @@ class ChainLoop:
                     cat[f].pop()
         return ok, message
 
+    def _flush(self) -> None:
+        """Write the event's per-block dicts into the state arrays (after an event every block is
+        stuck: V = 0 exactly; an unfinished one leaves its slipping blocks marked as such)."""
+        if self._u:
+            self.u[list(self._u)] = list(self._u.values())
+        if self._pc:
+            self.piece[list(self._pc)] = list(self._pc.values())
+        if self._slip:
+            slip = sorted(self._slip)
+            self.slipping[slip] = True
+            self.vel[slip] = [self._v.get(j, 0) for j in slip]
+
     def _segments(self) -> tuple[bool, str]:
         """Integrate the event from its first failure until every block is stuck."""
         while True:
@@ -197,7 +232,7 @@ class ChainLoop:
             # blocks at the threshold start now (simultaneous failures; anywhere in the chain: a block
             # outside the window at σ ≥ 1 would otherwise give a far bound τ ≤ 0)
             for j in np.flatnonzero(self.sigma >= 1).tolist():
-                if not self.slipping[j]:
+                if j not in self._slip:
                     self._start(j)
             idx, m, bond, selfc = self._layout(self._members())
             self._widest = max(self._widest, len(idx))
@@ -218,17 +253,15 @@ class ChainLoop:
 
     def _start(self, j: int) -> None:
         self.sigma[j] = 1   # the start event located σ_j = 1; rounding of the commit is dropped
-        self.slipping[j], self.vel[j], self.piece[j] = True, 0, 0
+        self._v[j] = self._zero
+        self._pc[j] = 0
         self._touched.add(j)
         self._slip.add(j)
 
     def _scalars(self) -> tuple:
-        """ν, ℓ² and t_max as the hot path's scalars (read each segment: a study may change them)."""
+        """ν, ℓ², t_max and ν_f as the hot path's scalars (read at each event: a sweep changes ν_f)."""
         f = self._scalar
-        return f(self.nu), f(self.l2), f(self.dtype(self.t_max))
-
-    def _nu_f(self):
-        return self._scalar(self.nu_f)
+        return f(self.nu), f(self.l2), f(self.dtype(self.t_max)), f(self.nu_f)
 
     def _integrate(self, wi, idx, bond, selfc):
         """Segments in this window until the event ends (None), an error (a string), or a block starts:
@@ -237,7 +270,7 @@ class ChainLoop:
         The window's numbers live in Python lists for the segment (scalars of the loop's dtype: floats
         in double, real128 in quad) and reach the integrator in one write of its parameters and one of
         its state; the arithmetic is the same, operation by operation, as on arrays."""
-        nu, l2, t_max = self._scalars()
+        nu, l2, t_max, nu_f = self._hot
         ta, pars, state = wi.integrator, wi.pars, wi.state
         m, k = wi.m, len(idx)
         base = N_GLOBAL
@@ -250,9 +283,12 @@ class ChainLoop:
         for x in d:
             q = abs(x) / nu
             qinv.append(1 / self._one if q < 1 else 1 / q)
-        p = [float(x) for x in self.slipping[idx].tolist()] + [0.0] * (m - k)
-        pieces = self.piece[idx].tolist() + [0] * (m - k)
-        values = [nu, self._nu_f(), l2] + p + d + qinv + bond + selfc
+        slip, vd, pcd = self._slip, self._v, self._pc
+        p = [1.0 if j in slip else 0.0 for j in idx] + [0.0] * (m - k)
+        # a stuck neighbour that has not started in this event keeps the piece it had (never used while
+        # it is stuck: its switch events cannot fire at V = 0; the start resets it)
+        pieces = [pcd[j] if j in pcd else int(self.piece[j]) for j in idx] + [0] * (m - k)
+        values = [nu, nu_f, l2] + p + d + qinv + bond + selfc
         k_pieces = wi.n_pieces
         if k_pieces > 1:
             onehot = [0.0] * (k_pieces * m)
@@ -261,7 +297,7 @@ class ChainLoop:
             values += onehot
         pars[:] = values
         st = [0.0] * len(state)
-        st[m:m + k] = self.vel[idx].tolist()
+        st[m:m + k] = [vd.get(j, 0.0) for j in idx]
         state[:] = st
         ta.time = self._zero
         ta.reset_cooldowns()
@@ -328,9 +364,9 @@ class ChainLoop:
                 pieces[j] = pc
 
     def _back_slip(self, idx):
-        """An error message if a slipping block of the window moves backwards (a stop event was
-        missed), else None. Blocks outside the window did not move in the segment."""
-        v = [(x, j) for x, s, j in zip(self.vel[idx].tolist(), self.slipping[idx].tolist(), idx) if s]
+        """An error message if a slipping block moves backwards (a stop event was missed), else None.
+        Every slipping block is in the window (``idx``, the error names it)."""
+        v = [(x, j) for j, x in self._v.items()]
         if v:
             low, j = min(v)
             if low < -1e-9 * max(1.0, max(abs(x) for x, _ in v)):
@@ -352,27 +388,32 @@ class ChainLoop:
         the window next to one outside it is stuck, w = 0), so the stress of block j changes by
         ν(ℓ²·coupling_j − w_j + τ) in the window and by ντ elsewhere: O(M) work plus one O(N) add.
         ``sg`` holds the window's stresses at the segment's start."""
-        nu, l2, _ = self._scalars()
+        nu, l2 = self._hot[:2]
         ta, state = wi.integrator, wi.state
         tau = ta.time
         m, k = wi.m, len(idx)
         st = state.tolist()
         w = st[:m]
-        self.vel[idx] = st[m:m + k]
-        self.slipping[idx] = p[:k]
+        # the window holds every slipping block: their velocities are the state's, the rest are stuck
+        self._v = {j: st[m + i] for i, j in enumerate(idx) if p[i]}
         self._slip.difference_update(stopped)
-        self.piece[idx] = pieces[:k]
+        pcd = self._pc
+        for i, j in enumerate(idx):
+            if j in pcd:
+                pcd[j] = pieces[i]
         if self.energy:
             self._energy(wi, idx, np.array(w, dtype=self.dtype), tau)
         sigma = self.sigma
         sigma += nu * tau                       # every block: ντ (the window's are overwritten below)
         new = []
+        ud, u, f = self._u, self.u, self._scalar
         for i in range(k):
             coupling = bond[i - 1] * w[i - 1] + bond[i] * w[(i + 1) % m] + (selfc[i] - 2) * w[i]
             new.append(sg[i] + nu * ((l2 * coupling - w[i]) + tau))
+            j = idx[i]
+            ud[j] = (ud[j] if j in ud else f(u[j])) + nu * w[i]
         sigma[idx] = new
-        self.u[idx] = [x + nu * y for x, y in zip(self.u[idx].tolist(), w)]
-        self.ev["potency"] += nu * state[:k].sum()
+        self.ev["potency"] += nu * self._sum(w[:k])
         self.ev["duration"] += tau
         self.ev["vmax"] = max(self.ev["vmax"], wi.recorder.vmax)
         self.t += tau
