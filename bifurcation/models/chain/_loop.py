@@ -185,6 +185,7 @@ class ChainLoop:
         self._touched, self._slip = set(), set()
         self._start(h)
         self._widest = 0
+        self._due = None     # after the quiescent jump: scan every block for simultaneous failures
         self._hot = self._scalars()
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
                        work=dtype(0), diss=dtype(0), elastic=dtype(0))
@@ -231,7 +232,8 @@ class ChainLoop:
             # earlier in the event and stopped leave it: a slip pulse keeps a window of its own width)
             # blocks at the threshold start now (simultaneous failures; anywhere in the chain: a block
             # outside the window at σ ≥ 1 would otherwise give a far bound τ ≤ 0)
-            for j in np.flatnonzero(self.sigma >= 1).tolist():
+            due = self._due
+            for j in (np.flatnonzero(self.sigma >= 1).tolist() if due is None else due):
                 if j not in self._slip:
                     self._start(j)
             idx, m, bond, selfc = self._layout(self._members())
@@ -305,12 +307,14 @@ class ChainLoop:
         # blocks outside S: stuck, σ grows as ντ: the first of them fails at τ = (1 − σ)/ν
         if k == self.n:
             tau_far, far = math.inf, -1
+            self._sigma_far = None
         else:
             sigma[idx] = -np.inf                # masked in place, restored at once
             far = int(sigma.argmax())
             sigma_far = self._scalar(sigma[far])
             sigma[idx] = sg
             tau_far = (1 - sigma_far) / nu
+            self._sigma_far = sigma_far
         t_left = t_max - self.ev["duration"]
         t_end = min(tau_far, t_left)
         kinds, blocks, breaks = wi.event_kind, wi.event_block, wi.event_break
@@ -413,6 +417,11 @@ class ChainLoop:
             j = idx[i]
             ud[j] = (ud[j] if j in ud else f(u[j])) + nu * w[i]
         sigma[idx] = new
+        # the blocks that may be at σ ≥ 1 now (``_segments`` starts them): the window's, unless the
+        # largest stress outside it reached 1 too (then every block is scanned)
+        far = self._sigma_far
+        self._due = None if far is not None and far + nu * tau >= 1 else \
+            sorted(j for j, x in zip(idx, new) if x >= 1)
         self.ev["potency"] += nu * self._sum(w[:k])
         self.ev["duration"] += tau
         self.ev["vmax"] = max(self.ev["vmax"], wi.recorder.vmax)
