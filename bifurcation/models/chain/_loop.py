@@ -121,15 +121,17 @@ class ChainLoop:
             window.update(near[j])
         return sorted(window)
 
-    def _layout(self, idx: list) -> tuple[list, int, list, list]:
-        """``_window_layout``, cached: windows recur (a pulse crossing the chain passes the same
-        stretches again and again), and the cache is bounded."""
-        key = tuple(idx)
+    def _layout(self) -> tuple[list, np.ndarray, int, list, list]:
+        """The window of the blocks slipping now: ``_window_layout(_members())`` and the window's
+        blocks as an index array, cached by the set of slipping blocks (windows recur: a pulse crossing
+        the chain passes the same stretches again and again; the cache is bounded)."""
+        key = frozenset(self._slip)
         hit = self._layouts.get(key)
         if hit is None:
             if len(self._layouts) >= 8192:
                 self._layouts.clear()
-            hit = self._layouts[key] = self._window_layout(idx)
+            idx, m, bond, selfc = self._window_layout(self._members())
+            hit = self._layouts[key] = (idx, np.array(idx, dtype=np.intp), m, bond, selfc)
         return hit
 
     def _window_layout(self, idx: list) -> tuple[list, int, list, list]:
@@ -236,13 +238,13 @@ class ChainLoop:
             for j in (np.flatnonzero(self.sigma >= 1).tolist() if due is None else due):
                 if j not in self._slip:
                     self._start(j)
-            idx, m, bond, selfc = self._layout(self._members())
+            idx, at, m, bond, selfc = self._layout()
             self._widest = max(self._widest, len(idx))
             wi = self._windows.get(m)
             if wi is None:
                 wi = self._windows[m] = window_integrator(self.law, m, self.precision, self.energy,
                                                           self.compact_above)
-            outcome = self._integrate(wi, idx, bond, selfc)
+            outcome = self._integrate(wi, idx, at, bond, selfc)
             if outcome is None:
                 return True, ""
             if isinstance(outcome, str):
@@ -265,7 +267,7 @@ class ChainLoop:
         f = self._scalar
         return f(self.nu), f(self.l2), f(self.dtype(self.t_max)), f(self.nu_f)
 
-    def _integrate(self, wi, idx, bond, selfc):
+    def _integrate(self, wi, idx, at, bond, selfc):
         """Segments in this window until the event ends (None), an error (a string), or a block starts:
         ("window", j) of S, ("far", j) outside S.
 
@@ -277,7 +279,7 @@ class ChainLoop:
         m, k = wi.m, len(idx)
         base = N_GLOBAL
         sigma = self.sigma
-        sg = sigma[idx].tolist()            # σ of the window's blocks at the segment's start
+        sg = sigma[at].tolist()             # σ of the window's blocks at the segment's start
         # padding positions: stuck, σ = −999 (a constant like −1e100 spoils heyoka's step control);
         # a start of one (only after τ = 1e3/ν) is ignored below
         d = [x - 1 for x in sg] + [self._pad] * (m - k)
@@ -309,10 +311,10 @@ class ChainLoop:
             tau_far, far = math.inf, -1
             self._sigma_far = None
         else:
-            sigma[idx] = -np.inf                # masked in place, restored at once
+            sigma[at] = -np.inf                 # masked in place, restored at once
             far = int(sigma.argmax())
             sigma_far = self._scalar(sigma[far])
-            sigma[idx] = sg
+            sigma[at] = sg
             tau_far = (1 - sigma_far) / nu
             self._sigma_far = sigma_far
         t_left = t_max - self.ev["duration"]
@@ -322,7 +324,7 @@ class ChainLoop:
         slipping = int(sum(p))
         steps = self.ev["steps"]
         stopped = []
-        commit = (wi, idx, sg, p, pieces, bond, selfc, stopped)
+        commit = (wi, idx, at, sg, p, pieces, bond, selfc, stopped)
         while True:
             outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=max(self.max_steps - steps, 1))
             steps += nsteps
@@ -385,7 +387,7 @@ class ChainLoop:
         coupling = bond[j - 1] * w[j - 1] + bond[j] * w[(j + 1) % m] + (selfc[j] - 2) * w[j]
         return d[j] / nu + l2 * coupling - w[j] + ta.time >= 0
 
-    def _commit(self, wi, idx, sg, p, pieces, bond, selfc, stopped) -> None:
+    def _commit(self, wi, idx, at, sg, p, pieces, bond, selfc, stopped) -> None:
         """Fold the segment's scaled increments into the global state (exact up to rounding).
 
         Only the window's blocks moved, and their Laplacian is the window's own coupling (a block of
@@ -416,7 +418,7 @@ class ChainLoop:
             new.append(sg[i] + nu * ((l2 * coupling - w[i]) + tau))
             j = idx[i]
             ud[j] = (ud[j] if j in ud else f(u[j])) + nu * w[i]
-        sigma[idx] = new
+        sigma[at] = new
         # the blocks that may be at σ ≥ 1 now (``_segments`` starts them): the window's, unless the
         # largest stress outside it reached 1 too (then every block is scanned)
         far = self._sigma_far
