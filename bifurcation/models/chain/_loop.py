@@ -123,9 +123,9 @@ class ChainLoop:
             window.update(near[j])
         return sorted(window)
 
-    def _layout(self) -> tuple[list, np.ndarray, int, list, list]:
+    def _layout(self) -> tuple[list, np.ndarray, frozenset, int, list, list]:
         """The window of the blocks slipping now: ``_window_layout(_members())`` and the window's
-        blocks as an index array, cached by the set of slipping blocks (windows recur: a pulse crossing
+        blocks as an index array and a set, cached by the set of slipping blocks (windows recur: a pulse crossing
         the chain passes the same stretches again and again; the cache is bounded)."""
         key = frozenset(self._slip)
         hit = self._layouts.get(key)
@@ -133,7 +133,7 @@ class ChainLoop:
             if len(self._layouts) >= 8192:
                 self._layouts.clear()
             idx, m, bond, selfc = self._window_layout(self._members())
-            hit = self._layouts[key] = (idx, np.array(idx, dtype=np.intp), m, bond, selfc)
+            hit = self._layouts[key] = (idx, np.array(idx, dtype=np.intp), frozenset(idx), m, bond, selfc)
         return hit
 
     def _window_layout(self, idx: list) -> tuple[list, int, list, list]:
@@ -240,20 +240,20 @@ class ChainLoop:
             for j in (np.flatnonzero(self.sigma >= 1).tolist() if due is None else due):
                 if j not in self._slip:
                     self._start(j)
-            idx, at, m, bond, selfc = self._layout()
+            idx, at, members, m, bond, selfc = self._layout()
             self._widest = max(self._widest, len(idx))
             wi = self._windows.get(m)
             if wi is None:
                 wi = self._windows[m] = window_integrator(self.law, m, self.precision, self.energy,
                                                           self.compact_above)
-            outcome = self._integrate(wi, idx, at, bond, selfc)
+            outcome = self._integrate(wi, idx, at, members, bond, selfc)
             if outcome is None:
                 return True, ""
             if isinstance(outcome, str):
                 return False, outcome
             kind, j = outcome
             self.counts[kind] += 1
-            if kind == "window" and any(k not in idx for k in self._neighbours(j)):
+            if kind == "window" and any(k not in members for k in self._neighbours(j)):
                 self.counts["grow"] += 1
             self._start(j)
 
@@ -269,7 +269,7 @@ class ChainLoop:
         f = self._scalar
         return f(self.nu), f(self.l2), f(self.dtype(self.t_max)), f(self.nu_f)
 
-    def _integrate(self, wi, idx, at, bond, selfc):
+    def _integrate(self, wi, idx, at, members, bond, selfc):
         """Segments in this window until the event ends (None), an error (a string), or a block starts:
         ("window", j) of S, ("far", j) outside S.
 
@@ -313,10 +313,12 @@ class ChainLoop:
             tau_far, far = math.inf, -1
             self._sigma_far = None
         else:
-            sigma[at] = -np.inf                 # masked in place, restored at once
             far = int(sigma.argmax())
+            if far in members:    # the largest stress is in the window: mask it
+                sigma[at] = -np.inf             # (in place, restored at once)
+                far = int(sigma.argmax())
+                sigma[at] = sg
             sigma_far = self._scalar(sigma[far])
-            sigma[at] = sg
             tau_far = (1 - sigma_far) / nu
             self._sigma_far = sigma_far
         t_left = t_max - self.ev["duration"]
