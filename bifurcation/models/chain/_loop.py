@@ -279,7 +279,6 @@ class ChainLoop:
         nu, l2, t_max, nu_f = self._hot
         ta, pars, state = wi.integrator, wi.pars, wi.state
         m, k = wi.m, len(idx)
-        base = N_GLOBAL
         sigma = self.sigma
         sg = sigma[at].tolist()             # σ of the window's blocks at the segment's start
         # padding positions: stuck, σ = −999 (a constant like −1e100 spoils heyoka's step control);
