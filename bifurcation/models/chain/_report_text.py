@@ -58,7 +58,13 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
          "All numbers: [data.json](data.json).", ""]
     L += _threshold_section(data, c)
     L += _order_section(cfg, data, sw, star)
+    from ._report_mfd import near_half_section, small_nu_section
+
+    if data.get("sweeps_small_nu", {}).get("table"):
+        L += small_nu_section(cfg, data["sweeps_small_nu"], sw)
     L += _mfd_section(data)
+    if data.get("near_half"):
+        L += near_half_section(cfg, data["near_half"])
     if speed:
         L += [speed.rstrip(), ""]
     L += _verdict(cfg, data, sw, star)
