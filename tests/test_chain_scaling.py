@@ -94,3 +94,7 @@ def test_mfd_reading_tells_the_two_pictures_apart():
             for n in sizes]
     assert mfd_reading(expo, cut, span)[0] == "characteristic-size"
     assert mfd_reading(crit[:2], cut, span)[0] == "undecided"
+    # the same critical-like samples from catalogs whose chain is rarely all stuck: merged events, undecided
+    busy = [dict(r, slip_fraction=f) for r, f in zip(crit, (0.3, 0.6, 0.9))]
+    word, why = mfd_reading(busy, cut, span)
+    assert word == "undecided" and "60 % (N = 64), 90 % (N = 256)" in why

@@ -11,7 +11,10 @@ import math
 
 import numpy as np
 
-__all__ = ["moment_cutoff", "mfd_reading", "tapered_gr"]
+__all__ = ["MERGED", "mfd_reading", "moment_cutoff", "tapered_gr"]
+
+#: slipping fraction above which a catalog's events are read as merged slips (``mfd_reading``)
+MERGED = 0.5
 
 
 def moment_cutoff(potency, batches: int = 10) -> dict:
@@ -126,8 +129,9 @@ def tapered_gr(potency, p_min: float) -> dict:
 def mfd_reading(rows: list, cutoff_fss: dict, spanning_fss: dict) -> tuple[str, str]:
     """(word, reason) for the magnitude–frequency distributions of one ν_f over several N.
 
-    ``rows``: per N (ascending) a dict with ``n``, ``tapered`` (``tapered_gr``) and ``spanning_excess``
-    (observed/GR-extrapolated system-spanning events, NaN when none). ``cutoff_fss``/``spanning_fss``:
+    ``rows``: per N (ascending) a dict with ``n``, ``tapered`` (``tapered_gr``), ``spanning_excess``
+    (observed/GR-extrapolated system-spanning events, NaN when none) and optionally ``slip_fraction``
+    (Σ duration / elapsed time of the catalog). ``cutoff_fss``/``spanning_fss``:
     ``analysis.finite_size_fit`` of the cutoff potency and of the spanning fraction against N
     (θ < 0: grows). Rules, from the two pictures (docs/chain.md, "Cutoff and finite-size scaling"):
 
@@ -138,12 +142,18 @@ def mfd_reading(rows: list, cutoff_fss: dict, spanning_fss: dict) -> tuple[str, 
       exponential law: a size scale, not a power law), or the spanning events exceed the power law's
       extrapolation more than 3-fold while the spanning fraction does not decrease with N
       (θ ≤ 2σ);
-    * **undecided** otherwise, or with fewer than 3 sizes holding a fit; the reason says which test
-      failed.
+    * **undecided** otherwise, or with fewer than 3 sizes holding a fit, or when at some N the
+      slipping fraction exceeds ``MERGED`` (the chain is all stuck less than half of the time: a
+      catalogued event, which ends only when every block is stuck, then sums separate slips, and
+      its size measures the merging, not a rupture); the reason says which test failed.
     """
     fitted = [r for r in rows if math.isfinite(r["tapered"]["b"])]
     if len(fitted) < 3 or not math.isfinite(cutoff_fss.get("theta", math.nan)):
         return "undecided", f"only {len(fitted)} sizes with a fit of ≥ 10 events"
+    merged = [r for r in fitted if r.get("slip_fraction", 0.0) > MERGED]
+    if merged:
+        return "undecided", ("events merge: some block slips during " + ", ".join(
+            f"{100 * r['slip_fraction']:.0f} % (N = {r['n']})" for r in merged) + " of the time")
     big, small = fitted[-1], fitted[0]
     tb, ts = big["tapered"], small["tapered"]
     grows = cutoff_fss["theta"] < -2 * cutoff_fss["theta_sigma"]
