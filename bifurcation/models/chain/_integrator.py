@@ -56,6 +56,7 @@ class VmaxRecorder:
     def __init__(self, m: int) -> None:
         self.m = m
         self.vmax = 0.0
+        self.d_output = None   # the integrator's dense-output view, set once it exists
 
     def __deepcopy__(self, memo) -> "VmaxRecorder":
         return self  # heyoka deep-copies callbacks; all of them must record here
@@ -65,7 +66,7 @@ class VmaxRecorder:
 
         def on_max(ta, time, d_sgn) -> None:
             ta.update_d_output(time)
-            v = ta.d_output[m + j]
+            v = self.d_output[m + j]
             if v > self.vmax:
                 self.vmax = v
 
@@ -86,6 +87,10 @@ class WindowIntegrator:
     energy: bool
     recorder: VmaxRecorder
     dtype: type
+    #: writeable views on the integrator's parameters and state (heyoka never reallocates them; taking
+    #: a fresh view costs microseconds, and the event loop touches them several times per segment)
+    pars: np.ndarray
+    state: np.ndarray
 
 
 def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool) -> WindowIntegrator:
@@ -144,7 +149,9 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
     npars = N_GLOBAL + 5 * m + (k_pieces * m if k_pieces > 1 else 0)
     ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs), dtype=dtype), pars=np.zeros(npars, dtype=dtype),
                             t_events=events, nt_events=nt, compact_mode=compact, **fp)
-    return WindowIntegrator(m, ta, tuple(kinds), tuple(blocks), tuple(breaks), k_pieces, energy, recorder, dtype)
+    recorder.d_output = ta.d_output
+    return WindowIntegrator(m, ta, tuple(kinds), tuple(blocks), tuple(breaks), k_pieces, energy, recorder, dtype,
+                            ta.pars, ta.state)
 
 
 def window_integrator(law: FrictionLaw, m: int, precision: str = "double", energy: bool = False,

@@ -48,7 +48,7 @@ class ChainLoop:
     def __init__(self, law: FrictionLaw, n: int, ell: float, nu: float, nu_f: float, ends: str,
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
                  t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
-                 compact_above: int = COMPACT_ABOVE) -> None:
+                 compact_above: int = COMPACT_ABOVE, timing: bool = False) -> None:
         from ...engine._integrator import fp_info
 
         _, dtype, _ = fp_info(precision)
@@ -72,14 +72,24 @@ class ChainLoop:
         #: windows up to this size use heyoka's full mode (faster steps, long first compile)
         self.compact_above = compact_above
         self.wall: list[float] = []   # seconds per event (benchmarks: cost against event size)
-        self.cpu: list[float] = []    # CPU seconds of this process per event (the same, on a shared machine)
+        #: CPU seconds of this process per event, with ``timing`` only: a CPU clock is a system call
+        #: that costs ~150 µs in some sandboxes (measured here: 8 % of a run at N = 256)
+        self.cpu: list[float] = []
+        self.timing = timing
         self.widest: list[int] = []   # per event, the most blocks one window held
         #: how often each way of starting a block happened (tests check that every path is exercised)
         self.counts = {"window": 0, "grow": 0, "far": 0, "overloaded": 0}
         #: per block: itself and its chain neighbours (the window a slipping block needs)
         self._near = [(j, *self._neighbours(j)) for j in range(n)]
         self._slip: set = set()      # the blocks slipping now (during an event)
-        self._ring: dict = {}        # per window size M: positions i − 1 and i + 1 (mod M)
+        self._windows: dict = {}     # per window size M: its compiled integrator
+        self._layouts: dict = {}     # per window (its blocks, sorted): ``_window_layout``
+        # the segment's slip, summed exactly rounded in double (math.fsum) and in the dtype otherwise
+        self._sum = math.fsum if dtype is np.float64 else sum
+        # the hot path's scalars: Python floats in double (numpy scalars cost several times more per
+        # operation and round the same), the dtype's own scalars otherwise (real128 in quad)
+        self._scalar = float if dtype is np.float64 else (lambda x: x)
+        self._zero, self._one, self._pad = (self._scalar(dtype(x)) for x in (0, 1, -1e3))
 
     # -- chain geometry ---------------------------------------------------------------------------
     def _laplacian(self, a: np.ndarray) -> np.ndarray:
@@ -98,36 +108,53 @@ class ChainLoop:
             return tuple({(j - 1) % n, (j + 1) % n} - {j})
         return tuple(k for k in (j - 1, j + 1) if 0 <= k < n)
 
-    def _members(self) -> np.ndarray:
+    def _members(self) -> list:
         """The window: the slipping blocks and their chain neighbours, sorted (all blocks if forced).
 
         A block outside it is stuck and so are its neighbours (a neighbour in the window that does not
         slip stays at w = 0 until it starts, which ends the segment), so its stress grows as ντ."""
         if self.force_full:
-            return np.arange(self.n)
+            return list(range(self.n))
         near = self._near
         window = set()
         for j in self._slip:
             window.update(near[j])
-        return np.array(sorted(window), dtype=np.int64)
+        return sorted(window)
 
-    def _layout(self, idx: np.ndarray) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
+    def _layout(self) -> tuple[list, np.ndarray, int, list, list]:
+        """The window of the blocks slipping now: ``_window_layout(_members())`` and the window's
+        blocks as an index array, cached by the set of slipping blocks (windows recur: a pulse crossing
+        the chain passes the same stretches again and again; the cache is bounded)."""
+        key = frozenset(self._slip)
+        hit = self._layouts.get(key)
+        if hit is None:
+            if len(self._layouts) >= 8192:
+                self._layouts.clear()
+            idx, m, bond, selfc = self._window_layout(self._members())
+            hit = self._layouts[key] = (idx, np.array(idx, dtype=np.intp), m, bond, selfc)
+        return hit
+
+    def _window_layout(self, idx: list) -> tuple[list, int, list, list]:
         """Window positions of the blocks ``idx`` (sorted): (chain index per position, M, bonds, self
-        couplings). Position i is bonded to i + 1 where the two blocks are chain neighbours."""
-        n, k = self.n, idx.size
+        couplings). Position i is bonded to i + 1 where the two blocks are chain neighbours.
+
+        Python lists, not arrays: a window holds a few blocks, and a numpy call on a few elements
+        costs more than the Python loop over them (this runs once per segment)."""
+        n, k = self.n, len(idx)
         if self.periodic and k < n:   # start the cyclic order after a gap: no bond wraps the order
-            missing = np.flatnonzero(idx != np.arange(k))
-            gap = int(missing[0]) if missing.size else k
-            idx = np.roll(idx, -gap)
+            gap = next((i for i, j in enumerate(idx) if j != i), k)
+            idx = idx[gap:] + idx[:gap]
         m = n if k == n else _pow2_at_least(k)
-        right = (idx + 1) % n if self.periodic else idx + 1
-        bond = np.zeros(m)
-        bond[:k - 1] = right[:-1] == idx[1:]
+        right = [(j + 1) % n for j in idx] if self.periodic else [j + 1 for j in idx]
+        bond = [0.0] * m
+        for i in range(k - 1):
+            bond[i] = float(right[i] == idx[i + 1])
         if k == m:
-            bond[k - 1] = right[-1] == idx[0]
-        selfc = np.zeros(m)
+            bond[k - 1] = float(right[-1] == idx[0])
+        selfc = [0.0] * m
         if not self.periodic:
-            selfc[:k] = (idx == 0).astype(float) + (idx == n - 1)
+            for i, j in enumerate(idx):
+                selfc[i] = float(j == 0) + float(j == n - 1)
         return idx, m, bond, selfc
 
     # -- the run ------------------------------------------------------------------------------------
@@ -144,7 +171,7 @@ class ChainLoop:
         return dict(catalog=cat, status=status, message=message)
 
     def _event(self, cat: dict) -> tuple[bool, str]:
-        started, cpu = time.perf_counter(), time.process_time()
+        started, cpu = time.perf_counter(), time.process_time() if self.timing else 0.0
         dtype = self.dtype
         h = int(np.argmax(self.sigma))
         jump = 1 - self.sigma[h]
@@ -154,12 +181,18 @@ class ChainLoop:
         if self.energy:   # the quiescent phase stretches the pulling springs; no energy is dissipated
             self.y += jump
         t_start = self.t
-        self.slipping[h], self.vel[h], self.piece[h] = True, 0, 0
-        self._touched, self._slip = {h}, {h}
+        # during the event, the blocks it touches keep their velocity, piece and displacement in
+        # dicts (a few entries, read and written per segment); the arrays are updated at its end
+        self._v, self._pc, self._u = {}, {}, {}
+        self._touched, self._slip = set(), set()
+        self._start(h)
         self._widest = 0
+        self._due = None     # after the quiescent jump: scan every block for simultaneous failures
+        self._hot = self._scalars()
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
                        work=dtype(0), diss=dtype(0), elastic=dtype(0))
         ok, message = self._segments()
+        self._flush()
         ev = self.ev
         cat["t_start"].append(t_start)
         cat["hypocentre"].append(h)
@@ -169,7 +202,8 @@ class ChainLoop:
         cat["max_velocity"].append(self.nu * ev["vmax"])
         cat["steps"].append(ev["steps"])
         self.wall.append(time.perf_counter() - started)
-        self.cpu.append(time.process_time() - cpu)
+        if self.timing:
+            self.cpu.append(time.process_time() - cpu)
         self.widest.append(self._widest)
         if self.energy:
             cat["driver_work"].append(ev["work"])
@@ -181,6 +215,18 @@ class ChainLoop:
                     cat[f].pop()
         return ok, message
 
+    def _flush(self) -> None:
+        """Write the event's per-block dicts into the state arrays (after an event every block is
+        stuck: V = 0 exactly; an unfinished one leaves its slipping blocks marked as such)."""
+        if self._u:
+            self.u[list(self._u)] = list(self._u.values())
+        if self._pc:
+            self.piece[list(self._pc)] = list(self._pc.values())
+        if self._slip:
+            slip = sorted(self._slip)
+            self.slipping[slip] = True
+            self.vel[slip] = [self._v.get(j, 0) for j in slip]
+
     def _segments(self) -> tuple[bool, str]:
         """Integrate the event from its first failure until every block is stuck."""
         while True:
@@ -188,87 +234,97 @@ class ChainLoop:
             # earlier in the event and stopped leave it: a slip pulse keeps a window of its own width)
             # blocks at the threshold start now (simultaneous failures; anywhere in the chain: a block
             # outside the window at σ ≥ 1 would otherwise give a far bound τ ≤ 0)
-            for j in np.flatnonzero(~self.slipping & (self.sigma >= 1)):
-                self._start(int(j))
-            idx, m, bond, selfc = self._layout(self._members())
-            self._widest = max(self._widest, idx.size)
-            wi = window_integrator(self.law, m, self.precision, self.energy, self.compact_above)
-            outcome = self._integrate(wi, idx, bond, selfc)
+            due = self._due
+            for j in (np.flatnonzero(self.sigma >= 1).tolist() if due is None else due):
+                if j not in self._slip:
+                    self._start(j)
+            idx, at, m, bond, selfc = self._layout()
+            self._widest = max(self._widest, len(idx))
+            wi = self._windows.get(m)
+            if wi is None:
+                wi = self._windows[m] = window_integrator(self.law, m, self.precision, self.energy,
+                                                          self.compact_above)
+            outcome = self._integrate(wi, idx, at, bond, selfc)
             if outcome is None:
                 return True, ""
             if isinstance(outcome, str):
                 return False, outcome
             kind, j = outcome
             self.counts[kind] += 1
-            if kind == "window":
-                window = idx.tolist()
-                if any(k not in window for k in self._neighbours(j)):
-                    self.counts["grow"] += 1
+            if kind == "window" and any(k not in idx for k in self._neighbours(j)):
+                self.counts["grow"] += 1
             self._start(j)
 
     def _start(self, j: int) -> None:
         self.sigma[j] = 1   # the start event located σ_j = 1; rounding of the commit is dropped
-        self.slipping[j], self.vel[j], self.piece[j] = True, 0, 0
-        self._touched.add(int(j))
-        self._slip.add(int(j))
+        self._v[j] = self._zero
+        self._pc[j] = 0
+        self._touched.add(j)
+        self._slip.add(j)
 
-    def _ring_of(self, m: int) -> tuple[np.ndarray, np.ndarray]:
-        ring = self._ring.get(m)
-        if ring is None:
-            i = np.arange(m)
-            ring = self._ring[m] = ((i - 1) % m, (i + 1) % m)
-        return ring
+    def _scalars(self) -> tuple:
+        """ν, ℓ², t_max and ν_f as the hot path's scalars (read at each event: a sweep changes ν_f)."""
+        f = self._scalar
+        return f(self.nu), f(self.l2), f(self.dtype(self.t_max)), f(self.nu_f)
 
-    def _integrate(self, wi, idx, bond, selfc):
+    def _integrate(self, wi, idx, at, bond, selfc):
         """Segments in this window until the event ends (None), an error (a string), or a block starts:
-        ("window", j) of S, ("far", j) outside S."""
-        dtype, nu = self.dtype, self.nu
-        ta = wi.integrator
-        m, k = wi.m, idx.size
-        pars, state = ta.pars, ta.state
+        ("window", j) of S, ("far", j) outside S.
+
+        The window's numbers live in Python lists for the segment (scalars of the loop's dtype: floats
+        in double, real128 in quad) and reach the integrator in one write of its parameters and one of
+        its state; the arithmetic is the same, operation by operation, as on arrays."""
+        nu, l2, t_max, nu_f = self._hot
+        ta, pars, state = wi.integrator, wi.pars, wi.state
+        m, k = wi.m, len(idx)
         base = N_GLOBAL
+        sigma = self.sigma
+        sg = sigma[at].tolist()             # σ of the window's blocks at the segment's start
         # padding positions: stuck, σ = −999 (a constant like −1e100 spoils heyoka's step control);
         # a start of one (only after τ = 1e3/ν) is ignored below
-        d = np.full(m, dtype(-1e3))
-        d[:k] = self.sigma[idx] - 1
-        q = np.abs(d) / nu
-        q[q < 1] = 1
-        slip = self.slipping[idx]
-        pars[:base] = nu, self.nu_f, self.l2
-        pars[base:base + 5 * m] = 0
-        pars[base:base + k] = slip
-        pars[base + m:base + 2 * m] = d
-        pars[base + 2 * m:base + 3 * m] = 1 / q
-        pars[base + 3 * m:base + 4 * m] = bond
-        pars[base + 4 * m:base + 5 * m] = selfc
+        d = [x - 1 for x in sg] + [self._pad] * (m - k)
+        qinv = []
+        for x in d:
+            q = abs(x) / nu
+            qinv.append(1 / self._one if q < 1 else 1 / q)
+        slip, vd, pcd = self._slip, self._v, self._pc
+        p = [1.0 if j in slip else 0.0 for j in idx] + [0.0] * (m - k)
+        # a stuck neighbour that has not started in this event keeps the piece it had (never used while
+        # it is stuck: its switch events cannot fire at V = 0; the start resets it)
+        pieces = [pcd[j] if j in pcd else int(self.piece[j]) for j in idx] + [0] * (m - k)
+        values = [nu, nu_f, l2] + p + d + qinv + bond + selfc
         k_pieces = wi.n_pieces
-        pieces = np.zeros(m, dtype=np.int64)
-        pieces[:k] = self.piece[idx]
         if k_pieces > 1:
-            pbase = base + 5 * m
-            pars[pbase:pbase + k_pieces * m] = 0
-            pars[pbase + pieces * m + np.arange(m)] = 1
-        state[:] = 0
-        state[m:m + k] = self.vel[idx]
-        ta.time = dtype(0)
+            onehot = [0.0] * (k_pieces * m)
+            for i, pc in enumerate(pieces):
+                onehot[pc * m + i] = 1.0
+            values += onehot
+        pars[:] = values
+        st = [0.0] * len(state)
+        st[m:m + k] = [vd.get(j, 0.0) for j in idx]
+        state[:] = st
+        ta.time = self._zero
         ta.reset_cooldowns()
-        rec = wi.recorder
-        rec.vmax = self.ev["vmax"]
+        wi.recorder.vmax = self.ev["vmax"]
         # blocks outside S: stuck, σ grows as ντ: the first of them fails at τ = (1 − σ)/ν
         if k == self.n:
             tau_far, far = math.inf, -1
+            self._sigma_far = None
         else:
-            masked = self.sigma.copy()
-            masked[idx] = -np.inf
-            far = int(np.argmax(masked))
-            tau_far = (1 - masked[far]) / nu
-        t_left = dtype(self.t_max) - self.ev["duration"]
+            sigma[at] = -np.inf                 # masked in place, restored at once
+            far = int(sigma.argmax())
+            sigma_far = self._scalar(sigma[far])
+            sigma[at] = sg
+            tau_far = (1 - sigma_far) / nu
+            self._sigma_far = sigma_far
+        t_left = t_max - self.ev["duration"]
         t_end = min(tau_far, t_left)
         kinds, blocks, breaks = wi.event_kind, wi.event_block, wi.event_break
         n_events = len(kinds)
-        slipping = int(slip.sum())
+        slipping = int(sum(p))
         steps = self.ev["steps"]
         stopped = []
+        commit = (wi, idx, at, sg, p, pieces, bond, selfc, stopped)
         while True:
             outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=max(self.max_steps - steps, 1))
             steps += nsteps
@@ -278,7 +334,7 @@ class ChainLoop:
                 if outcome == _NONFINITE:
                     return f"non-finite state at t = {float(self.t + ta.time):.17g}"
                 if ta.time >= t_end and tau_far <= t_left:
-                    self._commit(wi, idx, pieces, bond, selfc, stopped)
+                    self._commit(*commit)
                     return self._back_slip(idx) or ("far", far)
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
                         f"or max_steps = {self.max_steps} (steps = {steps})")
@@ -286,23 +342,24 @@ class ChainLoop:
             if j >= k:
                 continue
             if kinds[index] == "block":
-                if pars[base + j]:               # a stop
-                    if self._overloaded(ta, j, m, bond, selfc):
+                if p[j]:                         # a stop
+                    if self._overloaded(ta, state, j, m, d, bond, selfc, nu, l2):
                         state[m + j] = 0         # σ ≥ 1 at V = 0: it keeps slipping
                         self.counts["overloaded"] += 1
                         continue
+                    p[j] = 0.0
                     pars[base + j] = 0
                     state[m + j] = 0
-                    stopped.append(int(idx[j]))
+                    stopped.append(idx[j])
                     slipping -= 1
                     if slipping == 0:
                         self.ev["steps"] = steps
-                        self._commit(wi, idx, pieces, bond, selfc, stopped)
+                        self._commit(*commit)
                         return self._back_slip(idx)
                 else:                            # a stuck block of S starts
                     self.ev["steps"] = steps
-                    self._commit(wi, idx, pieces, bond, selfc, stopped)
-                    return self._back_slip(idx) or ("window", int(idx[j]))
+                    self._commit(*commit)
+                    return self._back_slip(idx) or ("window", idx[j])
             else:                                # a switch of the friction piece
                 b = breaks[index]
                 pc = pieces[j]
@@ -313,56 +370,77 @@ class ChainLoop:
                 pieces[j] = pc
 
     def _back_slip(self, idx):
-        """An error message if a slipping block of the window moves backwards (a stop event was
-        missed), else None. Blocks outside the window did not move in the segment."""
-        v = self.vel[idx][self.slipping[idx]]
-        if v.size and v.min() < -1e-9 * max(1.0, float(np.abs(v).max())):
-            j = int(idx[self.slipping[idx]][np.argmin(v)])
-            return (f"back-slip: block {j} has velocity {float(self.nu * v.min()):.3g} < 0 at t = "
-                    f"{float(self.t):.17g} without a stop event")
+        """An error message if a slipping block moves backwards (a stop event was missed), else None.
+        Every slipping block is in the window (``idx``, the error names it)."""
+        v = [(x, j) for j, x in self._v.items()]
+        if v:
+            low, j = min(v)
+            if low < -1e-9 * max(1.0, max(abs(x) for x, _ in v)):
+                return (f"back-slip: block {j} has velocity {float(self.nu * low):.3g} < 0 at t = "
+                        f"{float(self.t):.17g} without a stop event")
         return None
 
-    def _overloaded(self, ta, j, m, bond, selfc) -> bool:
+    @staticmethod
+    def _overloaded(ta, state, j, m, d, bond, selfc, nu, l2) -> bool:
         """σ_j ≥ 1 at a stop (only at rounding level): the block cannot stick."""
-        pars, w = ta.pars, ta.state
+        w = state
         coupling = bond[j - 1] * w[j - 1] + bond[j] * w[(j + 1) % m] + (selfc[j] - 2) * w[j]
-        return pars[N_GLOBAL + m + j] / pars[0] + pars[2] * coupling - w[j] + ta.time >= 0
+        return d[j] / nu + l2 * coupling - w[j] + ta.time >= 0
 
-    def _commit(self, wi, idx, pieces, bond, selfc, stopped) -> None:
+    def _commit(self, wi, idx, at, sg, p, pieces, bond, selfc, stopped) -> None:
         """Fold the segment's scaled increments into the global state (exact up to rounding).
 
         Only the window's blocks moved, and their Laplacian is the window's own coupling (a block of
         the window next to one outside it is stuck, w = 0), so the stress of block j changes by
-        ν(ℓ²·coupling_j − w_j + τ) in the window and by ντ elsewhere: O(M) work plus one O(N) add."""
-        ta = wi.integrator
-        nu, tau = self.nu, ta.time
-        state, pars = ta.state, ta.pars
-        m, k = wi.m, idx.size
-        w = state[:m].copy()
-        self.vel[idx] = state[m:m + k]
-        self.slipping[idx] = pars[N_GLOBAL:N_GLOBAL + k] != 0
+        ν(ℓ²·coupling_j − w_j + τ) in the window and by ντ elsewhere: O(M) work plus one O(N) add.
+        ``sg`` holds the window's stresses at the segment's start."""
+        nu, l2 = self._hot[:2]
+        ta, state = wi.integrator, wi.state
+        tau = ta.time
+        m, k = wi.m, len(idx)
+        st = state.tolist()
+        w = st[:m]
+        # the window holds every slipping block: their velocities are the state's, the rest are stuck
+        self._v = {j: st[m + i] for i, j in enumerate(idx) if p[i]}
         self._slip.difference_update(stopped)
-        self.piece[idx] = pieces[:k]
+        pcd = self._pc
+        for i, j in enumerate(idx):
+            if j in pcd:
+                pcd[j] = pieces[i]
         if self.energy:
-            dw = np.zeros(self.n, dtype=self.dtype)
-            dw[idx] = w[:k]
-            dy = nu * (tau - dw)
-            db = nu * self._bonds(dw)
-            self.ev["elastic"] += np.sum(self.y * dy + dy * dy / 2) + \
-                self.l2 * np.sum(self.bond * db + db * db / 2)
-            unscale = m / self.dtype(ENERGY_SCALE)
-            self.ev["work"] += nu * (np.sum(self.y) * tau + nu * self.n * tau * tau / 2
-                                     - nu * state[2 * m + 1] * unscale)
-            self.ev["diss"] += nu * state[2 * m] * unscale
-            self.y += dy
-            self.bond += db
-        prev, nxt = self._ring_of(m)
-        coupling = bond[prev] * w[prev] + bond * w[nxt] + (selfc - 2) * w
-        change = np.full(self.n, tau, dtype=self.dtype)
-        change[idx] = (self.l2 * coupling[:k] - w[:k]) + tau
-        self.sigma += nu * change
-        self.u[idx] += nu * w[:k]
-        self.ev["potency"] += nu * np.sum(w[:k])
+            self._energy(wi, idx, np.array(w, dtype=self.dtype), tau)
+        sigma = self.sigma
+        sigma += nu * tau                       # every block: ντ (the window's are overwritten below)
+        new = []
+        ud, u, f = self._u, self.u, self._scalar
+        for i in range(k):
+            coupling = bond[i - 1] * w[i - 1] + bond[i] * w[(i + 1) % m] + (selfc[i] - 2) * w[i]
+            new.append(sg[i] + nu * ((l2 * coupling - w[i]) + tau))
+            j = idx[i]
+            ud[j] = (ud[j] if j in ud else f(u[j])) + nu * w[i]
+        sigma[at] = new
+        # the blocks that may be at σ ≥ 1 now (``_segments`` starts them): the window's, unless the
+        # largest stress outside it reached 1 too (then every block is scanned)
+        far = self._sigma_far
+        self._due = None if far is not None and far + nu * tau >= 1 else \
+            sorted(j for j, x in zip(idx, new) if x >= 1)
+        self.ev["potency"] += nu * self._sum(w[:k])
         self.ev["duration"] += tau
         self.ev["vmax"] = max(self.ev["vmax"], wi.recorder.vmax)
         self.t += tau
+
+    def _energy(self, wi, idx, w, tau) -> None:
+        """The segment's driver work, friction dissipation and change of elastic energy (tests)."""
+        nu, state, m, k = self.nu, wi.state, wi.m, len(idx)
+        dw = np.zeros(self.n, dtype=self.dtype)
+        dw[idx] = w[:k]
+        dy = nu * (tau - dw)
+        db = nu * self._bonds(dw)
+        self.ev["elastic"] += np.sum(self.y * dy + dy * dy / 2) + \
+            self.l2 * np.sum(self.bond * db + db * db / 2)
+        unscale = m / self.dtype(ENERGY_SCALE)
+        self.ev["work"] += nu * (np.sum(self.y) * tau + nu * self.n * tau * tau / 2
+                                 - nu * state[2 * m + 1] * unscale)
+        self.ev["diss"] += nu * state[2 * m] * unscale
+        self.y += dy
+        self.bond += db
