@@ -214,6 +214,10 @@ transient_cycles = 0.5
         assert r["cut"] != "cycles" or r["cycles"] >= r["cycles_asked"]
     assert nh["groups"][0]["fss"]["cutoff"]["points"] == 3 and nh["groups"][0]["reading"][0] in (
         "critical-like", "characteristic-size", "undecided")
+    # the same catalogs by connected slip patches: every event has at least one patch
+    assert [(r["nu"], r["n"]) for r in nh["patch_rows"]] == [(r["nu"], r["n"]) for r in nh["rows"]]
+    assert all(p["events"] >= r["events"] for p, r in zip(nh["patch_rows"], nh["rows"]))
+    assert "### By connected slip patches" in text
     assert (out / "fig_mfd_half.png").stat().st_size > 1000
     assert "## Magnitude–frequency near ν_f = 1/2" in text and "### The sweep at ν = 0.0001" in text
     assert [r["n"] for r in data["sweeps_small_nu"]["table"]] == [1, 4]

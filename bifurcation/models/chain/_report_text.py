@@ -58,7 +58,7 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
          "All numbers: [data.json](data.json).", ""]
     L += _threshold_section(data, c)
     L += _order_section(cfg, data, sw, star)
-    from ._report_mfd import near_half_section, small_nu_section
+    from ._report_mfd_text import near_half_section, small_nu_section
 
     if data.get("sweeps_small_nu", {}).get("table"):
         L += small_nu_section(cfg, data["sweeps_small_nu"], sw)
@@ -195,7 +195,7 @@ def _mfd_section(data) -> list:
 
 
 def _verdict(cfg, data, sw, star) -> list:
-    from ._report_mfd import verdict_notes
+    from ._report_mfd_text import verdict_notes
 
     notes = verdict_notes(cfg, data)
     fss, nu = sw["fss"], cfg["chain"]["nu"]

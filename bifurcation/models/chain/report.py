@@ -134,6 +134,9 @@ def _render(out: Path, cfg, path: Path, data) -> None:
     old.write_text(report_text(cfg, path, data, data["wall_seconds"], speed))
 
 
+_RAW = ("t_start", "potency", "n_blocks", "hypocentre", "duration", "c_size", "c_potency", "c_event")
+
+
 def _extra_stats(out: Path, cfg, data, results) -> None:
     """The ``[near_half]`` catalogs and the ``[sweep_small_nu]`` sweeps into ``data``. Their raw
     catalogs are kept in ``near_half.npz`` (``--from-data`` recomputes the statistics from it)."""
@@ -145,12 +148,11 @@ def _extra_stats(out: Path, cfg, data, results) -> None:
             cats = results["_budgeted_catalog"]
             np.savez_compressed(raw, meta=json.dumps([{k: v for k, v in c.items() if not isinstance(v, list)} for c in cats]),
                                 **{f"{k}_{i}": np.array(c[k]) for i, c in enumerate(cats)
-                                   for k in ("t_start", "potency", "n_blocks", "hypocentre", "duration")})
+                                   for k in _RAW})
         data["sweeps_small_nu"] = {"runs": results["_sweep_small_nu"]}
     if cfg.get("near_half") and raw.exists():
         z = np.load(raw)
-        cats = [dict(m, **{k: z[f"{k}_{i}"].tolist() for k in ("t_start", "potency", "n_blocks", "hypocentre",
-                                                                  "duration")})
+        cats = [dict(m, **{k: z[f"{k}_{i}"].tolist() for k in _RAW if f"{k}_{i}" in z})
                 for i, m in enumerate(json.loads(str(z["meta"])))]
         data["near_half"] = near_half_stats(cats, cfg)
     s = cfg.get("sweep_small_nu")

@@ -11,10 +11,35 @@ import math
 
 import numpy as np
 
-__all__ = ["MERGED", "mfd_reading", "moment_cutoff", "tapered_gr"]
+__all__ = ["MERGED", "mfd_reading", "moment_cutoff", "slip_clusters", "tapered_gr"]
 
 #: slipping fraction above which a catalog's events are read as merged slips (``mfd_reading``)
 MERGED = 0.5
+
+
+def slip_clusters(slip, periodic: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """The connected slip patches of one event: (blocks, potency) per run of adjacent blocks with slip > 0.
+
+    ``slip`` is U_j(end) − U_j(start) of the event, per block. Two patches separated by a block that did
+    not move were two slips that never interacted through the chain's springs inside the event (a
+    stuck block transmits no slip), though the catalog counts them as one event because the chain
+    was never all stuck in between. With ``periodic`` ends a patch touching both ends is one patch.
+    Patches are in the order of their first block (a wrapped one first).
+    """
+    s = np.asarray(slip, dtype=float)
+    moved = s > 0
+    if not moved.any():
+        return np.zeros(0, dtype=np.int64), np.zeros(0)
+    if periodic and moved.all():
+        return np.array([s.size]), np.array([s.sum()])
+    shift = 0
+    if periodic and moved[0] and moved[-1]:      # start after the last block that did not move: the wrapped patch is first
+        shift = int(np.flatnonzero(~moved)[-1]) + 1
+        s, moved = np.roll(s, -shift), np.roll(moved, -shift)
+    edge = np.diff(np.concatenate(([False], moved, [False])).astype(np.int8))
+    starts, ends = np.flatnonzero(edge == 1), np.flatnonzero(edge == -1)
+    sums = np.array([s[a:b].sum() for a, b in zip(starts, ends)])
+    return (ends - starts).astype(np.int64), sums
 
 
 def moment_cutoff(potency, batches: int = 10) -> dict:
