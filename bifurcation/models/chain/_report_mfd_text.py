@@ -159,9 +159,9 @@ def _summary(nh) -> list:
                  "(it ends only when every block is stuck) sums slips all over the chain, so the growth of the "
                  "cutoff and the shapes of these distributions measure the merging of slips, not a rupture size. "
                  f"Readings: {words.count('critical-like')} critical-like, {words.count('characteristic-size')} "
-                 f"characteristic-size, {words.count('undecided')} undecided of {len(words)}; telling the two "
-                 "pictures apart needs events defined by connected slip, or parameters (larger ℓ, other ν) at "
-                 "which the chain is mostly stuck.")
+                 f"characteristic-size, {words.count('undecided')} undecided of {len(words)}"
+                 + ("; the patches below cut each event at the blocks that did not move." if nh.get("patch_rows")
+                    else "; telling the two pictures apart needs events defined by connected slip."))
     return L
 
 
@@ -255,10 +255,11 @@ def verdict_notes(cfg, data) -> dict:
                         f"{ev.count('characteristic-size')} characteristic-size, {ev.count('undecided')} undecided"
                         + (f" (slipping fraction above {MERGED:g} at N = {', '.join(map(str, busy))}: events merge "
                            "separate slips)" if busy else "") if by_patch else "") + ".", mk)
-        rows = [r for r in nh["rows"] if r.get("fit")]
+        rows = [r for r in nh["patch_rows" if by_patch else "rows"] if r.get("fit")]
         ok = [r for r in rows if r["tapered"]["ks"] <= r["tapered"]["ks_crit"] and r["tapered"]["b"] > 2 * r["tapered"]["b_sigma"]]
         exc = [r for r in rows if math.isfinite(r["spanning"]["excess"]) and r["spanning"]["excess"] > 3]
-        out["cl"] = (f"Near ν_f = 1/2: the tapered power law passes KS with b > 2σ in {len(ok)} of {len(rows)} catalogs"
+        out["cl"] = (f"Near ν_f = 1/2{', by connected slip patches' if by_patch else ''}: the tapered power law "
+                     f"passes KS with b > 2σ in {len(ok)} of {len(rows)} catalogs"
                      + (" (" + ", ".join(f"ν = {r['nu']:g}, ν_f = {r['nu_f']:g}, N = {r['n']}: b = "
                                         f"{_pm(r['tapered']['b'], r['tapered']['b_sigma'])}" for r in ok) + ")" if ok else "")
                      + f"; spanning events above 3× the power law's extrapolation in {len(exc)}"
