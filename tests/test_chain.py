@@ -209,3 +209,37 @@ def test_lone_block_is_a_rescaled_single_block(law, nu, nu_f):
     assert r.hypocentre[0] == 4 and r.n_blocks[0] == 1
     single = bf.slip(law, nu=nu / np.sqrt(k), nu_f=nu_f * np.sqrt(k))
     assert abs(r.potency[0] / (float(single.delta) / k) - 1) <= 1e-14
+
+
+@pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear"])
+@pytest.mark.parametrize("ends", ["free", "periodic"])
+def test_a_uniform_chain_slides_as_one_block(law, ends):
+    """Ties: from a uniform start every block fails at t = 1/ν, switches friction piece and stops at
+    the same instants (heyoka reports one of coincident events; the engine must handle the others), and
+    the chain slides as one single block (the Laplacian of a uniform U vanishes), event after event:
+    P = N·Δ(ν, ν_f) of the single-block engine. Tolerance 1e-13: two engines at ~1e-16 each over three
+    events. The engine once missed the coincident stops and let 10 of 12 blocks slide backwards
+    (status no-stop); without the coincident switches the piecewise-linear chain turns non-finite.
+    (Not for the three-piece law of the next test: its uniform slide is unstable, rounding differences
+    between blocks grow to O(1) within the first event, as physics says they should.)"""
+    nu, nu_f, n = 1e-3, 0.2, 12
+    r = chain(law, n=n, ell=1.0, nu=nu, nu_f=nu_f, u0=np.zeros(n), ends=ends, events=3)
+    assert r.status == ChainStatus.COMPLETE, r.message
+    assert list(r.n_blocks) == [n] * 3 and r.hypocentre[0] == 0
+    delta = float(bf.slip(law, nu=nu, nu_f=nu_f).delta)
+    assert np.max(np.abs(r.potency / (n * delta) - 1)) <= 1e-13
+
+
+@pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear", "piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)"])
+@pytest.mark.parametrize("ends", ["free", "periodic"])
+def test_two_equal_loads_far_apart_fail_together(law, ends):
+    """Two equally loaded blocks far apart (σ = 0.9 both, computed by the same formula, so equal to the
+    last bit) fail at the same instant: one event of two lone blocks, P = 2·Δ(ν/√3, √3 ν_f)/3
+    (docs/chain.md, "Threshold"). Tolerance 1e-14 as in the lone-block test above."""
+    nu, nu_f, n = 1e-3, 0.2, 12
+    u0 = np.zeros(n)
+    u0[3] = u0[8] = -0.3                           # σ_3 = σ_8 = 0.9, every other block ≤ 0
+    r = chain(law, n=n, ell=1.0, nu=nu, nu_f=nu_f, u0=u0, ends=ends, events=1)
+    lone = float(bf.slip(law, nu=nu / np.sqrt(3), nu_f=nu_f * np.sqrt(3)).delta) / 3
+    assert r.hypocentre[0] == 3 and r.n_blocks[0] == 2
+    assert abs(r.potency[0] / (2 * lone) - 1) <= 1e-14

@@ -83,6 +83,8 @@ class ChainLoop:
         self._near = [(j, *self._neighbours(j)) for j in range(n)]
         self._slip: set = set()      # the blocks slipping now (during an event)
         self._windows: dict = {}     # per window size M: its compiled integrator
+        #: per piece of the law: the x interval [lower, upper) where it holds
+        self._bounds = ([pc.lower for pc in law.pieces], [pc.lower for pc in law.pieces[1:]] + [math.inf])
         self._layouts: dict = {}     # per window (its blocks, sorted): ``_window_layout``
         # the segment's slip, summed exactly rounded in double (math.fsum) and in the dtype otherwise
         self._sum = math.fsum if dtype is np.float64 else sum
@@ -121,9 +123,9 @@ class ChainLoop:
             window.update(near[j])
         return sorted(window)
 
-    def _layout(self) -> tuple[list, np.ndarray, int, list, list]:
+    def _layout(self) -> tuple[list, np.ndarray, frozenset, int, list, list]:
         """The window of the blocks slipping now: ``_window_layout(_members())`` and the window's
-        blocks as an index array, cached by the set of slipping blocks (windows recur: a pulse crossing
+        blocks as an index array and a set, cached by the set of slipping blocks (windows recur: a pulse crossing
         the chain passes the same stretches again and again; the cache is bounded)."""
         key = frozenset(self._slip)
         hit = self._layouts.get(key)
@@ -131,7 +133,7 @@ class ChainLoop:
             if len(self._layouts) >= 8192:
                 self._layouts.clear()
             idx, m, bond, selfc = self._window_layout(self._members())
-            hit = self._layouts[key] = (idx, np.array(idx, dtype=np.intp), m, bond, selfc)
+            hit = self._layouts[key] = (idx, np.array(idx, dtype=np.intp), frozenset(idx), m, bond, selfc)
         return hit
 
     def _window_layout(self, idx: list) -> tuple[list, int, list, list]:
@@ -238,20 +240,20 @@ class ChainLoop:
             for j in (np.flatnonzero(self.sigma >= 1).tolist() if due is None else due):
                 if j not in self._slip:
                     self._start(j)
-            idx, at, m, bond, selfc = self._layout()
+            idx, at, members, m, bond, selfc = self._layout()
             self._widest = max(self._widest, len(idx))
             wi = self._windows.get(m)
             if wi is None:
                 wi = self._windows[m] = window_integrator(self.law, m, self.precision, self.energy,
                                                           self.compact_above)
-            outcome = self._integrate(wi, idx, at, bond, selfc)
+            outcome = self._integrate(wi, idx, at, members, bond, selfc)
             if outcome is None:
                 return True, ""
             if isinstance(outcome, str):
                 return False, outcome
             kind, j = outcome
             self.counts[kind] += 1
-            if kind == "window" and any(k not in idx for k in self._neighbours(j)):
+            if kind == "window" and any(k not in members for k in self._neighbours(j)):
                 self.counts["grow"] += 1
             self._start(j)
 
@@ -267,7 +269,7 @@ class ChainLoop:
         f = self._scalar
         return f(self.nu), f(self.l2), f(self.dtype(self.t_max)), f(self.nu_f)
 
-    def _integrate(self, wi, idx, at, bond, selfc):
+    def _integrate(self, wi, idx, at, members, bond, selfc):
         """Segments in this window until the event ends (None), an error (a string), or a block starts:
         ("window", j) of S, ("far", j) outside S.
 
@@ -311,10 +313,12 @@ class ChainLoop:
             tau_far, far = math.inf, -1
             self._sigma_far = None
         else:
-            sigma[at] = -np.inf                 # masked in place, restored at once
             far = int(sigma.argmax())
+            if far in members:    # the largest stress is in the window: mask it
+                sigma[at] = -np.inf             # (in place, restored at once)
+                far = int(sigma.argmax())
+                sigma[at] = sg
             sigma_far = self._scalar(sigma[far])
-            sigma[at] = sg
             tau_far = (1 - sigma_far) / nu
             self._sigma_far = sigma_far
         t_left = t_max - self.ev["duration"]
@@ -342,16 +346,8 @@ class ChainLoop:
             if j >= k:
                 continue
             if kinds[index] == "block":
-                if p[j]:                         # a stop
-                    if self._overloaded(ta, state, j, m, d, bond, selfc, nu, l2):
-                        state[m + j] = 0         # σ ≥ 1 at V = 0: it keeps slipping
-                        self.counts["overloaded"] += 1
-                        continue
-                    p[j] = 0.0
-                    pars[base + j] = 0
-                    state[m + j] = 0
-                    stopped.append(idx[j])
-                    slipping -= 1
+                if p[j]:                         # a stop (and any stop at the same instant)
+                    slipping -= self._stops(ta, wi, idx, k, j, p, d, bond, selfc, nu, l2, stopped)
                     if slipping == 0:
                         self.ev["steps"] = steps
                         self._commit(*commit)
@@ -360,14 +356,55 @@ class ChainLoop:
                     self.ev["steps"] = steps
                     self._commit(*commit)
                     return self._back_slip(idx) or ("window", idx[j])
-            else:                                # a switch of the friction piece
-                b = breaks[index]
-                pc = pieces[j]
-                pbase = base + 5 * m
-                pars[pbase + pc * m + j] = 0
-                pc = pc + 1 if b == pc else pc - 1
-                pars[pbase + pc * m + j] = 1
-                pieces[j] = pc
+            else:                                # a switch of the friction piece (and any coincident one)
+                b = breaks[index]                # between pieces b and b + 1
+                if pieces[j] in (b, b + 1):      # else moved already by a coincident crossing
+                    self._switch(wi, j, pieces, 2 * b + 1 - pieces[j])
+                self._switches(wi, k, j, p, pieces, nu, nu_f)
+
+    def _stops(self, ta, wi, idx, k, j, p, d, bond, selfc, nu, l2, stopped) -> int:
+        """Stop block j (its stop event fired) and every other slipping block of the window whose
+        velocity is ≤ 0 at this instant; return how many stopped.
+
+        Blocks of a symmetric chain (a uniform start, equal loads) stop at the same instant to rounding.
+        heyoka reports one of the coincident events; a root that lies at or before the next step's start
+        shows no sign change in that step, so its stop would be missed and the block would slide
+        backwards (tests/test_chain.py, test_equal_stresses_fail_together). A block with σ ≥ 1 at V = 0
+        (only at rounding level: ``_overloaded``) cannot stick and keeps slipping from V = 0."""
+        state, pars, m = wi.state, wi.pars, wi.m
+        v = state[m:m + k].tolist()
+        done = 0
+        for i in [j] + [i for i in range(k) if i != j and p[i] and v[i] <= 0]:
+            state[m + i] = 0
+            if self._overloaded(ta, state, i, m, d, bond, selfc, nu, l2):
+                self.counts["overloaded"] += 1
+                continue
+            p[i] = 0.0
+            pars[N_GLOBAL + i] = 0
+            stopped.append(idx[i])
+            done += 1
+        return done
+
+    def _switch(self, wi, i, pieces, pc) -> None:
+        m = wi.m
+        base = N_GLOBAL + 5 * m
+        wi.pars[base + pieces[i] * m + i] = 0
+        wi.pars[base + pc * m + i] = 1
+        pieces[i] = pc
+
+    def _switches(self, wi, k, j, p, pieces, nu, nu_f) -> None:
+        """After block j switched piece: switch every other slipping block whose x = νv/ν_f already lies
+        strictly outside its piece's interval (a crossing at the same instant to rounding, missed
+        otherwise as in ``_stops``). A block not yet across, or exactly at a breakpoint, stays: heyoka
+        reports its root in the next step (seen at x = b exactly: the crossing came a second time)."""
+        lower, upper = self._bounds
+        v = wi.state[wi.m:wi.m + k].tolist()
+        for i in range(k):
+            if i != j and p[i]:
+                x = (nu * v[i]) / nu_f
+                pc = pieces[i]
+                if x < lower[pc] or x > upper[pc]:
+                    self._switch(wi, i, pieces, self.law.piece_index(x))
 
     def _back_slip(self, idx):
         """An error message if a slipping block moves backwards (a stop event was missed), else None.
