@@ -176,6 +176,23 @@ nus = [1e-6]
 level = 0.01
 scan_nu = 1e-6
 scan_points = 5
+[near_half]
+nus = [1e-3, 1e-4]
+nu_f = [[0.45], [0.5]]
+sizes = [[4, 8, 16], [8]]
+cycles = [[20, 10, 5], [1]]
+events = 400
+transient_cycles = 1
+longest_event = 2.0
+cpu = 20
+seed = 1
+[sweep_small_nu]
+nu = 1e-4
+sizes = [1, 4]
+seeds = [1, 2]
+nu_f = [0.3, 0.5]
+cycles_per_step = [1, 0.5]
+transient_cycles = 0.5
 """)
     main([str(wf)])
     text = (out / "REPORT.md").read_text()
@@ -189,3 +206,21 @@ scan_points = 5
     assert [r["n"] for r in data["sweeps"]["table"]] == [1, 4, 8, 16]
     assert data["catalogs"][0]["events"] == 130
     assert data["sweeps"]["fss"]["slip_per_block.jump"]["points"] == 3
+    # the near-1/2 catalogs: each stopped by a bound it names, none before its transient was over
+    nh = data["near_half"]
+    assert [(r["nu"], r["n"]) for r in nh["rows"]] == [(1e-3, 4), (1e-3, 8), (1e-3, 16), (1e-4, 8)]
+    for r in nh["rows"]:
+        assert r["cut"] in ("events", "cycles", "cpu", "long event") and r["events"] <= 400
+        assert r["cut"] != "cycles" or r["cycles"] >= r["cycles_asked"]
+    assert nh["groups"][0]["fss"]["cutoff"]["points"] == 3 and nh["groups"][0]["reading"][0] in (
+        "critical-like", "characteristic-size", "undecided")
+    # the same catalogs by connected slip patches: every event has at least one patch
+    assert [(r["nu"], r["n"]) for r in nh["patch_rows"]] == [(r["nu"], r["n"]) for r in nh["rows"]]
+    assert all(p["events"] >= r["events"] for p, r in zip(nh["patch_rows"], nh["rows"]))
+    assert "### By connected slip patches" in text
+    assert (out / "fig_mfd_half.png").stat().st_size > 1000
+    assert "## Magnitude–frequency near ν_f = 1/2" in text and "### The sweep at ν = 0.0001" in text
+    assert [r["n"] for r in data["sweeps_small_nu"]["table"]] == [1, 4]
+    # re-rendered from data.json and near_half.npz without runs: the same report body
+    main([str(wf), "--from-data"])
+    assert (out / "REPORT.md").read_text() == text

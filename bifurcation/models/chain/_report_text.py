@@ -58,7 +58,13 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
          "All numbers: [data.json](data.json).", ""]
     L += _threshold_section(data, c)
     L += _order_section(cfg, data, sw, star)
+    from ._report_mfd_text import near_half_section, small_nu_section
+
+    if data.get("sweeps_small_nu", {}).get("table"):
+        L += small_nu_section(cfg, data["sweeps_small_nu"], sw)
     L += _mfd_section(data)
+    if data.get("near_half"):
+        L += near_half_section(cfg, data["near_half"])
     if speed:
         L += [speed.rstrip(), ""]
     L += _verdict(cfg, data, sw, star)
@@ -189,6 +195,9 @@ def _mfd_section(data) -> list:
 
 
 def _verdict(cfg, data, sw, star) -> list:
+    from ._report_mfd_text import verdict_notes
+
+    notes = verdict_notes(cfg, data)
     fss, nu = sw["fss"], cfg["chain"]["nu"]
     vj, wj = fss_words(fss["slip_per_block.jump"])
     vw, ww = fss_words(fss["slip_per_block.width"])
@@ -232,7 +241,7 @@ def _verdict(cfg, data, sw, star) -> list:
     smear = (f"D(1/2) = {one['up'][at[0]]:.3f} and D({row1['nu_f'][at[0] + 1]:g}) = {one['up'][at[0] + 1]:.3f}"
              if at and at[0] + 1 < len(row1["nu_f"]) else "")
     sak = ("undecided: no chain size shows a jump beyond the single block's smeared one, so there is no jump "
-           "whose finite-size trend could be followed at this ν" if not sharper
+           "whose finite-size trend could be followed at ν = " + f"{nu:g}" if not sharper
            else "supported" if vj == "vanishes" else "contradicted" if vj == "persists" else "undecided")
     chain_word = ("undecided" if not sharper or vj not in ("persists", "vanishes")
                   else "first-order-like change that " + vj)
@@ -249,16 +258,26 @@ def _verdict(cfg, data, sw, star) -> list:
          f"above 2σ); FSS: {ww}. | lone block: {lone}. Chain: **{chain_word}** at ν = {nu:g}; loops "
          f"{'resolved at 2σ for N = ' + ', '.join(map(str, sig)) if sig else 'within the noise'}; telling a "
          "persisting jump from a vanishing one needs a smaller ν (the large workflow) |",
-         f"| Carlson & Langer (1989): power-law small events with an excess of large ones | {mfd_cells} | "
-         f"**{cl}** (ℓ = {cfg['chain']['ell']:g}, ν = {nu:g}; Carlson & Langer used ℓ ≈ 10 and a far smaller ν) |",
+         f"| Carlson & Langer (1989): power-law small events with an excess of large ones | {mfd_cells}. "
+         f"{notes['cl'][0]} | **{notes['cl'][1] or cl}**"
+         + (" (ν_f = " + ", ".join(sorted({f"{s['nu_f']:g}" for s in cats})) + "; near ν_f = 1/2 see Mori & Kawamura)"
+            if notes["cl"][0] and not notes["cl"][1] else "")
+         + f" (ℓ = {cfg['chain']['ell']:g}, ν = {nu:g}"
+         + (f" and {cfg['near_half']['nus'][-1]:g}" if notes["cl"][0] else "")
+         + "; Carlson & Langer used ℓ ≈ 10 and a far smaller ν) |",
          f"| Mori & Kawamura (2005–08): near-critical behaviour at weak weakening (ν_f ≈ 1/2) | b from "
          f"ν_f = 0.2 to 0.35: {bs} (the distribution broadens towards weak weakening, but KS rejects an exponential "
-         f"in every case, see the table). {slide}. | **undecided**: broader distributions towards ν_f = 1/2, "
-         "then, for the longest chain, a switch to sliding of the whole chain, not a scale-free state; "
-         "the MFD at ν_f near 1/2 and its finite-size scaling were not measured |",
+         f"in every case, see the table). {slide}. {notes['mk'][0]} | "
+         + (f"**{notes['mk'][1]}** near ν_f = 1/2 (rules: scaling.mfd_reading)" if notes["mk"][1] else
+            "**undecided**: broader distributions towards ν_f = 1/2, then, for the longest chain, a switch to "
+            "sliding of the whole chain, not a scale-free state; the MFD at ν_f near 1/2 and its finite-size "
+            "scaling were not measured") + " |",
          f"| Sakaguchi (2002): the transition becomes continuous in long chains | largest change of D per N: "
-         f"{jumps} (on a grid, the slope of a smooth curve also gives a change); its FSS: {wj} | **{sak}** |", "",
-         "Caveats: one law, one ℓ, one ν; errors are seed-to-seed standard errors from "
+         f"{jumps} (on a grid, the slope of a smooth curve also gives a change); its FSS: {wj}. {notes['sak'][0]} | "
+         f"**{sak}**" + (f"; **{notes['sak'][1]}**" if notes["sak"][1] else "") + " |", "",
+         "Caveats: one law, one ℓ; the sweeps of all N at one ν (" + f"{nu:g}"
+         + (f"; N ≤ {max(cfg['sweep_small_nu']['sizes'])} also at ν = {cfg['sweep_small_nu']['nu']:g}"
+            if data.get("sweeps_small_nu", {}).get("table") else "") + "); errors are seed-to-seed standard errors from "
          + ", ".join(f"{r['seeds']}" for r in table) + " seeds (N = " + ", ".join(str(r["n"]) for r in table)
          + f"); the change of D is measured on a grid of spacing {table[0]['nu_f'][1] - table[0]['nu_f'][0]:.2f} "
          "in ν_f, so a continuous curve also shows a finite change; the loop width is a maximum over noisy "

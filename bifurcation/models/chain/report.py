@@ -75,6 +75,9 @@ def _jobs(cfg):
     for n, events in zip(cat["sizes"], cat["events"]):
         jobs += [(_catalog, (c, cat, n, nf, events), events * n / 500) for nf in cat["nu_f"]]
     jobs += [(_threshold, (c, th, ell, end), 0) for ell in th["ells"] for end in (False, True)]
+    from ._report_mfd import near_half_jobs, small_nu_jobs
+
+    jobs += near_half_jobs(cfg) + small_nu_jobs(cfg)
     return sorted(jobs, key=lambda j: -j[2])      # the longest first: two workers stay busy to the end
 
 
@@ -87,12 +90,13 @@ def main(argv=None) -> None:
     if "--from-data" in argv[1:]:     # re-render REPORT.md and figures from data.json, no runs
         data = json.loads((out / "data.json").read_text())
         data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
+        _extra_stats(out, cfg, data, None)
         _render(out, cfg, path, data)
         return
     t0 = time.perf_counter()
     with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
         futures = [(f.__name__, pool.submit(f, a)) for f, a, _ in _jobs(cfg)]
-        results = {"_sweep": [], "_catalog": [], "_threshold": []}
+        results = {"_sweep": [], "_catalog": [], "_threshold": [], "_budgeted_catalog": [], "_sweep_small_nu": []}
         for name, fut in futures:
             results[name].append(fut.result())
             r = results[name][-1]
@@ -107,6 +111,7 @@ def main(argv=None) -> None:
     for st, c in zip(data["catalogs"], results["_catalog"]):
         st["cpu"] = c["cpu"]
     data["catalogs"].sort(key=lambda d: (d["n"], d["nu_f"]))
+    _extra_stats(out, cfg, data, results)
     import os
 
     data["load_average"] = os.getloadavg()[1]     # 5-minute load at the end: the machine is shared
@@ -120,9 +125,40 @@ def _render(out: Path, cfg, path: Path, data) -> None:
     from ._report_text import report_text
 
     figures(out, data)
+    if data.get("near_half"):
+        from ._report_mfd import near_half_figure
+
+        near_half_figure(out, data["near_half"])
     old = out / "REPORT.md"
     speed = _section(old.read_text(), "## Speed") if old.exists() else ""
     old.write_text(report_text(cfg, path, data, data["wall_seconds"], speed))
+
+
+_RAW = ("t_start", "potency", "n_blocks", "hypocentre", "duration", "c_size", "c_potency", "c_event")
+
+
+def _extra_stats(out: Path, cfg, data, results) -> None:
+    """The ``[near_half]`` catalogs and the ``[sweep_small_nu]`` sweeps into ``data``. Their raw
+    catalogs are kept in ``near_half.npz`` (``--from-data`` recomputes the statistics from it)."""
+    from ._report_mfd import near_half_stats
+
+    raw = out / "near_half.npz"
+    if results is not None:
+        if results["_budgeted_catalog"]:
+            cats = results["_budgeted_catalog"]
+            np.savez_compressed(raw, meta=json.dumps([{k: v for k, v in c.items() if not isinstance(v, list)} for c in cats]),
+                                **{f"{k}_{i}": np.array(c[k]) for i, c in enumerate(cats)
+                                   for k in _RAW})
+        data["sweeps_small_nu"] = {"runs": results["_sweep_small_nu"]}
+    if cfg.get("near_half") and raw.exists():
+        z = np.load(raw)
+        cats = [dict(m, **{k: z[f"{k}_{i}"].tolist() for k in _RAW if f"{k}_{i}" in z})
+                for i, m in enumerate(json.loads(str(z["meta"])))]
+        data["near_half"] = near_half_stats(cats, cfg)
+    s = cfg.get("sweep_small_nu")
+    if s and data.get("sweeps_small_nu", {}).get("runs"):
+        small = dict(cfg, sweep=dict(cfg["sweep"], **s))
+        data["sweeps_small_nu"].update(_sweep_stats(data["sweeps_small_nu"]["runs"], small))
 
 
 def _section(text: str, head: str) -> str:
