@@ -176,8 +176,13 @@ class ChainLoop:
         started, cpu = time.perf_counter(), time.process_time() if self.timing else 0.0
         dtype = self.dtype
         h = int(np.argmax(self.sigma))
-        jump = 1 - self.sigma[h]
-        self.sigma += jump
+        top = self.sigma[h].copy()
+        jump = 1 - top
+        # σ_j − max σ + 1, not σ_j + (1 − max σ): a block tied with the hypocentre reaches 1 exactly
+        # (0 + 1). The other form rounds to 1 − 2⁻⁵³ for about one max σ < 0.5 in eight, and the tied
+        # block then starts ulp/ν later (1e-4 at ν = 1e-12: its event lasted 1e-5 too long)
+        self.sigma -= top
+        self.sigma += 1
         self.sigma[h] = 1
         self.t += jump / self.nu
         if self.energy:   # the quiescent phase stretches the pulling springs; no energy is dissipated
