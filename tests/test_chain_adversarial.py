@@ -31,3 +31,61 @@ def test_blocks_tied_with_the_hypocentre_start_with_it_at_small_nu():
         assert list(r.n_blocks) == [2, 2, 2] and list(r.hypocentre) == [3, 3, 3]
         assert np.max(np.abs(r.duration / float(single.stop_time) - 1)) <= 1e-14
         assert np.max(np.abs(r.potency / (2 * float(single.delta)) - 1)) <= 1e-14
+
+
+def test_a_lone_block_does_not_feel_how_far_below_threshold_its_neighbours_are():
+    """A lone block among stuck neighbours slips as the single block with ν/√k, √k ν_f, P = Δ/k
+    (docs/chain.md, "Threshold of a lone block"; k = 3 for an interior block at ℓ = 1), whatever the
+    neighbours' stresses. heyoka scales its error tolerance with the size of the event functions, and
+    the velocity-maximum event of a stuck neighbour was σ − 1 itself: neighbours at σ = −3.4e10 put
+    the potency off by 1e-8 (found by this test; fixed: that event is −1 at stuck
+    positions). Tolerance 1e-14 as in tests/test_chain.py's lone-block test."""
+    nu, nu_f, k = 1e-3, 0.3, 3.0
+    lone = float(bf.slip("carlson-langer", nu=nu / np.sqrt(k), nu_f=nu_f * np.sqrt(k)).delta) / k
+    for b in (1.5, 3 * 2.0**20, 3 * 2.0**33):      # σ = (−b, −4b/3, 0, −4b/3), exactly
+        r = chain("carlson-langer", n=4, ell=1.0, nu=nu, nu_f=nu_f, u0=[b, b, 2 * b / 3, b], events=2)
+        assert list(r.n_blocks) == [1, 1] and list(r.hypocentre) == [2, 2]
+        assert np.max(np.abs(r.potency / lone - 1)) <= 1e-14, b
+
+
+@pytest.mark.parametrize("law", ["piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)",
+                                 "piecewise(1 - x, 0.25, 0.875 - x/2, 0.75, 1.25 - x, 1, 0.25)"])
+def test_two_equal_lone_blocks_switch_pieces_together(law):
+    """Two equal lone blocks far apart (σ = 0.9, computed by the same formula) cross every breakpoint
+    of a multi-piece law at the same instant, up and down. heyoka reports one crossing at a time and
+    the crossing block lands within an ulp of the breakpoint on either side; the engine toggled the
+    reported block's piece and switched the other by the side of b its x rounded to, so the second
+    report flipped the first block back (it slid at Φ = 0 below x = 1.5): potencies off by up to
+    5e-3 in double and 24× (9 blocks instead of 2) in quad (found here; fixed: the side is decided
+    by the direction of x, ``ChainLoop._side``). Reference: P = 2Δ(ν/√3, √3 ν_f)/3 of the single-block
+    engine (docs/chain.md, "Threshold of a lone block"). Tolerance 1e-14 (measured ≤ 4.4e-16)."""
+    n = 12
+    u0 = np.zeros(n)
+    u0[3] = u0[8] = -0.3
+    for nu in (1e-2, 1e-3, 1e-6):
+        for nu_f in (0.1, 0.2):
+            lone = float(bf.slip(law, nu=nu / np.sqrt(3), nu_f=nu_f * np.sqrt(3)).delta) / 3
+            for precision in ("double", "quad"):
+                r = chain(law, n=n, ell=1.0, nu=nu, nu_f=nu_f, u0=u0, events=1, precision=precision)
+                assert r.n_blocks[0] == 2, (nu, nu_f, precision)
+                assert abs(r.potency[0] / (2 * lone) - 1) <= 1e-14, (nu, nu_f, precision)
+
+
+def test_periodic_pair_against_the_mpmath_reference():
+    """N = 2, periodic: each block's two neighbours are the other one, the window is the whole chain
+    and position 0's left neighbour is the window's last position. The stop test (σ ≥ 1 at V = 0:
+    cannot stick) read that neighbour from the wrong state slot (its velocity, not its displacement),
+    declared a stopping block overloaded and event 7 came out 1.4e-3 too large (found by comparing
+    with the reference; fixed). Reference: bifurcation/models/chain/reference.py (mpmath, dps 36,
+    Taylor order 36, physical variables), run once for this test on the start amplitude=0.5, seed=4.
+    Tolerance 1e-12: the project's double-precision bar against the reference (docs/chain.md)."""
+    ref_t = [1000.0000000000000902, 1316.2389700707232469, 1632.4779401414464036, 2463.9790370804984646,
+             2670.8614096303144535, 3066.1293605091835582, 3382.3683305799067149, 3611.5385100598789022]
+    ref_p = [0.10541299002357438777, 0.10541299002357438777, 2.0555190648157979943, 0.10541299002357438777,
+             1.6482404138818239622, 0.10541299002357438777, 0.10541299002357438777, 1.7552572106936443498]
+    r = chain("carlson-langer", n=2, ell=1.0, nu=1e-3, nu_f=0.3, ends="periodic", amplitude=0.5, seed=4,
+              events=8)
+    assert list(r.hypocentre) == [1, 1, 1, 0, 1, 1, 1, 0]
+    assert list(r.n_blocks) == [1, 1, 2, 1, 2, 1, 1, 2]
+    assert np.max(np.abs(r.t_start / ref_t - 1)) <= 1e-12
+    assert np.max(np.abs(r.potency / ref_p - 1)) <= 1e-12

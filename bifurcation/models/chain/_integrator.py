@@ -133,8 +133,13 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
         for b_index, b in enumerate(law.breakpoints):
             events.append(hy.t_event(x / num(b) - one, direction=anyd, cooldown=cooldown, **fp))
             kinds.append("switch"), blocks.append(j), breaks.append(b_index)
-        # dx/dt·ν_f = σ_j − 1 + g, O(1): zero from above at a velocity maximum
-        nt.append(hy.nt_event(d[j] + nu * load + g, recorder.callback(j), direction=neg, **fp))
+        # dx/dt·ν_f = σ_j − 1 + g, O(1) for a slipping block: zero from above at a velocity maximum.
+        # A stuck position has no maxima and gets −1: heyoka scales its error tolerance with the size of
+        # the event functions too, and σ_j − 1 of a stuck block far below threshold (or of a padding
+        # position, −1e3) loosened the steps of the whole window (a lone block's potency was off by
+        # 9e-9 next to neighbours at σ = −4e10; tests/test_chain_adversarial.py)
+        nt.append(hy.nt_event(hy.select(p[j], d[j] + nu * load + g, -one), recorder.callback(j),
+                              direction=neg, **fp))
         if energy:
             diss_terms.append(hy.select(p[j], (one - g) * v[j], zero))
             disp_terms.append(w[j])

@@ -27,6 +27,7 @@ import math
 import time
 
 import heyoka as hy
+import mpmath
 import numpy as np
 
 from ...laws import FrictionLaw
@@ -85,6 +86,10 @@ class ChainLoop:
         self._windows: dict = {}     # per window size M: its compiled integrator
         #: per piece of the law: the x interval [lower, upper) where it holds
         self._bounds = ([pc.lower for pc in law.pieces], [pc.lower for pc in law.pieces[1:]] + [math.inf])
+        #: per breakpoint b: g = 1 − Φ there (the law is continuous: both pieces agree), for the side a
+        #: block crosses to (``_side``)
+        self._g_break = [dtype(float(law.pieces[i + 1].drop_mp(mpmath.mpf(b))))
+                         for i, b in enumerate(law.breakpoints)]
         self._layouts: dict = {}     # per window (its blocks, sorted): ``_window_layout``
         # the segment's slip, summed exactly rounded in double (math.fsum) and in the dtype otherwise
         self._sum = math.fsum if dtype is np.float64 else sum
@@ -362,9 +367,10 @@ class ChainLoop:
                     return self._back_slip(idx) or ("window", idx[j])
             else:                                # a switch of the friction piece (and any coincident one)
                 b = breaks[index]                # between pieces b and b + 1
-                if pieces[j] in (b, b + 1):      # else moved already by a coincident crossing
-                    self._switch(wi, j, pieces, 2 * b + 1 - pieces[j])
-                self._switches(wi, k, j, p, pieces, nu, nu_f)
+                pc = self._side(ta, wi.state, j, m, d, bond, selfc, nu, l2, b, pieces[j])
+                if pc != pieces[j]:
+                    self._switch(wi, j, pieces, pc)
+                self._switches(ta, wi, k, j, p, pieces, nu, nu_f, d, bond, selfc, l2)
 
     def _stops(self, ta, wi, idx, k, j, p, d, bond, selfc, nu, l2, stopped) -> int:
         """Stop block j (its stop event fired) and every other slipping block of the window whose
@@ -396,19 +402,38 @@ class ChainLoop:
         wi.pars[base + pc * m + i] = 1
         pieces[i] = pc
 
-    def _switches(self, wi, k, j, p, pieces, nu, nu_f) -> None:
+    def _side(self, ta, state, j, m, d, bond, selfc, nu, l2, b, pc) -> int:
+        """The piece of block j at breakpoint b (x_j = b to rounding): b + 1 if x_j is rising there, b if
+        falling (σ_j − Φ(b) > 0 or < 0; Φ is continuous), ``pc`` unchanged at a tangency.
+
+        Decided by the direction, not by toggling the piece or by the side of b that x_j rounds to: at
+        a crossing x_j lands within an ulp of b on either side, and a block switched at one report was
+        flipped back at the next coincident one (a pair of blocks of the three-piece law then slid at
+        Φ = 0 below x = 1.5: potency 0.5 % high; tests/test_chain_adversarial.py)."""
+        rate = self._load(ta, state, j, m, d, bond, selfc, nu, l2) + self._g_break[b] / nu
+        return b + 1 if rate > 0 else b if rate < 0 else pc
+
+    def _switches(self, ta, wi, k, j, p, pieces, nu, nu_f, d, bond, selfc, l2) -> None:
         """After block j switched piece: switch every other slipping block whose x = νv/ν_f already lies
-        strictly outside its piece's interval (a crossing at the same instant to rounding, missed
-        otherwise as in ``_stops``). A block not yet across, or exactly at a breakpoint, stays: heyoka
-        reports its root in the next step (seen at x = b exactly: the crossing came a second time)."""
+        outside its piece's interval and moves away from it (a crossing at the same instant to rounding,
+        missed otherwise as in ``_stops``). A block not yet across, or exactly at a breakpoint, stays:
+        heyoka reports its root in the next step (seen at x = b exactly: the crossing came a second
+        time). A block just outside but moving back in (switched at this instant, x rounded past b)
+        stays too (``_side``)."""
         lower, upper = self._bounds
-        v = wi.state[wi.m:wi.m + k].tolist()
+        state = wi.state
+        m = wi.m
+        v = state[m:m + k].tolist()
         for i in range(k):
             if i != j and p[i]:
                 x = (nu * v[i]) / nu_f
                 pc = pieces[i]
                 if x < lower[pc] or x > upper[pc]:
-                    self._switch(wi, i, pieces, self.law.piece_index(x))
+                    new = self.law.piece_index(x)
+                    if abs(new - pc) == 1:         # across one breakpoint: which way is it going?
+                        new = self._side(ta, state, i, m, d, bond, selfc, nu, l2, min(new, pc), pc)
+                    if new != pc:
+                        self._switch(wi, i, pieces, new)
 
     def _back_slip(self, idx):
         """An error message if a slipping block moves backwards (a stop event was missed), else None.
@@ -422,11 +447,16 @@ class ChainLoop:
         return None
 
     @staticmethod
-    def _overloaded(ta, state, j, m, d, bond, selfc, nu, l2) -> bool:
+    def _load(ta, state, j, m, d, bond, selfc, nu, l2):
+        """(σ_j − 1)/ν of position j now (scaled variables, the integrator's own expression)."""
+        w = state   # the whole state (w then v): the left neighbour of position 0 is w[m − 1], not state[−1]
+        coupling = bond[j - 1] * w[(j - 1) % m] + bond[j] * w[(j + 1) % m] + (selfc[j] - 2) * w[j]
+        return d[j] / nu + l2 * coupling - w[j] + ta.time
+
+    @classmethod
+    def _overloaded(cls, ta, state, j, m, d, bond, selfc, nu, l2) -> bool:
         """σ_j ≥ 1 at a stop (only at rounding level): the block cannot stick."""
-        w = state
-        coupling = bond[j - 1] * w[j - 1] + bond[j] * w[(j + 1) % m] + (selfc[j] - 2) * w[j]
-        return d[j] / nu + l2 * coupling - w[j] + ta.time >= 0
+        return cls._load(ta, state, j, m, d, bond, selfc, nu, l2) >= 0
 
     def _commit(self, wi, idx, at, sg, p, pieces, bond, selfc, stopped) -> None:
         """Fold the segment's scaled increments into the global state (exact up to rounding).
