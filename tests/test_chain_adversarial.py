@@ -89,3 +89,37 @@ def test_periodic_pair_against_the_mpmath_reference():
     assert list(r.n_blocks) == [1, 1, 2, 1, 2, 1, 1, 2]
     assert np.max(np.abs(r.t_start / ref_t - 1)) <= 1e-12
     assert np.max(np.abs(r.potency / ref_p - 1)) <= 1e-12
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["--amplitude", "0.5", "--seed", "-1"], "seed=-1"),                   # was numpy's ValueError
+    (["--amplitude", "1e308", "--seed", "1"], "amplitude=1e+308"),         # stresses overflow: was a
+    (["--u0", "1e308,-1e308,0,0"], "u0="),                                 # heyoka ValueError / NaN run
+])
+def test_cli_bad_start_is_one_line_exit_2_and_writes_nothing(args, needle, tmp_path, monkeypatch):
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    monkeypatch.chdir(tmp_path)
+    res = CliRunner().invoke(cli, ["chain", "--law", "carlson-langer", "--n", "4", "--ell", "1", "--nu", "1e-3",
+                                   "--nu-f", "0.3", "--events", "2", *args])
+    lines = [line for line in res.output.splitlines() if line.strip()]
+    assert res.exit_code == 2 and len(lines) == 1 and lines[0].startswith("bifurcation: error:"), res.output
+    assert needle in lines[0]
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("change,needle", [
+    (dict(seed=-1), "seed"), (dict(amplitude=1e308), "amplitude"),
+    (dict(amplitude=None, seed=None, u0=[[0.0, 0.0], [0.0, 0.0]]), "u0"),   # was flattened silently
+    (dict(t_max=float("nan")), "t_max"), (dict(t_max=0.0), "t_max"), (dict(t_max=-1.0), "t_max"),
+    (dict(max_steps=0), "max_steps"), (dict(max_steps=1.5), "max_steps"),   # was heyoka's TypeError
+])
+def test_api_refuses_bad_bounds_and_starts(change, needle):
+    """Before: t_max ≤ 0 or max_steps ≤ 0 ran and returned status no-stop (a run that could never
+    finish an event), t_max = NaN ran as if unbounded."""
+    kw = dict(n=4, ell=1.0, nu=1e-3, nu_f=0.3, amplitude=0.5, seed=1, events=2)
+    kw.update(change)
+    with pytest.raises(bf.InputError, match=needle):
+        chain("carlson-langer", **kw)

@@ -66,22 +66,32 @@ def check_initial(n: int, ell: float, ends: str, u0, amplitude, seed) -> np.ndar
         if amplitude is None:
             raise InputError("amplitude", None, "is missing", "give u0=array or amplitude=A (and seed=S)")
         amp = _nonnegative("amplitude", amplitude, "give an amplitude A ≥ 0, e.g. 0.5")
-        if seed is not None and not _is_int(seed):
-            raise InputError("seed", seed, "is not an integer", "give an integer seed, e.g. 1")
+        if seed is not None and (not _is_int(seed) or seed < 0):
+            raise InputError("seed", seed, "is not an integer ≥ 0", "give an integer seed ≥ 0, e.g. 1")
         rng = np.random.default_rng(0 if seed is None else int(seed))
-        u = amp * rng.random(n)
-        u = u + np.max(stress(u, ell, ends))
+        with np.errstate(over="ignore", invalid="ignore"):
+            u = amp * rng.random(n)
+            u = u + np.max(stress(u, ell, ends))
     else:
         try:
-            u = np.array(u0, dtype=float).ravel()
+            u = np.array(u0, dtype=float)
         except (TypeError, ValueError):
             raise InputError("u0", u0, "is not an array of numbers", f"give {n} numbers") from None
+        if u.ndim > 1:
+            raise InputError("u0", f"an array of shape {u.shape}", "is not one list of displacements",
+                             f"give {n} numbers in one flat list")
+        u = u.ravel()
         if u.size != n:
             raise InputError("u0", f"{u.size} values", f"does not have n = {n} values", f"give exactly {n} numbers")
         if not np.all(np.isfinite(u)):
             bad = int(np.flatnonzero(~np.isfinite(u))[0])
             raise InputError("u0", f"u0[{bad}] = {u[bad]}", "is not finite", "give finite numbers")
-    s = stress(u, ell, ends)
+    with np.errstate(over="ignore", invalid="ignore"):
+        s = stress(u, ell, ends)
+    if not np.all(np.isfinite(s)):   # u finite, its stresses not: the amplitude or u0 overflows
+        name, value = ("u0", f"max |u0| = {np.max(np.abs(u)):.3g}") if u0 is not None else ("amplitude", amplitude)
+        raise InputError(name, value, "gives stresses beyond the floating-point range",
+                         "give displacements of a sensible size (|σ_j| ≪ 1e300), e.g. amplitude 0.5")
     if np.any(s >= 1):
         j = int(np.argmax(s))
         raise InputError("u0" if u0 is not None else "amplitude", f"σ[{j}] = {s[j]:.6g}" if u0 is not None

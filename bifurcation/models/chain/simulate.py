@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...engine._validate import check_nu, check_nu_f, check_precision
+from ...engine._validate import check_nu, check_nu_f, check_precision, check_work
 from ...laws import resolve_law
 from ._validate import check_events, check_initial, check_size
 from .result import ChainResult, ChainStatus
@@ -57,6 +57,7 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     nu_f = float(check_nu_f(nu_f))
     check_precision(precision)
     events = check_events(events)
+    check_work(t_max, max_steps)   # one event's bounds: refused (not a no-stop run) when not > 0 or NaN
     u = check_initial(n, ell, ends, u0, amplitude, seed)
     from ._loop import ChainLoop
 
