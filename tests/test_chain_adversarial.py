@@ -123,3 +123,20 @@ def test_api_refuses_bad_bounds_and_starts(change, needle):
     kw.update(change)
     with pytest.raises(bf.InputError, match=needle):
         chain("carlson-langer", **kw)
+
+
+def test_a_far_start_at_the_segment_bound_is_not_a_no_stop():
+    """A block outside the window failing at its closed-form time τ_far ends the segment at t_end =
+    τ_far. The loop recognised that by ``ta.time >= t_end``, but heyoka keeps time in double-length
+    and ``ta.time`` can read one ulp below t_end: this run stopped at event 2 with status no-stop
+    after 37 steps and a duration of 18 (neither bound near; found by a random sweep of creeping
+    chains, ν_f = 1; fixed: the outcome time_limit decides). The step sequence, hence the ulp, may
+    differ on another CPU; the check stands anyway. Reference: the same run in quad precision;
+    tolerance 1e-12 (measured 6e-15; this start is not chaotic over 4 events)."""
+    kw = dict(n=4, ell=0.5, nu=0.004773021155946731, nu_f=1.0, amplitude=0.01, seed=15, events=4)
+    r = chain("exponential", **kw)
+    q = chain("exponential", precision="quad", **kw)
+    assert r.status == ChainStatus.COMPLETE == q.status, r.message
+    assert list(r.n_blocks) == list(q.n_blocks) and list(r.hypocentre) == list(q.hypocentre)
+    assert np.max(np.abs(r.potency / q.potency - 1)) <= 1e-12
+    assert np.max(np.abs(r.t_start / q.t_start - 1)) <= 1e-12

@@ -37,6 +37,7 @@ from .result import ChainStatus
 __all__ = ["ChainLoop"]
 
 _NONFINITE = hy.taylor_outcome.err_nf_state
+_TIME_LIMIT = hy.taylor_outcome.time_limit
 
 
 def _pow2_at_least(k: int) -> int:
@@ -346,7 +347,10 @@ class ChainLoop:
                 self.ev["steps"] = steps
                 if outcome == _NONFINITE:
                     return f"non-finite state at t = {float(self.t + ta.time):.17g}"
-                if ta.time >= t_end and tau_far <= t_left:
+                # reached t_end: the far bound if it came first. By the outcome, not by ta.time >= t_end:
+                # heyoka keeps time in double-length and ta.time can read one ulp below t_end (a far start
+                # was reported as no-stop after 74 steps; tests/test_chain_adversarial.py)
+                if outcome == _TIME_LIMIT and tau_far <= t_left:
                     self._commit(*commit)
                     return self._back_slip(idx) or ("far", far)
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
