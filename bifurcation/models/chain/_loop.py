@@ -290,18 +290,17 @@ class ChainLoop:
         # padding positions: stuck, σ = −999 (a constant like −1e100 spoils heyoka's step control);
         # a start of one (only after τ = 1e3/ν) is ignored below
         d = [x - 1 for x in sg] + [self._pad] * (m - k)
-        qinv = []
-        for x in d:
-            q = abs(x) / nu
-            qinv.append(1 / self._one if q < 1 else 1 / q)
+        one = 1 / self._one
+        qinv = [one if (q := abs(x) / nu) < 1 else 1 / q for x in d]
         slip, vd, pcd = self._slip, self._v, self._pc
         p = [1.0 if j in slip else 0.0 for j in idx] + [0.0] * (m - k)
-        # a stuck neighbour that has not started in this event keeps the piece it had (never used while
-        # it is stuck: its switch events cannot fire at V = 0; the start resets it)
-        pieces = [pcd[j] if j in pcd else int(self.piece[j]) for j in idx] + [0] * (m - k)
         values = [nu, nu_f, l2] + p + d + qinv + bond + selfc
         k_pieces = wi.n_pieces
+        pieces = None                            # a one-piece law has no piece to track
         if k_pieces > 1:
+            # a stuck neighbour that has not started keeps the piece it had (never used while it is
+            # stuck: its switch events cannot fire at V = 0; the start resets it)
+            pieces = [pcd[j] if j in pcd else int(self.piece[j]) for j in idx] + [0] * (m - k)
             onehot = [0.0] * (k_pieces * m)
             for i, pc in enumerate(pieces):
                 onehot[pc * m + i] = 1.0
