@@ -170,12 +170,18 @@ class ChainLoop:
         cat = {f: [] for f in ("t_start", "hypocentre", "n_blocks", "potency", "duration",
                                 "max_velocity", "steps", "driver_work", "dissipation", "elastic_change")}
         status, message = ChainStatus.COMPLETE, ""
-        for _ in range(k):
-            ok, message = self._event(cat)
-            if not ok:
-                status = (ChainStatus.NONFINITE if message.startswith("non-finite") else
-                          ChainStatus.BACK_SLIP if message.startswith("back-slip") else ChainStatus.NO_STOP)
-                break
+        # the blocks the run touches keep their displacement and piece in dicts (read and written per
+        # segment); the arrays are written once, when the run returns
+        self._u, self._pc = {}, {}
+        try:
+            for _ in range(k):
+                ok, message = self._event(cat)
+                if not ok:
+                    status = (ChainStatus.NONFINITE if message.startswith("non-finite") else
+                              ChainStatus.BACK_SLIP if message.startswith("back-slip") else ChainStatus.NO_STOP)
+                    break
+        finally:
+            self._flush()
         return dict(catalog=cat, status=status, message=message)
 
     def _event(self, cat: dict) -> tuple[bool, str]:
@@ -194,9 +200,9 @@ class ChainLoop:
         if self.energy:   # the quiescent phase stretches the pulling springs; no energy is dissipated
             self.y += jump
         t_start = self.t
-        # during the event, the blocks it touches keep their velocity, piece and displacement in
-        # dicts (a few entries, read and written per segment); the arrays are updated at its end
-        self._v, self._pc, self._u = {}, {}, {}
+        # the slipping blocks' velocities (all zero between events: never in the arrays but after an
+        # unfinished event)
+        self._v = {}
         self._touched, self._slip = set(), set()
         self._start(h)
         self._widest = 0
@@ -205,7 +211,6 @@ class ChainLoop:
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
                        work=dtype(0), diss=dtype(0), elastic=dtype(0))
         ok, message = self._segments()
-        self._flush()
         ev = self.ev
         cat["t_start"].append(t_start)
         cat["hypocentre"].append(h)
@@ -229,12 +234,13 @@ class ChainLoop:
         return ok, message
 
     def _flush(self) -> None:
-        """Write the event's per-block dicts into the state arrays (after an event every block is
+        """Write the run's per-block dicts into the state arrays (after an event every block is
         stuck: V = 0 exactly; an unfinished one leaves its slipping blocks marked as such)."""
         if self._u:
             self.u[list(self._u)] = list(self._u.values())
         if self._pc:
             self.piece[list(self._pc)] = list(self._pc.values())
+        self._u, self._pc = {}, {}
         if self._slip:
             slip = sorted(self._slip)
             self.slipping[slip] = True
@@ -264,7 +270,7 @@ class ChainLoop:
                 return False, outcome
             kind, j = outcome
             self.counts[kind] += 1
-            if kind == "window" and any(k not in members for k in self._neighbours(j)):
+            if kind == "window" and any(k not in members for k in self._near[j]):
                 self.counts["grow"] += 1
             self._start(j)
 
@@ -295,18 +301,17 @@ class ChainLoop:
         # padding positions: stuck, σ = −999 (a constant like −1e100 spoils heyoka's step control);
         # a start of one (only after τ = 1e3/ν) is ignored below
         d = [x - 1 for x in sg] + [self._pad] * (m - k)
-        qinv = []
-        for x in d:
-            q = abs(x) / nu
-            qinv.append(1 / self._one if q < 1 else 1 / q)
+        one = 1 / self._one
+        qinv = [one if (q := abs(x) / nu) < 1 else 1 / q for x in d]
         slip, vd, pcd = self._slip, self._v, self._pc
         p = [1.0 if j in slip else 0.0 for j in idx] + [0.0] * (m - k)
-        # a stuck neighbour that has not started in this event keeps the piece it had (never used while
-        # it is stuck: its switch events cannot fire at V = 0; the start resets it)
-        pieces = [pcd[j] if j in pcd else int(self.piece[j]) for j in idx] + [0] * (m - k)
         values = [nu, nu_f, l2] + p + d + qinv + bond + selfc
         k_pieces = wi.n_pieces
+        pieces = None                            # a one-piece law has no piece to track
         if k_pieces > 1:
+            # a stuck neighbour that has not started keeps the piece it had (never used while it is
+            # stuck: its switch events cannot fire at V = 0; the start resets it)
+            pieces = [pcd[j] if j in pcd else int(self.piece[j]) for j in idx] + [0] * (m - k)
             onehot = [0.0] * (k_pieces * m)
             for i, pc in enumerate(pieces):
                 onehot[pc * m + i] = 1.0
@@ -442,6 +447,8 @@ class ChainLoop:
     def _back_slip(self, idx):
         """An error message if a slipping block moves backwards (a stop event was missed), else None.
         Every slipping block is in the window (``idx``, the error names it)."""
+        if not self._v or min(self._v.values()) >= 0:
+            return None
         v = [(x, j) for j, x in self._v.items()]
         if v:
             low, j = min(v)
@@ -478,10 +485,11 @@ class ChainLoop:
         # the window holds every slipping block: their velocities are the state's, the rest are stuck
         self._v = {j: st[m + i] for i, j in enumerate(idx) if p[i]}
         self._slip.difference_update(stopped)
-        pcd = self._pc
-        for i, j in enumerate(idx):
-            if j in pcd:
-                pcd[j] = pieces[i]
+        if wi.n_pieces > 1:
+            pcd = self._pc
+            for i, j in enumerate(idx):
+                if j in pcd:
+                    pcd[j] = pieces[i]
         if self.energy:
             self._energy(wi, idx, np.array(w, dtype=self.dtype), tau)
         sigma = self.sigma

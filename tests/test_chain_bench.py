@@ -1,0 +1,41 @@
+"""The chain benchmark's machinery (never its timings: speed is measured by ``bifurcation bench``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bifurcation.laws import resolve_law
+from bifurcation.models.chain._bench import _steady_start, rk4_chain, run_chain_bench
+from bifurcation.models.chain._loop import ChainLoop
+from bifurcation.models.chain._validate import check_initial, stress
+
+
+def test_the_steady_start_is_the_state_after_the_transient():
+    """σ_j = ℓ²(ΔU)_j − U_j + νt depends on U and t only through U − νt: the handed-over start
+    U − νt at t = 0 has the stresses the exact engine holds after the transient, to the rounding of
+    U − νt (|U|, νt ~ 10 here, so a few 1e-15), and the next five events of both loops are the same
+    (potencies to 1e-9: the rounding difference grows in a chaotic chain, but not by 1e5 in 5 events)."""
+    law, n, ell, nu, nu_f = resolve_law("carlson-langer"), 16, 1.0, 1e-3, 0.2
+    u0 = check_initial(n, ell, "free", None, 0.1, 3)
+    start = _steady_start(law, n, ell, nu, nu_f, u0, 40, 8)
+    loop = ChainLoop(law, n, ell, nu, nu_f, "free", u0)
+    loop.run(40)
+    assert np.max(np.abs(stress(start, ell, "free") - loop.sigma)) <= 1e-13
+    again = ChainLoop(law, n, ell, nu, nu_f, "free", start).run(5)["catalog"]
+    after = loop.run(5)["catalog"]
+    assert again["hypocentre"] == after["hypocentre"] and again["n_blocks"] == after["n_blocks"]
+    np.testing.assert_allclose(again["potency"], after["potency"], rtol=1e-9)
+
+
+def test_the_suite_reports_rates_and_ratios_at_every_step():
+    """One tiny case: the report carries, per dt, RK4's rate, its KS distances (in [0, 1]) and the ratio
+    exact/RK4 computed from the two rates; RK4's catalog has the requested number of events."""
+    out = run_chain_bench(cases=((1e-3, 8, 20, 5),), dts=(0.2, 0.1), echo=None)
+    (row,) = out["rows"]
+    assert (row["nu"], row["n"], row["events"], row["transient"]) == (1e-3, 8, 20, 5)
+    assert [r["dt"] for r in row["rk4"]] == [0.2, 0.1]
+    for r in row["rk4"]:
+        assert 0 <= r["ks"] <= 1 and 0 <= r["ks_magnitude"] <= 1
+        assert r["ratio"] == row["exact_events_per_s"] / r["events_per_s"]
+    u0 = check_initial(8, 1.0, "free", None, 0.1, 1)
+    assert len(rk4_chain("carlson-langer", n=8, ell=1.0, nu=1e-3, nu_f=0.2, u0=u0, events=7, dt=0.2)["potency"]) == 7
