@@ -140,3 +140,23 @@ def test_a_far_start_at_the_segment_bound_is_not_a_no_stop():
     assert list(r.n_blocks) == list(q.n_blocks) and list(r.hypocentre) == list(q.hypocentre)
     assert np.max(np.abs(r.potency / q.potency - 1)) <= 1e-12
     assert np.max(np.abs(r.t_start / q.t_start - 1)) <= 1e-12
+
+
+@pytest.mark.parametrize("law", ["exponential", "exp(-x-x^2/2)"])
+def test_friction_that_fades_is_not_stepped_over(law):
+    """At ν_f = 0.01 a block reaches x = U̇/ν_f ≈ 100, where Φ = e^{−x} (or e^{−x−x²/2}) is far below
+    rounding and invisible to heyoka's step control: a Taylor step crossed the whole deceleration and
+    stopped the block on a polynomial in which friction never came back. P was off by 1.8e-8
+    (exponential, ν = 1e-5) to 1.3e-5 (e^{−x−x²/2}, double and quad alike), found by comparing with
+    the single-block engine, which ends a step at each rung of its ladder (engine/_fading.py) — and
+    with an independent scipy DOP853 integration (rtol 1e-13) of the same block, which agrees with
+    it. Fixed: the window integrator has the same rungs. Reference: ``bifurcation.slip`` Δ and
+    stop_time, for N = 1 and for each block of an uncoupled chain (ℓ = 0, every event one block:
+    ν = 1e-5 keeps their failures apart). Tolerance 1e-14 (measured ≤ 2.2e-16)."""
+    nu, nu_f = 1e-5, 0.01
+    single = bf.slip(law, nu=nu, nu_f=nu_f)
+    for n, ell in ((1, 0.0), (4, 0.0)):
+        r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, amplitude=0.5, seed=1, events=4)
+        assert r.status == ChainStatus.COMPLETE and np.all(r.n_blocks == 1)
+        assert np.max(np.abs(r.potency / float(single.delta) - 1)) <= 1e-14
+        assert np.max(np.abs(r.duration / float(single.stop_time) - 1)) <= 1e-14

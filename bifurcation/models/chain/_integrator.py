@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import heyoka as hy
 import numpy as np
 
+from ...engine import _fading
 from ...engine._integrator import COOLDOWN, fp_info
 from ...laws import FrictionLaw
 
@@ -80,7 +81,7 @@ class WindowIntegrator:
 
     m: int
     integrator: object
-    event_kind: tuple      # per terminal event: "block" (stop or start) or "switch"
+    event_kind: tuple      # per terminal event: "block" (stop or start), "switch" or "rung"
     event_block: tuple     # block index (or -1)
     event_break: tuple     # breakpoint index (or -1)
     n_pieces: int
@@ -119,6 +120,12 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
     fp = {"fp_type": fp_type} if fp_type is not None else {}
     cooldown = fp_type(COOLDOWN) if fp_type is not None else COOLDOWN
     neg, anyd = hy.event_direction.negative, hy.event_direction.any
+    # friction that fades faster than any power (e^{−x}, e^{−x−x²/2}) is invisible to heyoka's step
+    # control once it is below rounding: a step can cross the whole deceleration and stop the block on
+    # a polynomial where friction never came back (e^{−x−x²/2} at ν_f = 0.01: P 1.3e-5 off in double
+    # and quad). The single block's rungs (engine._fading, docs/engine.md) end a step at each x_k
+    # crossed downward; laws that do not fade have none and pay nothing.
+    rungs = _fading.ladder(law, precision).rungs
     diss_terms, disp_terms = [], []
     for j in range(m):
         coupling = bond[j - 1] * w[j - 1] + bond[j] * w[(j + 1) % m] + (selfc[j] - num(2)) * w[j]
@@ -133,6 +140,9 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
         for b_index, b in enumerate(law.breakpoints):
             events.append(hy.t_event(x / num(b) - one, direction=anyd, cooldown=cooldown, **fp))
             kinds.append("switch"), blocks.append(j), breaks.append(b_index)
+        for r in rungs:
+            events.append(hy.t_event(x / num(r) - one, direction=neg, cooldown=cooldown, **fp))
+            kinds.append("rung"), blocks.append(j), breaks.append(-1)
         # dx/dt·ν_f = σ_j − 1 + g, O(1) for a slipping block: zero from above at a velocity maximum.
         # A stuck position has no maxima and gets −1: heyoka scales its error tolerance with the size of
         # the event functions too, and σ_j − 1 of a stuck block far below threshold (or of a padding
@@ -171,7 +181,10 @@ def window_integrator(law: FrictionLaw, m: int, precision: str = "double", energ
     (~/.cache/heyoka), so the price is paid once per machine, law and M: worth it for long runs
     (``bifurcation bench --suite chain`` uses 32), not for a test suite that touches many laws.
     """
-    compact = m > compact_above or precision != "double"
+    # a fading law's rungs multiply the event equations by up to ~17 (exponential: 16 rungs): full mode
+    # then took 13 s to compile at M = 8 (measured), so such laws use it only up to M = 2
+    fading = bool(_fading.ladder(law, precision).rungs)
+    compact = m > (min(compact_above, 2) if fading else compact_above) or precision != "double"
     key = (law.name, law.formula, m, precision, energy, compact)
     hit = _CACHE.get(key)
     if hit is None:

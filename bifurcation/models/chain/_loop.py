@@ -361,7 +361,7 @@ class ChainLoop:
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
                         f"or max_steps = {self.max_steps} (steps = {steps})")
             j = blocks[index]
-            if j >= k:
+            if j >= k or kinds[index] == "rung":     # a rung only ends a step (``_integrator``)
                 continue
             if kinds[index] == "block":
                 if p[j]:                         # a stop (and any stop at the same instant)
