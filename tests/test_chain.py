@@ -243,3 +243,18 @@ def test_two_equal_loads_far_apart_fail_together(law, ends):
     lone = float(bf.slip(law, nu=nu / np.sqrt(3), nu_f=nu_f * np.sqrt(3)).delta) / 3
     assert r.hypocentre[0] == 3 and r.n_blocks[0] == 2
     assert abs(r.potency[0] / (2 * lone) - 1) <= 1e-14
+
+
+def test_the_back_slip_guard_names_the_block_and_ignores_rounding():
+    """The guard against a missed stop (ChainLoop._back_slip, checked after every segment): a slipping
+    block with V < 0 beyond rounding (1e-9 of the largest |v|, its documented allowance) is an error
+    that names the block; a negative velocity at rounding level is not. No engine run reaches it
+    (every test above completes), so the guard is checked on a hand-set state."""
+    loop = ChainLoop(resolve_law("carlson-langer"), 8, 1.0, 1e-3, 0.2, "free", np.zeros(8))
+    loop._v = {3: -1.0, 5: 2.0}
+    message = loop._back_slip([3, 4, 5])
+    assert message.startswith("back-slip: block 3 has velocity -0.001 < 0")
+    loop._v = {3: -1e-12, 5: 2.0}
+    assert loop._back_slip([3, 4, 5]) is None
+    loop._v = {}
+    assert loop._back_slip([]) is None

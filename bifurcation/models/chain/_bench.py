@@ -214,7 +214,7 @@ def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu_f: floa
         say(f"  ν = {nu:g}, N = {n:5d}: exact {row['exact_events_per_s']:9.1f} events/s ({k / wall_s:.1f}) (mean size "
             f"{row['mean_n_blocks']:.1f}, warm-up incl. compile {compile_s:.1f} s); KS noise at {k} events "
             f"{row['noise_ks']:.3f}; "
-            + "; exact/RK4 at dt = " + " / ".join(f"{r['dt']:g}" for r in row["rk4"]) + ": "
+            + "exact/RK4 at dt = " + " / ".join(f"{r['dt']:g}" for r in row["rk4"]) + ": "
             + " / ".join(f"{r['ratio']:.1f}x" for r in row["rk4"]))
         say("           cost by size (wall ms per event): " + ", ".join(
             f"{c['n_blocks']}: {c['ms_per_event']:.2f} ({c['events']})" for c in row["cost_by_size"]))

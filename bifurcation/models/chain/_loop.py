@@ -131,8 +131,8 @@ class ChainLoop:
 
     def _layout(self) -> tuple[list, np.ndarray, frozenset, int, list, list]:
         """The window of the blocks slipping now: ``_window_layout(_members())`` and the window's
-        blocks as an index array and a set, cached by the set of slipping blocks (windows recur: a pulse crossing
-        the chain passes the same stretches again and again; the cache is bounded)."""
+        blocks as an index array and a set, cached by the set of slipping blocks (windows recur: a
+        pulse crossing the chain passes the same stretches again and again; the cache is bounded)."""
         key = frozenset(self._slip)
         hit = self._layouts.get(key)
         if hit is None:
@@ -146,8 +146,8 @@ class ChainLoop:
         """Window positions of the blocks ``idx`` (sorted): (chain index per position, M, bonds, self
         couplings). Position i is bonded to i + 1 where the two blocks are chain neighbours.
 
-        Python lists, not arrays: a window holds a few blocks, and a numpy call on a few elements
-        costs more than the Python loop over them (this runs once per segment)."""
+        Python lists, not arrays: a window holds a few blocks, and the segment's hot path reads them
+        element by element (``_layout`` computes this on a cache miss only)."""
         n, k = self.n, len(idx)
         if self.periodic and k < n:   # start the cyclic order after a gap: no bond wraps the order
             gap = next((i for i, j in enumerate(idx) if j != i), k)
@@ -449,12 +449,10 @@ class ChainLoop:
         Every slipping block is in the window (``idx``, the error names it)."""
         if not self._v or min(self._v.values()) >= 0:
             return None
-        v = [(x, j) for j, x in self._v.items()]
-        if v:
-            low, j = min(v)
-            if low < -1e-9 * max(1.0, max(abs(x) for x, _ in v)):
-                return (f"back-slip: block {j} has velocity {float(self.nu * low):.3g} < 0 at t = "
-                        f"{float(self.t):.17g} without a stop event")
+        low, j = min((x, j) for j, x in self._v.items())
+        if low < -1e-9 * max(1.0, max(abs(x) for x in self._v.values())):
+            return (f"back-slip: block {j} has velocity {float(self.nu * low):.3g} < 0 at t = "
+                    f"{float(self.t):.17g} without a stop event")
         return None
 
     @staticmethod
