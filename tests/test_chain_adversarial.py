@@ -148,7 +148,7 @@ def test_friction_that_fades_is_not_stepped_over(law):
     rounding and invisible to heyoka's step control: a Taylor step crossed the whole deceleration and
     stopped the block on a polynomial in which friction never came back. P was off by 1.8e-8
     (exponential, ν = 1e-5) to 1.3e-5 (e^{−x−x²/2}, double and quad alike), found by comparing with
-    the single-block engine, which ends a step at each rung of its ladder (engine/_fading.py) — and
+    the single-block engine, which ends a step at each rung of its ladder (laws/_fading.py) — and
     with an independent scipy DOP853 integration (rtol 1e-13) of the same block, which agrees with
     it. Fixed: the window integrator has the same rungs. Reference: ``bifurcation.slip`` Δ and
     stop_time, for N = 1 and for each block of an uncoupled chain (ℓ = 0, every event one block:

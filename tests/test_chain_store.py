@@ -226,8 +226,8 @@ def test_a_run_that_stops_early_keeps_its_events_and_says_so():
     from bifurcation.engine.solve import solve
 
     points = dict(n=[6], ell=[1.0], nu=[1e-3], nu_f=[0.3], amplitude=[0.5], seed=[2], events=[30], periodic=[0])
-    out = solve("chain", "carlson-langer", points, t_max=2.0)
-    full = solve("chain", "carlson-langer", points)
+    out = solve(get_model("chain"), "carlson-langer", points, t_max=2.0)
+    full = solve(get_model("chain"), "carlson-langer", points)
     k = int(out["events_done"][0])
     assert out["status"][0] == 3 and k < 30 and np.isnan(out["t_end"][0])   # ChainStatus.NO_STOP
     assert full["duration"][0][k] > 2.0 and np.all(full["duration"][0][:k] <= 2.0)

@@ -20,7 +20,8 @@ import numpy as np
 import pytest
 
 import bifurcation as bf
-from bifurcation.engine import _fading, _integrator
+from bifurcation.engine import _integrator
+from bifurcation.laws import _fading
 from bifurcation.engine.result import Status
 from bifurcation.laws import resolve_law
 from bifurcation.theory.reference import piecewise_linear_exact

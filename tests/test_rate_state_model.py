@@ -170,9 +170,9 @@ def test_points_the_engine_cannot_vouch_for_get_a_status():
 
     S = RateStateStatus
     base = {"kappa": [0.9], "v_lp": 1.0, "a": 0.01, "b": 0.015, "dc": 0.01, "mass": 0.0, "b2": 0.0, "dc2": 0.1}
-    out = solve("rate-state", "aging", {**base, "b": [0.005]})       # b < a: velocity strengthening
+    out = solve(get_model("rate-state"), "aging", {**base, "b": [0.005]})       # b < a: velocity strengthening
     assert out["status"][0] == S.NO_HOPF_POINT and math.isnan(out["k_c"][0])
-    out = solve("rate-state", "aging", {**base, "b2": [0.01]})       # b2 for a one-variable label
+    out = solve(get_model("rate-state"), "aging", {**base, "b2": [0.01]})       # b2 for a one-variable label
     assert out["status"][0] == S.NOT_APPLICABLE and "one" in out["messages"][0]
     # a step budget too small for the run: not resolved, with no number
     model = get_model("rate-state")
@@ -188,7 +188,7 @@ def test_two_state_variables_take_b2_and_dc2():
     from bifurcation.models.rate_state.hopf import hopf_point
 
     pts = {"kappa": [0.9], "v_lp": 1.0, "a": 0.01, "b": 0.012, "dc": 0.01, "mass": 0.0, "b2": 0.006, "dc2": 0.1}
-    out = solve("rate-state", "aging+slip", pts)
+    out = solve(get_model("rate-state"), "aging+slip", pts)
     h = hopf_point(a=0.01, b=[0.012, 0.006], dc=[0.01, 0.1], state_law=["aging", "slip"], v_lp=1.0, dps=30)
     assert out["k_c"][0] == h.k_c and out["status"][0] == RateStateStatus.LIMIT_CYCLE
     assert out["criticality"][0] == 2   # supercritical: a small stable cycle below k_c
@@ -224,7 +224,7 @@ def test_a_deep_inertial_slip_cycle_against_a_direct_run():
     from bifurcation.models.rate_state import rate_state
 
     pts = {"kappa": [0.1], "v_lp": 1.0, "a": 0.01, "b": 0.05, "dc": 0.01, "mass": 1e-2, "b2": 0.0, "dc2": 0.1}
-    out = solve("rate-state", "slip", pts, max_steps=1_000_000)
+    out = solve(get_model("rate-state"), "slip", pts, max_steps=1_000_000)
     assert out["status"][0] == RateStateStatus.LIMIT_CYCLE
     period, k = float(out["period"][0]), float(out["k"][0])
     assert out["ln_v_min"][0] < -18.6 and out["multiplier_max"][0] < 0.1
@@ -245,7 +245,7 @@ def test_v_lp_only_rescales_a_point_at_fixed_eta():
 
     rows = []
     for v in (1e-9, 1.0, 1e3):
-        out = solve("rate-state", "slip", {"kappa": [0.5, 1.5], "v_lp": v, "a": 0.01, "b": 0.015, "dc": 0.01,
+        out = solve(get_model("rate-state"), "slip", {"kappa": [0.5, 1.5], "v_lp": v, "a": 0.01, "b": 0.015, "dc": 0.01,
                                            "mass": 1e-5 / v ** 2, "b2": 0.0, "dc2": 0.1})
         assert out["status"].tolist() == [RateStateStatus.LIMIT_CYCLE, RateStateStatus.STEADY_SLIDING]
         assert out["k_c"][0] == pytest.approx(0.55, rel=1e-14)   # (b − a)/Dc · (1 + η), η = 0.1

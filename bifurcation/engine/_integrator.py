@@ -19,6 +19,8 @@ import heyoka as hy
 import numpy as np
 
 from ..laws import FrictionLaw
+from ..models import Model
+from ..models.single_block import SINGLE_BLOCK
 
 __all__ = ["COOLDOWN", "Compiled", "EventKind", "LaneRecorder", "build", "compiled", "fp_info"]
 
@@ -169,13 +171,22 @@ def _events(model, system, law: FrictionLaw, fp_type, recorder: LaneRecorder | N
     return events, tuple(kinds), tuple(bp_of), tuple(records), tuple(state_of), tuple(sets_of), nt_events
 
 
+def _declared(model) -> Model:
+    """``model`` itself: the engine is handed a declaration and never looks one up by name (None: the
+    single block, whose ``slip``/``limit`` live in this package)."""
+    if model is None:
+        return SINGLE_BLOCK
+    if not isinstance(model, Model):
+        raise TypeError(f"the engine takes a bifurcation.models.Model, not {model!r} "
+                        "(look a name up with bifurcation.models.get_model)")
+    return model
+
+
 def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1, model=None,
              structure=None) -> Compiled:
-    """The cached compiled integrator for ``law`` under ``model`` (default: the single block) and the
-    values ``structure`` of its structural axes."""
-    from ..models import get_model
-
-    model = get_model(model)
+    """The cached compiled integrator for ``law`` under ``model`` (a ``Model``; None: the single block)
+    and the values ``structure`` of its structural axes."""
+    model = _declared(model)
     structure = dict(structure or {})
     key = (model.name, law.name, law.formula, precision, batch_size, tuple(sorted(structure.items())))
     hit = _CACHE.get(key)
@@ -187,9 +198,7 @@ def compiled(law: FrictionLaw, precision: str = "double", batch_size: int = 1, m
 def build(law: FrictionLaw, precision: str = "double", batch_size: int = 1, model=None,
           structure=None) -> Compiled:
     """Compile a new integrator for ``law`` (uncached; the benchmark's naive baseline uses this)."""
-    from ..models import get_model
-
-    model = get_model(model)
+    model = _declared(model)
     structure = dict(structure or {})
     fp_type, dtype, num = fp_info(precision)
     slots = model.slots(len(law.pieces))

@@ -15,6 +15,7 @@ import heyoka as hy
 import numpy as np
 
 from ..laws import FrictionLaw, resolve_law
+from ..models.single_block import SINGLE_BLOCK
 from ._integrator import Compiled, EventKind, compiled
 from ._validate import check_batch, check_nu, check_nu_f, check_precision, check_work
 from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult, Status
@@ -240,9 +241,7 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
     shape = nu_b.shape
     nu_flat = np.ascontiguousarray(nu_b, dtype=float).ravel()
     nu_f_flat = np.ascontiguousarray(nu_f_b, dtype=float).ravel()
-    from ..models import get_model
-
-    fields, messages = run_model(get_model(), law, {"nu": nu_flat, "nu_f": nu_f_flat}, precision=precision,
+    fields, messages = run_model(SINGLE_BLOCK, law, {"nu": nu_flat, "nu_f": nu_f_flat}, precision=precision,
                                  t_max=t_max, max_steps=max_steps, batch=batch)
     return SlipResult(nu=nu_flat.reshape(shape), nu_f=nu_f_flat.reshape(shape),
                       **{k: v.reshape(shape) for k, v in fields.items()},

@@ -63,6 +63,7 @@ class LimitResult(_Fields):
     precision: str
 
     _AXES = ("nu_f",)
+    _ATTRS = LIMIT_FIELD_ATTRS
 
     def keys(self):
         return ("nu_f", *LIMIT_FIELDS, "steps", "status")

@@ -6,65 +6,22 @@ A grid never throws per point: each point carries a status. The codes are stable
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import IntEnum
 
 import numpy as np
+
+from ..models.single_block import FIELD_ATTRS, FIELDS
+from ..outcome import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, Status
 
 __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "FIELDS", "FIELD_ATTRS", "SlipResult", "Status", "records",
            "status_names"]
 
-#: Bound on the time of one cycle. The longest legitimate cycles are the creep oscillations just above
-#: ν_f = 1/2 (t0 ~ 2π/ω of Eq. 9) and the creep time t1 ~ (α − ω) ln(1/ν) ≤ 40; both are far below this.
-DEFAULT_T_MAX = 1.0e5
-#: Bound on the Taylor steps of one cycle (a few hundred are typical).
-DEFAULT_MAX_STEPS = 200_000
-
-
-class Status(IntEnum):
-    """Per-point outcome. ``str(Status.STICK_SLIP) == "stick-slip"``."""
-
-    NOT_COMPUTED = 0   #: never computed (used by the store's fill value)
-    #: Stopped, and the slip stays finite as ν → 0: ν_f ≤ 1/2 (the ν = 0 fixed point is an unstable
-    #: node, so the block always leaves the linear regime), or ν_f > 1/2 but U̇ reached ν_f at this ν
-    #: (the finite-ν rounding of the transition). Not "U̇ reached ν_f" alone: with Carlson–Langer at
-    #: ν_f = 0.4 the slip is finite (Δ → 0.738) while U̇ never exceeds 0.34.
-    STICK_SLIP = 1
-    #: Stopped with ν_f > 1/2 and U̇ < ν_f throughout: the linear creep cycle of Eqs. (7)–(10), Δ ∝ ν.
-    CREEP = 2
-    NO_STOP = 3        #: did not stop before t_max or max_steps (bounded, never hangs)
-    NO_STICK = 4       #: stopped, but the spring force then exceeds static friction (back-slip)
-    NONFINITE = 5      #: the integrator produced a non-finite state
-    #: Stopped, but U̇/ν_f went beyond the x up to which the engine checked that no Taylor step can
-    #: step over the law's friction (docs/engine.md, "Friction that fades"): no value is given.
-    UNRESOLVED = 7
-
-    def __str__(self) -> str:  # "stick-slip", as users and the store see it
-        return self.name.lower().replace("_", "-")
-
-
-#: Float fields of a slip result, in order.
-FIELDS = ("delta", "period", "creep_time", "slip_duration", "stop_time", "max_velocity")
-
-#: Long names and units, used by the CLI and the store.
-FIELD_ATTRS = {
-    # Dimensionless, as in the paper (Eq. 4): CF units "1", the scale named in the long name. Short names
-    # (they are xarray's plot labels); where a field is undefined it is NaN (see ``SlipResult``).
-    "delta": ("slip Δ per cycle (in F0/k)", "1"),
-    "period": ("recurrence time T = Δ/ν (in √(m/k))", "1"),
-    "creep_time": ("creep time t1, until U̇ = ν_f (in √(m/k))", "1"),
-    "slip_duration": ("slip duration, t1 to the stop (in √(m/k))", "1"),
-    "stop_time": ("time to the stop, t0 in creep (in √(m/k))", "1"),
-    "max_velocity": ("maximum block velocity U̇ (in V0)", "1"),
-    "steps": ("Taylor steps taken", "1"),
-    "status": ("outcome of the cycle", "1"),
-}
-
-
 class _Fields:
     """Key access, status names, records, xarray/pandas views and short reprs for the result dataclasses
-    (which define ``keys`` and ``_AXES``, the input fields that label the points)."""
+    (which define ``keys``, ``_AXES``, the input fields that label the points, and ``_ATTRS``, the long
+    names and units of their fields beyond ``FIELD_ATTRS``)."""
 
     _AXES: tuple = ()
+    _ATTRS: dict = {}
 
     def __getitem__(self, key: str):
         return getattr(self, key)
@@ -81,9 +38,7 @@ class _Fields:
         """
         import xarray as xr
 
-        from .direct import LIMIT_FIELD_ATTRS
-
-        attrs_of = {**FIELD_ATTRS, **LIMIT_FIELD_ATTRS, **_AXIS_ATTRS}
+        attrs_of = {**FIELD_ATTRS, **self._ATTRS, **_AXIS_ATTRS}
         flat = {k: np.asarray(self[k]).ravel() for k in self.keys()}
         n = flat["status"].size
 

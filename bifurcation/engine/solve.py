@@ -15,17 +15,17 @@ __all__ = ["solve"]
 
 def solve(model, label: str, points: dict, *, precision: str = "double", t_max: float = DEFAULT_T_MAX,
           max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1, checkpoints=None) -> dict:
-    """Run ``model`` (a ``bifurcation.models.Model`` or its name) for ``label`` at every point.
+    """Run ``model`` (a ``bifurcation.models.Model``: the engine never looks one up) for ``label`` at every point.
 
     ``points`` maps each axis of the model to an array of values (all of one shape). Returns a dict
     of the model's outputs (arrays of that shape) and ``messages`` (flat index → text).
     ``checkpoints`` (a runner model that checkpoints, ``bifurcation.store.catalog.Checkpoints``) is
     handed to the runner; per-event outputs are object arrays of per-point arrays.
     """
-    from ..models import get_model
+    from ._integrator import _declared
     from .cycle import run_model
 
-    spec = get_model(model)
+    spec = _declared(model)
     missing = [a.name for a in spec.axes if a.name not in points]
     if missing:
         raise KeyError(f"solve({spec.name}): no values for the axes {missing}")

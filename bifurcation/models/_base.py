@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..engine.result import Status
+from ..outcome import Status
 
 __all__ = ["ACTIONS", "Axis", "Event", "Labels", "Model", "Output", "Slots", "StateVar", "System"]
 

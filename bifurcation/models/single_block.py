@@ -27,12 +27,29 @@ import math
 import numpy as np
 
 from ..bounds import NU_BOUNDS, NU_F_BOUNDS
-from ..engine.result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, FIELD_ATTRS, FIELDS, Status
 from ..laws import law_names, resolve_law
+from ..outcome import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, Status
 from ._base import Axis, Event, Labels, Model, Output, StateVar, System
 
-__all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "LAW", "NU", "NU_F", "OUTPUTS", "SINGLE_BLOCK", "STOP_EVENTS",
+__all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "FIELDS", "FIELD_ATTRS", "LAW", "NU", "NU_F", "OUTPUTS", "SINGLE_BLOCK", "STOP_EVENTS",
            "block_equations", "classify_cycles", "law_identity"]
+
+#: Float fields of a slip result, in order.
+FIELDS = ("delta", "period", "creep_time", "slip_duration", "stop_time", "max_velocity")
+
+#: Long names and units, used by the CLI, the store and ``SlipResult``.
+FIELD_ATTRS = {
+    # Dimensionless, as in the paper (Eq. 4): CF units "1", the scale named in the long name. Short names
+    # (they are xarray's plot labels); where a field is undefined it is NaN (see ``SlipResult``).
+    "delta": ("slip Δ per cycle (in F0/k)", "1"),
+    "period": ("recurrence time T = Δ/ν (in √(m/k))", "1"),
+    "creep_time": ("creep time t1, until U̇ = ν_f (in √(m/k))", "1"),
+    "slip_duration": ("slip duration, t1 to the stop (in √(m/k))", "1"),
+    "stop_time": ("time to the stop, t0 in creep (in √(m/k))", "1"),
+    "max_velocity": ("maximum block velocity U̇ (in V0)", "1"),
+    "steps": ("Taylor steps taken", "1"),
+    "status": ("outcome of the cycle", "1"),
+}
 
 
 def law_identity(text: str):
@@ -70,7 +87,7 @@ STOP_EVENTS = (
           "selector moves one piece up or down; at b = 1 the first up-crossing is also t1",
           per_piece=True),
     Event("rung", "step", "x falls through a rung r of the law's ladder (x/r − 1 = 0 from above): the step "
-          "ends there, so no Taylor step steps over friction that fades (engine._fading, docs/engine.md)",
+          "ends there, so no Taylor step steps over friction that fades (laws._fading, docs/engine.md)",
           per_piece=True),
 )
 
@@ -78,10 +95,10 @@ STOP_EVENTS = (
 def block_equations(law, slots, num, *, damping=None, precision="double") -> System:
     """The scaled single-block system for ``law`` (module docstring), with an optional extra force
     ``−damping·Ẇ`` (``damping`` a heyoka expression; None: none, the single block itself), and the
-    ladder of rungs the law needs in ``precision`` (``engine._fading``)."""
+    ladder of rungs the law needs in ``precision`` (``laws._fading``)."""
     import heyoka as hy
 
-    from ..engine import _fading
+    from ..laws import _fading
 
     W, V = hy.make_vars("W", "V")
     nu, nu_f, c = slots.par("nu"), slots.par("nu_f"), slots.par("forcing")

@@ -48,7 +48,7 @@ def _tile_task(tile, store: str, run_id: str) -> dict:
 
 def _finalize(store: str, lock_token: str, entry: dict, *results) -> dict:
     """Worker task after every tile: the run's line in the store history, then the lock released."""
-    from ..engine.result import Status
+    from ..outcome import Status
     from ..models import get_model
     from ..store import record_submit
     from ..store.lock import lock_path

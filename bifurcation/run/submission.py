@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..engine.result import Status
+from ..outcome import Status
 from ..errors import InputError
 from .tiles import Tile, compute_tile, iter_tiles
 from ..workflow import Workflow, load_workflow

@@ -32,7 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..engine.result import FIELDS, Status
+from ..engine.result import FIELDS
+from ..outcome import Status
 
 __all__ = ["DIMS", "FILL", "STORE_FORMAT", "VARIABLES", "command_line", "coordinate_attrs", "fills",
            "provenance", "store_model", "variable_attrs", "variables"]

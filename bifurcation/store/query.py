@@ -17,7 +17,7 @@ from typing import Iterable, Iterator, TextIO
 
 import numpy as np
 
-from ..engine.result import Status
+from ..outcome import Status
 from ..errors import InputError
 from .labels import match_label, match_value
 from .layout import store_model

@@ -65,7 +65,7 @@ from pathlib import Path
 
 from ..bounds import NU_BOUNDS, NU_F_BOUNDS, check_max_steps, check_t_max
 from ..engine._validate import PRECISIONS, check_batch, check_precision
-from ..engine.result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX
+from ..outcome import DEFAULT_MAX_STEPS, DEFAULT_T_MAX
 from ..errors import InputError
 from ..models import DEFAULT_MODEL, get_model
 from ._axes import linear_points, log_count, log_points, union

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import heyoka as hy
 import numpy as np
 
-from ...engine import _fading
+from ...laws import _fading
 from ...engine._integrator import COOLDOWN, fp_info
 from ...laws import FrictionLaw
 
@@ -123,7 +123,7 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
     # friction that fades faster than any power (e^{−x}, e^{−x−x²/2}) is invisible to heyoka's step
     # control once it is below rounding: a step can cross the whole deceleration and stop the block on
     # a polynomial where friction never came back (e^{−x−x²/2} at ν_f = 0.01: P 1.3e-5 off in double
-    # and quad). The single block's rungs (engine._fading, docs/engine.md) end a step at each x_k
+    # and quad). The single block's rungs (laws._fading, docs/engine.md) end a step at each x_k
     # crossed downward; laws that do not fade have none and pay nothing.
     rungs = _fading.ladder(law, precision).rungs
     diss_terms, disp_terms = [], []

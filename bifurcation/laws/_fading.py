@@ -52,7 +52,7 @@ from dataclasses import dataclass
 
 import mpmath
 
-from ..laws import FrictionLaw
+from ._base import FrictionLaw
 
 __all__ = ["Ladder", "ladder"]
 
