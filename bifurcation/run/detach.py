@@ -21,10 +21,10 @@ import os
 import time
 from pathlib import Path
 
+from ..store.lock import detached_alive
+
 __all__ = ["detached_alive", "finalize_key", "run_detached", "wait_for_detached"]
 
-#: Seconds to wait for an answer of the scheduler named in a detached lock.
-_ASK_TIMEOUT = 10.0
 #: Attempts per tile in a detached run (a tile task must not raise: the finalize task depends on all).
 _ATTEMPTS = 3
 
@@ -118,25 +118,6 @@ def run_detached(client, workflow, path: Path, run_id: str, done, lock, command:
 def _held_for_nobody(dask_scheduler=None, key: str = "") -> bool:
     state = dask_scheduler.tasks.get(key)
     return state is not None and any(c.client_key == "fire-and-forget" for c in state.who_wants)
-
-
-def _has_task(dask_scheduler=None, key: str = "") -> bool:
-    return key in dask_scheduler.tasks
-
-
-def detached_alive(scheduler: str, key: str) -> bool:
-    """Whether the scheduler at ``scheduler`` still holds the detached run's finalize task ``key``.
-
-    An unreachable scheduler counts as not alive: without it no tile of that run can be started, and a
-    tile still being written by a worker of it writes the same numbers a resume would.
-    """
-    from distributed import Client
-
-    try:
-        with Client(scheduler, timeout=_ASK_TIMEOUT, set_as_default=False) as client:
-            return bool(client.run_on_scheduler(_has_task, key=key))
-    except (OSError, TimeoutError):
-        return False
 
 
 def wait_for_detached(path, progress, poll: float = 2.0) -> bool:

@@ -10,21 +10,12 @@ from __future__ import annotations
 import sys
 import time
 
+from ..store.status import format_eta
+
 __all__ = ["Progress", "format_eta"]
 
 #: Seconds between two plain progress lines when stderr is not a terminal.
 LOG_INTERVAL = 30.0
-
-
-def format_eta(seconds: float) -> str:
-    """``"42 s"``, ``"12 min"``, ``"3.2 h"``: an ETA to read at a glance."""
-    if seconds != seconds or seconds == float("inf"):
-        return "unknown"
-    if seconds < 120:
-        return f"{seconds:.0f} s"
-    if seconds < 7200:
-        return f"{seconds / 60:.0f} min"
-    return f"{seconds / 3600:.1f} h"
 
 
 class Progress:

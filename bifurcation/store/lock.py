@@ -36,7 +36,7 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["LOCK_NAME", "LockHolder", "StoreLock", "holder", "lock_path"]
+__all__ = ["LOCK_NAME", "LockHolder", "StoreLock", "detached_alive", "holder", "lock_path"]
 
 LOCK_NAME = ".bifurcation.lock"
 #: Seconds after which a lock file that holds no readable holder counts as stale (its writer fills it
@@ -58,6 +58,29 @@ def _process_start(pid: int) -> float | None:
         return None
     except psutil.AccessDenied:   # exists, owned by someone else: alive
         return -1.0
+
+
+#: Seconds to wait for an answer of the scheduler named in a detached lock.
+_ASK_TIMEOUT = 10.0
+
+
+def _has_task(dask_scheduler=None, key: str = "") -> bool:
+    return key in dask_scheduler.tasks
+
+
+def detached_alive(scheduler: str, key: str) -> bool:
+    """Whether the scheduler at ``scheduler`` still holds the detached run's finalize task ``key``.
+
+    An unreachable scheduler counts as not alive: without it no tile of that run can be started, and a
+    tile still being written by a worker of it writes the same numbers a resume would.
+    """
+    from distributed import Client
+
+    try:
+        with Client(scheduler, timeout=_ASK_TIMEOUT, set_as_default=False) as client:
+            return bool(client.run_on_scheduler(_has_task, key=key))
+    except (OSError, TimeoutError):
+        return False
 
 
 @dataclass(frozen=True)
@@ -82,8 +105,6 @@ class LockHolder:
         """True / False on this host or for a detached run (its scheduler is asked); None when it was
         taken on another host (cannot be told)."""
         if self.scheduler:
-            from ..run.detach import detached_alive
-
             return detached_alive(self.scheduler, self.task)
         if self.host != socket.gethostname():
             return None

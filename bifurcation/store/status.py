@@ -15,13 +15,24 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["StudyStatus", "study_status"]
+__all__ = ["StudyStatus", "format_eta", "study_status"]
 
 #: Outcomes that are results, not failures (any other status of a done point is counted as a failure).
 _RESULTS = ("stick-slip", "creep", "complete", "steady-sliding", "limit-cycle", "unbounded-growth",
             "no-hopf-point")
 #: The rate is measured over the tiles the current writer finished in the last this many seconds.
 _RATE_WINDOW = 300.0
+
+
+def format_eta(seconds: float) -> str:
+    """``"42 s"``, ``"12 min"``, ``"3.2 h"``: an ETA to read at a glance."""
+    if seconds != seconds or seconds == float("inf"):
+        return "unknown"
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
 
 
 @dataclass(frozen=True)
@@ -50,8 +61,6 @@ class StudyStatus:
         return asdict(self)
 
     def __str__(self) -> str:
-        from ..run.progress import format_eta
-
         percent = 100.0 * self.done / self.points if self.points else 100.0
         width = max([len(self.axis)] + [len(str(k)) for k in self.per_label])
         lines = [f"study {self.study} ({self.store}): {self.done}/{self.points} points done ({percent:.1f}%), "
