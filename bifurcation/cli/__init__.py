@@ -22,8 +22,13 @@ def cli() -> None:
 def _register() -> None:
     import importlib
 
-    for name in ("_engine", "_service", "_analysis", "_verify", "_status", "_rate_state", "_chain"):
+    from ..models import get_model, model_names
+
+    for name in ("_engine", "_service", "_analysis", "_verify", "_status"):
         for command in importlib.import_module(f"{__name__}.{name}").COMMANDS:
+            cli.add_command(command)
+    for name in model_names():   # a model's own commands: its declaration's commands hook
+        for command in get_model(name).hook("commands") or ():
             cli.add_command(command)
 
 

@@ -68,42 +68,39 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
     _print_point(record, ("law", "nu_f", *LIMIT_FIELDS, "status", "message"), as_json)
 
 
+def _suites() -> list[str]:
+    """The bench suites: the models that declare a ``bench`` hook (``engine``: the single block's old name)."""
+    from ..models import get_model, model_names
+
+    return [name for name in model_names() if get_model(name).hooks.bench]
+
+
 @click.command("bench", epilog=examples(
     'bifurcation bench --points 200 --subset 2'))
 @click.option("--points", default=2000, show_default=True, help="Grid points for the engine timing.")
 @click.option("--subset", default=12, show_default=True, help="Points for the slow baselines (DOP853).")
 @click.option("--pipeline", "pipeline_points", default=0, show_default=True,
               help="Also time the Dask pipeline on this many points (0: skip).")
-@click.option("--suite", type=click.Choice(["engine", "rate-state", "chain"]), default="engine", show_default=True,
-              help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint; "
-                   "chain: the exact chain vs fixed-step RK4.")
+@click.option("--suite", type=click.Choice(["engine", *_suites()]), default="engine", show_default=True,
+              help="A model whose declaration has a bench hook; engine (the single block): the engine vs "
+                   "DOP853; rate-state: rsfmodel's cases vs odeint; chain: the exact chain vs fixed-step RK4.")
 @O.JSON
 def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
     """Benchmarks, side by side in one run, reported as ratios (never a test)."""
     import importlib.util
+    import inspect
 
-    if suite == "chain":
-        from ..models.chain._bench import run_chain_bench
+    from ..models import DEFAULT_MODEL, get_model
 
-        report = run_chain_bench(echo=None if as_json else click.echo)
-        if as_json:
-            echo_json(report)
-        return
-
-    if importlib.util.find_spec("scipy") is None:
-        raise click.UsageError("the benchmark's DOP853 baseline needs scipy; install it with "
+    model = get_model(DEFAULT_MODEL if suite == "engine" else suite)
+    missing = [m for m in model.hooks.bench_needs if importlib.util.find_spec(m) is None]
+    if missing:
+        raise click.UsageError(f"the {suite} benchmark's baseline needs {', '.join(missing)}; install it with "
                                "python -m pip install -e \".[bench]\"")
-    if suite == "rate-state":
-        from ..models.rate_state._bench import run_rate_state_bench
-
-        report = run_rate_state_bench(echo=None if as_json else click.echo)
-        if as_json:
-            echo_json(report)
-        return
-    from ..bench import run_bench
-
-    report = run_bench(points=points, subset=subset, pipeline_points=pipeline_points,
-                       echo=None if as_json else click.echo)
+    run = model.hook("bench")
+    options = {"points": points, "subset": subset, "pipeline_points": pipeline_points}
+    accepted = inspect.signature(run).parameters
+    report = run(echo=None if as_json else click.echo, **{k: v for k, v in options.items() if k in accepted})
     if as_json:
         echo_json(report)
 

@@ -9,7 +9,10 @@ table behind one documented contract). Everything downstream of a model reads it
   with its CF attributes, ``status`` flag values from ``statuses``),
 - **queries** and the CLI (one option per axis, matched with ``bifurcation.store.labels``),
 - the **engine** (state, equations, events, runtime parameter slots, how raw outcomes become
-  statuses and fields).
+  statuses and fields),
+- the **report**, the **bench** and the **CLI**, through the model's ``hooks`` (lazy
+  ``"module:attribute"`` references to what it can do beyond the declaration): no layer asks which
+  model it holds.
 
 See docs/models.md for the contract in prose with the single block as the example.
 """
@@ -24,7 +27,7 @@ import numpy as np
 
 from ..outcome import Status
 
-__all__ = ["ACTIONS", "Axis", "Event", "Labels", "Model", "Output", "Slots", "StateVar", "System"]
+__all__ = ["ACTIONS", "Axis", "Event", "Hooks", "Labels", "Model", "Output", "Slots", "StateVar", "System"]
 
 #: What an event does when it fires (``Event.action``):
 #: ``end``     terminal: the run of this point ends here (the single block's stop);
@@ -228,6 +231,50 @@ class System:
 
 
 @dataclass(frozen=True)
+class Hooks:
+    """What a model can do beyond its declaration: lazy ``"module:attribute"`` references ("" = none).
+
+    Imported only when called (``Model.hook(name)``), so declaring them costs nothing and a hook may
+    live in any layer (a report section in ``report/``, CLI commands in ``cli/``): the generic layers
+    call the hook and never compare ``model.name``. The contract of each:
+
+    - ``describe_label(label)`` → an object with ``equation`` and ``source``: the row of a label in
+      ``bifurcation report --store`` (a friction law: ``bifurcation.laws.resolve_law``).
+    - ``report(ds, model, out, figures, stem)`` → the report blocks of the model's part of a store's
+      section (after the common tables of labels, axes and statuses); ``figures`` collects the files
+      it writes into ``out`` (names start with ``stem``).
+    - ``bench(echo=..., **options)`` → a dict: ``bifurcation bench --suite <model name>``; it is
+      handed those of the CLI's options (``points``, ``subset``, ``pipeline_points``) its signature
+      names. ``bench_needs``: modules its baselines import (checked before any work starts).
+    - ``commands``: a list of click commands the CLI adds (``bifurcation <command>``).
+    """
+
+    describe_label: str = ""
+    report: str = ""
+    bench: str = ""
+    bench_needs: tuple[str, ...] = ()
+    commands: str = ""
+
+    def __post_init__(self) -> None:
+        for name in ("describe_label", "report", "bench", "commands"):
+            value = getattr(self, name)
+            module, _, attribute = value.partition(":")
+            if value and not (module and attribute.isidentifier()
+                              and all(part.isidentifier() for part in module.split("."))):
+                raise ValueError(f"hook {name}={value!r}: give 'package.module:attribute'")
+
+    def resolve(self, name: str):
+        """The object hook ``name`` refers to (imported now), or None if the model declares none."""
+        import importlib
+
+        value = getattr(self, name)
+        if not value:
+            return None
+        module, attribute = value.split(":")
+        return getattr(importlib.import_module(module), attribute)
+
+
+@dataclass(frozen=True)
 class Model:
     """A model's declaration (see the module docstring and docs/models.md).
 
@@ -271,6 +318,10 @@ class Model:
     #: catalogs (its capacity in the store), and the per-run output that counts the events catalogued.
     catalog_size: str | None = None
     catalog_count: str | None = None
+    #: Its capabilities beyond the declaration (report section, bench suite, CLI commands, ...).
+    hooks: Hooks = field(default_factory=Hooks)
+    #: One line for reports: the units its numbers are in.
+    units_note: str = ""
 
     def __post_init__(self) -> None:
         if self.runner is None and (self.equations is None or self.classify is None):
@@ -323,6 +374,10 @@ class Model:
             return str(Status(int(code)))
         except ValueError:
             return f"code {int(code)}"
+
+    def hook(self, name: str):
+        """The model's hook ``name`` (see ``Hooks``), imported on first use; None if it declares none."""
+        return self.hooks.resolve(name)
 
     @property
     def float_outputs(self) -> tuple[str, ...]:

@@ -14,8 +14,9 @@ in ``bifurcation.models`` like any model, so workflows, submit, the store, queri
 
 from __future__ import annotations
 
-from ._base import Axis, Model
-from .single_block import LAW, NU, NU_F, OUTPUTS, SINGLE_BLOCK, STOP_EVENTS, block_equations, classify_cycles
+from ._base import Axis, Hooks, Model
+from .single_block import (BLOCK_UNITS, LAW, NU, NU_F, OUTPUTS, SINGLE_BLOCK, STOP_EVENTS, block_equations,
+                           classify_cycles)
 
 __all__ = ["DAMPED_BLOCK", "GAMMA"]
 
@@ -45,4 +46,6 @@ DAMPED_BLOCK = Model(
     statuses=SINGLE_BLOCK.statuses,
     equations=_equations,
     classify=_classify,
+    hooks=Hooks(describe_label="bifurcation.laws:resolve_law", report="bifurcation.report.study:block_section"),
+    units_note=BLOCK_UNITS,
 )

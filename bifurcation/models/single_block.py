@@ -29,10 +29,13 @@ import numpy as np
 from ..bounds import NU_BOUNDS, NU_F_BOUNDS
 from ..laws import law_names, resolve_law
 from ..outcome import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, Status
-from ._base import Axis, Event, Labels, Model, Output, StateVar, System
+from ._base import Axis, Event, Hooks, Labels, Model, Output, StateVar, System
 
-__all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "FIELDS", "FIELD_ATTRS", "LAW", "NU", "NU_F", "OUTPUTS", "SINGLE_BLOCK", "STOP_EVENTS",
+__all__ = ["BLOCK_UNITS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "FIELDS", "FIELD_ATTRS", "LAW", "NU", "NU_F", "OUTPUTS", "SINGLE_BLOCK", "STOP_EVENTS",
            "block_equations", "classify_cycles", "law_identity"]
+
+#: The units of the block models' numbers (the scaling of Eq. 4; a line of their reports).
+BLOCK_UNITS = "Δ in F0/k, velocities in V0 = F0/√(mk), times in √(m/k) (docs/physics.md)"
 
 #: Float fields of a slip result, in order.
 FIELDS = ("delta", "period", "creep_time", "slip_duration", "stop_time", "max_velocity")
@@ -197,4 +200,8 @@ SINGLE_BLOCK = Model(
     statuses=tuple(s for s in Status if s is not Status.NOT_COMPUTED),
     equations=_equations,
     classify=_classify,
+    hooks=Hooks(describe_label="bifurcation.laws:resolve_law",
+                report="bifurcation.report.study:single_block_section",
+                bench="bifurcation.bench:run_bench", bench_needs=("scipy",)),
+    units_note=BLOCK_UNITS,
 )

@@ -20,7 +20,7 @@ import numpy as np
 
 from . import figures as F
 
-__all__ = ["MIN_SERIES", "write_store_report"]
+__all__ = ["MIN_SERIES", "block_section", "single_block_section", "write_store_report"]
 
 #: Finished points along ν (at ν ≤ 1e-6) that an extrapolation or a recurrence-time fit needs: the
 #: expansions have up to 6 terms, fitted over three windows.
@@ -129,18 +129,6 @@ def _transitions(ds, model, law_index: int) -> list[list[str]]:
     return rows
 
 
-def _state_laws(label: str):
-    """A rate-state label's equation(s) and source(s), in the shape of a friction law's row."""
-    from types import SimpleNamespace
-
-    from ..models.rate_state.laws import resolve_state_law
-    from ..models.rate_state.model import resolve_label
-
-    laws = [resolve_state_law(name) for name in resolve_label(label)]
-    return SimpleNamespace(equation="; ".join(law.equation for law in laws),
-                           source="; ".join(law.source for law in laws))
-
-
 def _status(code) -> str:
     from ..engine.result import Status
 
@@ -175,22 +163,24 @@ def _single_block_fits(ds, law: str):
 
 
 def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
-    """The blocks of one store's section."""
-    from ..engine.result import Status
-    from ..laws import resolve_law
+    """The blocks of one store's section: what every store has, then the model's own (its ``report`` hook)."""
     from ..models import get_model
+    from ..outcome import Status
     from ..store.layout import store_model
-    from .render import _fmt
 
     model = get_model(store_model(ds.attrs))
     a = ds.attrs
     laws = _labels(ds, model.labels.name)
     b: list = [("h2", f"Store {a.get('store_path', '(in memory)')}: study {a.get('title', '?')!r}")]
     b.append(("p", f"Model {model.name}: {model.title}. {model.description}. Source: {model.source}."))
+    describe = model.hook("describe_label")
     rows = []
     for law in laws:
+        if describe is None:
+            rows.append([law, "(the model declares no description of its labels)", "-"])
+            continue
         try:
-            spec = resolve_law(law) if model.name != "rate-state" else _state_laws(law)
+            spec = describe(law)
             rows.append([law, spec.equation, spec.source])
         except Exception as exc:  # noqa: BLE001 — a label this version cannot read is still listed
             rows.append([law, "(cannot be read by this version)", str(exc)])
@@ -204,14 +194,27 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
     b.append(("table", ["law", *(str(s) for s in statuses)],
               [[law, *(str(int(np.count_nonzero(status[i] == int(s)))) for s in statuses)]
                for i, law in enumerate(laws)]))
-    if model.name == "rate-state":   # no slip Δ: its own section (Hopf points, attracting states along κ)
-        from ..models.rate_state.store_report import blocks
+    section = model.hook("report")
+    return b + (section(ds, model, out, figures, stem) if section is not None else [])
 
-        return b + blocks(ds, model, out, figures, stem)
-    if model.catalog_outputs:   # a catalog model (the chain): its runs and catalogs, no slip Δ
-        from ..models.chain.store_report import chain_store_blocks
 
-        return b + chain_store_blocks(ds, model)
+def block_section(ds, model, out: Path, figures: list, stem: str) -> list:
+    """The ``report`` hook of a block model (single and damped block): per law, slip Δ against each
+    axis and the stick-slip ↔ creep transitions along them."""
+    return _slip_blocks(ds, model, out, figures, stem, fits=False)
+
+
+def single_block_section(ds, model, out: Path, figures: list, stem: str) -> list:
+    """The single block's ``report`` hook: ``block_section`` and, per law, the ν → 0 extrapolations
+    and recurrence-time fits its theory allows."""
+    return _slip_blocks(ds, model, out, figures, stem, fits=True)
+
+
+def _slip_blocks(ds, model, out: Path, figures: list, stem: str, *, fits: bool) -> list:
+    from .render import _fmt
+
+    laws = _labels(ds, model.labels.name)
+    b: list = []
     for i, law in enumerate(laws):
         b.append(("h3", f"Law {law}"))
         fig, _ = _figure_law(ds, model, i, law)
@@ -227,11 +230,11 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
             b.append(("table", ["along", "at", "between", "Δ either side"], transitions))
         else:
             b.append(("p", "No neighbouring points of this law change between stick-slip and creep on this grid."))
-        if model.name != "single-block":
+        if not fits:
             b.append(("p", f"The ν → 0 extrapolation and the recurrence-time fit use the single block's theory; "
                            f"they are not made for model {model.name}."))
             continue
-        extrapolations, fits, skipped = _single_block_fits(ds, law)
+        extrapolations, fitted, skipped = _single_block_fits(ds, law)
         if extrapolations:
             b.append(("p", "Δ(ν → 0) extrapolated from the finite-ν points at every ν_f whose series along ν "
                            f"allows it ({MIN_SERIES}+ points at ν ≤ 1e-6), against the direct limit (the engine's "
@@ -244,14 +247,14 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
         else:
             b.append(("p", f"No ν → 0 extrapolation: no ν_f of this store has {MIN_SERIES} finished points "
                            "along ν at ν ≤ 1e-6."))
-        if fits:
+        if fitted:
             b.append(("p", "Recurrence time T − Δ0/ν = (α − ω) ln(1/ν) + C0 + K ν^−(α−ω)² + … at every such "
                            "ν_f below 1/2 (the fitted ln coefficient against α − ω):"))
             b.append(("table", ["ν_f", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "terms",
                                 "max |residual|"],
                       [[f"{f.nu_f:g}", f"{f.log_coefficient:.8f} ± {f.log_coefficient_uncertainty:.0e}",
                         f"{f.log_coefficient_expected:.8f}", f"{f.relative_deviation:+.1e}", _fmt(f.C0), _fmt(f.K),
-                        str(len(f.model)), f"{f.residual_max:.1e}"] for f in fits]))
+                        str(len(f.model)), f"{f.residual_max:.1e}"] for f in fitted]))
         if skipped:
             b.append(("ul", skipped))
     return b
@@ -281,11 +284,11 @@ def write_store_report(sources, out) -> dict:
     figures: list = []
     titles = ", ".join(repr(ds.attrs.get("title", "?")) for ds in stores)
     blocks: list = [("h1", f"Study report: {titles}")]
+    from ..models import get_model
     from ..store.layout import store_model
 
-    units = ("units: Δ in F0/k, velocities in V0 = F0/√(mk), times in √(m/k) (docs/physics.md)"
-             if any(store_model(ds.attrs) != "rate-state" for ds in stores) else
-             "units: those of the workflow's own V_lp, Dc and M (docs/rate-state.md)")
+    notes = [get_model(store_model(ds.attrs)).units_note for ds in stores]
+    units = "units: " + ("; ".join(dict.fromkeys(n for n in notes if n)) or "those the model declares on its axes and outputs")
     blocks.append(("p", f"Every number below is read from the stores or computed from them by this package; {units}."))
     for k, ds in enumerate(stores):
         blocks += _store_blocks(ds, out, figures, f"store{k}")

@@ -35,7 +35,8 @@ from ..errors import InputError
 
 __all__ = ["CATALOG", "CHECKPOINTS", "Checkpoints", "catalog_damage", "catalog_dataset", "catalog_layout",
            "clear_catalogs",
-           "create_catalog", "drop_checkpoints", "has_catalog", "read_catalog", "run_indices", "tile_checkpoints",
+           "create_catalog", "drop_checkpoints", "has_catalog", "open_catalog", "read_catalog", "run_indices",
+           "tile_checkpoints",
            "write_catalogs"]
 
 #: The group of the catalog arrays, and the directory of the run checkpoints, in the store.
@@ -140,6 +141,13 @@ class _Catalog:
                         raise StoreDamagedError(self.path, Damage(self.key(name, chunk), (), problem)) from None
                 raise
         return out
+
+
+def open_catalog(path):
+    """A reader of the catalog of the store at ``path``: ``.read(run, count, names)`` returns the first
+    ``count`` events of run ``run`` (its flat C-order index over ``model.dims``) for the per-event
+    outputs ``names``, chunk by chunk checked; ``.count`` names the per-run output that counts them."""
+    return _Catalog(path)
 
 
 def has_catalog(path) -> bool:

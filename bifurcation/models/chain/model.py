@@ -22,8 +22,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...bounds import NU_BOUNDS, NU_F_BOUNDS
-from .._base import Axis, Model, Output
-from ..single_block import LAW
+from .._base import Axis, Hooks, Model, Output
+from ..single_block import BLOCK_UNITS, LAW
 from .result import CATALOG_ATTRS, ChainStatus
 
 __all__ = ["AXES", "CHAIN", "CHAIN_OUTPUTS", "run_chains"]
@@ -155,4 +155,9 @@ CHAIN = Model(
     runner=run_chains,
     catalog_size="events",
     catalog_count="events_done",
+    hooks=Hooks(describe_label="bifurcation.laws:resolve_law",
+                report="bifurcation.models.chain.store_report:chain_store_blocks",
+                bench="bifurcation.models.chain._bench:run_chain_bench",
+                commands="bifurcation.cli._chain:COMMANDS"),
+    units_note=BLOCK_UNITS,
 )

@@ -16,9 +16,10 @@ __all__ = ["MAX_RUNS", "chain_store_blocks"]
 MAX_RUNS = 40
 
 
-def chain_store_blocks(ds, model) -> list:
-    """Report blocks for the chain store ``ds`` (an ``open_store`` Dataset with ``store_path``)."""
-    from ...store.catalog import _Catalog
+def chain_store_blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
+    """Report blocks for the chain store ``ds`` (an ``open_store`` Dataset with ``store_path``); the
+    model's ``report`` hook (it draws no figure: ``out``, ``figures`` and ``stem`` are unused)."""
+    from ...store.catalog import open_catalog
 
     path = ds.attrs.get("store_path")
     dims = model.dims
@@ -27,7 +28,7 @@ def chain_store_blocks(ds, model) -> list:
     status = np.asarray(ds["status"].values)
     count = np.asarray(ds[model.catalog_count].values)
     names = {int(s): str(s) for s in model.statuses}
-    catalog = _Catalog(path) if path is not None else None
+    catalog = open_catalog(path) if path is not None else None
     rows, runs = [], np.argwhere(done)
     for index in runs[:MAX_RUNS]:
         index = tuple(int(i) for i in index)

@@ -22,7 +22,7 @@ from enum import IntEnum
 import numpy as np
 
 from ...errors import InputError
-from .._base import Axis, Labels, Model, Output
+from .._base import Axis, Hooks, Labels, Model, Output
 from .laws import resolve_state_law
 
 __all__ = ["CRITICALITY", "RATE_STATE", "RateStateStatus", "label_identity", "resolve_label"]
@@ -182,4 +182,9 @@ RATE_STATE = Model(
     equations=None,
     classify=None,
     runner=_run,
+    hooks=Hooks(describe_label="bifurcation.models.rate_state.store_report:describe_label",
+                report="bifurcation.models.rate_state.store_report:blocks",
+                bench="bifurcation.models.rate_state._bench:run_rate_state_bench", bench_needs=("scipy",),
+                commands="bifurcation.cli._rate_state:COMMANDS"),
+    units_note="those of the workflow's own V_lp, Dc and M (docs/rate-state.md)",
 )

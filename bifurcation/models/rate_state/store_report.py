@@ -10,10 +10,23 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["blocks"]
+__all__ = ["blocks", "describe_label"]
 
 _MAX_ROWS = 24
 _CRIT = {0: "—", 1: "subcritical", 2: "supercritical", 3: "degenerate"}
+
+
+def describe_label(label: str):
+    """A label's equation(s) and source(s), in the shape of a friction law's row (the model's
+    ``describe_label`` hook)."""
+    from types import SimpleNamespace
+
+    from .laws import resolve_state_law
+    from .model import resolve_label
+
+    laws = [resolve_state_law(name) for name in resolve_label(label)]
+    return SimpleNamespace(equation="; ".join(law.equation for law in laws),
+                           source="; ".join(law.source for law in laws))
 
 
 def _flat(ds, model, i):
@@ -35,7 +48,7 @@ def _where(at: dict, model) -> str:
 
 
 def blocks(ds, model, out, figures: list, stem: str) -> list:
-    """Report blocks for a rate-state store (``bifurcation.report.study`` calls this)."""
+    """Report blocks for a rate-state store (the model's ``report`` hook)."""
     from ...report import figures as F
 
     b: list = []
