@@ -240,9 +240,10 @@ class Hooks:
 
     - ``describe_label(label)`` → an object with ``equation`` and ``source``: the row of a label in
       ``bifurcation report --store`` (a friction law: ``bifurcation.laws.resolve_law``).
-    - ``report(ds, model, out, figures, stem)`` → the report blocks of the model's part of a store's
-      section (after the common tables of labels, axes and statuses); ``figures`` collects the files
-      it writes into ``out`` (names start with ``stem``).
+    - ``report(ds, model, out, figures, stem)`` → a list of typed report blocks
+      (``bifurcation.report.document``) of the model's part of a store's section (after the common
+      tables of labels, axes and statuses); ``figures`` collects the files it writes into ``out``
+      (names start with ``stem``).
     - ``bench(echo=..., **options)`` → a dict: ``bifurcation bench --suite <model name>``; it is
       handed those of the CLI's options (``points``, ``subset``, ``pipeline_points``) its signature
       names. ``bench_needs``: modules its baselines import (checked before any work starts).

@@ -18,6 +18,7 @@ import numpy as np
 
 from . import figures as F
 from ._math import inline_html
+from .document import Figure, Heading, Items, Paragraph, Table, flatten
 
 __all__ = ["ReportData", "analyse", "fit_results", "fit_tables", "stability_reruns", "write_report"]
 
@@ -436,28 +437,23 @@ def _md_cell(text: str) -> str:
 
 
 def _markdown(blocks) -> str:
+    """The report ``blocks`` (``report.document``: typed blocks and sections, or the older tuples) as Markdown."""
     out = []
-    for kind, *rest in blocks:
-        if kind == "h1":
-            out.append(f"# {rest[0]}\n")
-        elif kind == "h2":
-            out.append(f"## {rest[0]}\n")
-        elif kind == "h3":
-            out.append(f"### {rest[0]}\n")
-        elif kind == "p":
-            out.append(f"{rest[0]}\n")
-        elif kind == "ul":
-            out.append("\n".join(f"- {item}" for item in rest[0]) + "\n")
-        elif kind == "table":
-            head, rows = rest
-            lines = ["| " + " | ".join(_md_cell(h) for h in head) + " |",
-                     "|" + "|".join("---" for _ in head) + "|"]
-            lines += ["| " + " | ".join(_md_cell(c) for c in r) + " |" for r in rows]
+    for block in flatten(blocks):
+        if isinstance(block, Heading):
+            out.append(f"{'#' * block.level} {block.text}\n")
+        elif isinstance(block, Paragraph):
+            out.append(f"{block.text}\n")
+        elif isinstance(block, Items):
+            out.append("\n".join(f"- {item}" for item in block.items) + "\n")
+        elif isinstance(block, Table):
+            lines = ["| " + " | ".join(_md_cell(h) for h in block.head) + " |",
+                     "|" + "|".join("---" for _ in block.head) + "|"]
+            lines += ["| " + " | ".join(_md_cell(c) for c in r) + " |" for r in block.rows]
             out.append("\n".join(lines) + "\n")
-        elif kind == "figure":
-            name, caption = rest
-            alt = name.rsplit(".", 1)[0].replace("_", " ")
-            out.append(f"![{alt}]({name})\n\n*{caption}*\n")
+        elif isinstance(block, Figure):
+            alt = block.file.rsplit(".", 1)[0].replace("_", " ")
+            out.append(f"![{alt}]({block.file})\n\n*{block.caption}*\n")
     return "\n".join(out)
 
 
@@ -495,23 +491,25 @@ def _table_html(head, rows) -> str:
 
 
 def _html(blocks, out: Path) -> str:
+    """The report ``blocks`` as one HTML page (figures embedded); its title is the first heading."""
     e, m = html.escape, inline_html
+    blocks = flatten(blocks)
+    title = next(b.text for b in blocks if isinstance(b, Heading))
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
-             f"<title>{e(blocks[0][1])}</title><style>{_CSS}</style></head><body>"]
-    for kind, *rest in blocks:
-        if kind in ("h1", "h2", "h3"):
-            parts.append(f"<{kind}>{m(rest[0])}</{kind}>")
-        elif kind == "p":
-            parts.append(f"<p>{m(rest[0])}</p>")
-        elif kind == "ul":
-            parts.append("<ul>" + "".join(f"<li>{m(i)}</li>" for i in rest[0]) + "</ul>")
-        elif kind == "table":
-            parts.append(_table_html(*rest))
-        elif kind == "figure":
-            name, caption = rest
-            data = base64.b64encode((out / name).read_bytes()).decode("ascii")
-            parts.append(f'<figure><img alt="{e(name)}" src="data:image/png;base64,{data}">'
-                         f"<figcaption>{m(caption)}</figcaption></figure>")
+             f"<title>{e(title)}</title><style>{_CSS}</style></head><body>"]
+    for block in blocks:
+        if isinstance(block, Heading):
+            parts.append(f"<h{block.level}>{m(block.text)}</h{block.level}>")
+        elif isinstance(block, Paragraph):
+            parts.append(f"<p>{m(block.text)}</p>")
+        elif isinstance(block, Items):
+            parts.append("<ul>" + "".join(f"<li>{m(i)}</li>" for i in block.items) + "</ul>")
+        elif isinstance(block, Table):
+            parts.append(_table_html(block.head, block.rows))
+        elif isinstance(block, Figure):
+            data = base64.b64encode((out / block.file).read_bytes()).decode("ascii")
+            parts.append(f'<figure><img alt="{e(block.file)}" src="data:image/png;base64,{data}">'
+                         f"<figcaption>{m(block.caption)}</figcaption></figure>")
     parts.append("</body></html>")
     return "\n".join(parts) + "\n"
 

@@ -50,11 +50,11 @@ def _where(at: dict, model) -> str:
 def blocks(ds, model, out, figures: list, stem: str) -> list:
     """Report blocks for a rate-state store (the model's ``report`` hook)."""
     from ...report import figures as F
+    from ...report.document import Figure, Paragraph, Section, Table
 
     b: list = []
     labels = [str(x) for x in ds[model.labels.name].values]
     for i, label in enumerate(labels):
-        b.append(("h3", f"State law {label}"))
         hopf_rows, change_rows = [], []
         groups = list(_flat(ds, model, i))
         fig, panels = F._figure(6.4, 4.0)
@@ -93,11 +93,12 @@ def blocks(ds, model, out, figures: list, stem: str) -> list:
         name = f"{stem}_rate_state{i}.png"
         F.save(fig, out / name)
         figures.append(out / name)
-        b.append(("table", ["at", "k_c", "ω_c", "l1", "Hopf point"], hopf_rows[:_MAX_ROWS]))
-        b.append(("figure", name, f"Where steady sliding perturbed by 1e-2 in ln V goes, against κ ({label})."))
+        section = [Table(["at", "k_c", "ω_c", "l1", "Hopf point"], hopf_rows[:_MAX_ROWS]),
+                   Figure(name, f"Where steady sliding perturbed by 1e-2 in ln V goes, against κ ({label}).")]
         if change_rows:
-            b.append(("p", "Where the outcome changes along κ (neighbouring grid labels):"))
-            b.append(("table", ["at", "between"], change_rows[:_MAX_ROWS]))
+            section += [Paragraph("Where the outcome changes along κ (neighbouring grid labels):"),
+                        Table(["at", "between"], change_rows[:_MAX_ROWS])]
         else:
-            b.append(("p", "The outcome does not change along κ on this grid."))
+            section.append(Paragraph("The outcome does not change along κ on this grid."))
+        b.append(Section(f"State law {label}", section, level=3))
     return b
