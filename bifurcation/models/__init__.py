@@ -17,8 +17,8 @@ import importlib
 from ..errors import InputError
 from ._base import ACTIONS, Axis, Event, Hooks, Labels, Model, Output, Slots, StateVar, System
 
-__all__ = ["ACTIONS", "Axis", "DEFAULT_MODEL", "Event", "Hooks", "Labels", "MODELS", "Model", "Output", "Slots", "StateVar",
-           "System", "get_model", "model_module", "model_names", "register"]
+__all__ = ["ACTIONS", "Axis", "DEFAULT_MODEL", "Event", "Hooks", "Labels", "MODELS", "Model", "Output", "Slots",
+           "StateVar", "System", "get_model", "model_module", "model_names", "register"]
 
 #: Model packages that are not declarations yet: name → implementing module (relative to this package).
 MODELS = {"chain": ".chain"}

@@ -31,8 +31,8 @@ from ..laws import law_names, resolve_law
 from ..outcome import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, Status
 from ._base import Axis, Event, Hooks, Labels, Model, Output, StateVar, System
 
-__all__ = ["BLOCK_UNITS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "FIELDS", "FIELD_ATTRS", "LAW", "NU", "NU_F", "OUTPUTS", "SINGLE_BLOCK", "STOP_EVENTS",
-           "block_equations", "classify_cycles", "law_identity"]
+__all__ = ["BLOCK_UNITS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "FIELDS", "FIELD_ATTRS", "LAW", "NU", "NU_F",
+           "OUTPUTS", "SINGLE_BLOCK", "STOP_EVENTS", "block_equations", "classify_cycles", "law_identity"]
 
 #: The units of the block models' numbers (the scaling of Eq. 4; a line of their reports).
 BLOCK_UNITS = "Δ in F0/k, velocities in V0 = F0/√(mk), times in √(m/k) (docs/physics.md)"
