@@ -240,8 +240,8 @@ class Hooks:
 
     - ``describe_label(label)`` → an object with ``equation`` and ``source``: the row of a label in
       ``bifurcation report --store`` (a friction law: ``bifurcation.laws.resolve_law``).
-    - ``report(ds, model, out, figures, stem)`` → a list of typed report blocks
-      (``bifurcation.report.document``) of the model's part of a store's section (after the common
+    - ``report(ds, model, out, figures, stem)`` → a list of report blocks (``bifurcation.report.document``;
+      the older tuples are read too) of the model's part of a store's section (after the common
       tables of labels, axes and statuses); ``figures`` collects the files it writes into ``out``
       (names start with ``stem``).
     - ``bench(echo=..., **options)`` → a dict: ``bifurcation bench --suite <model name>``; it is

@@ -5,8 +5,9 @@ the leaves are ``Heading``, ``Paragraph``, ``Items`` (a bullet list), ``Table`` 
 renderer (``bifurcation.report.render``: ``_markdown``, ``_html``) reads ``flatten(blocks)``: a section
 is its heading, then its blocks. Text may hold the inline math of ``report._math`` ($...$, x_i, ...).
 
-The paper's report (``render._blocks``) still builds the older tuples (``("table", head, rows)``);
-``flatten`` reads those too, so both reports go through the one renderer.
+The paper's report (``render._blocks``), the common part of ``report --store`` (``report.study``) and
+the chain's store section still build the older tuples (``("table", head, rows)``); ``flatten`` reads
+those too, so every report goes through the one renderer (rate-state's store section is typed).
 """
 
 from __future__ import annotations

@@ -19,7 +19,6 @@ from pathlib import Path
 import numpy as np
 
 from . import figures as F
-from .document import Figure, Heading, Items, Paragraph, Section, Table
 
 __all__ = ["MIN_SERIES", "block_section", "single_block_section", "write_store_report"]
 
@@ -163,8 +162,8 @@ def _single_block_fits(ds, law: str):
     return extrapolations, fits, skipped
 
 
-def _store_section(ds, out: Path, figures: list, stem: str) -> Section:
-    """One store's section: what every store has, then the model's own blocks (its ``report`` hook)."""
+def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
+    """The blocks of one store's section: what every store has, then the model's own (its ``report`` hook)."""
     from ..models import get_model
     from ..outcome import Status
     from ..store.layout import store_model
@@ -172,7 +171,8 @@ def _store_section(ds, out: Path, figures: list, stem: str) -> Section:
     model = get_model(store_model(ds.attrs))
     a = ds.attrs
     laws = _labels(ds, model.labels.name)
-    b: list = [Paragraph(f"Model {model.name}: {model.title}. {model.description}. Source: {model.source}.")]
+    b: list = [("h2", f"Store {a.get('store_path', '(in memory)')}: study {a.get('title', '?')!r}")]
+    b.append(("p", f"Model {model.name}: {model.title}. {model.description}. Source: {model.source}."))
     describe = model.hook("describe_label")
     rows = []
     for law in laws:
@@ -184,79 +184,80 @@ def _store_section(ds, out: Path, figures: list, stem: str) -> Section:
             rows.append([law, spec.equation, spec.source])
         except Exception as exc:  # noqa: BLE001 — a label this version cannot read is still listed
             rows.append([law, "(cannot be read by this version)", str(exc)])
-    b.append(Table(["law", "equation", "source"], rows))
-    b.append(Table(["axis", "symbol", "from", "to", "points", "units", "spacing"],
-                   [[ax.name, ax.symbol, _fmt_value(_labels(ds, ax.name)[0]), _fmt_value(_labels(ds, ax.name)[-1]),
-                     str(ds.sizes[ax.name]), ax.units, ax.scale] for ax in model.axes]))
+    b.append(("table", ["law", "equation", "source"], rows))
+    b.append(("table", ["axis", "symbol", "from", "to", "points", "units", "spacing"],
+              [[ax.name, ax.symbol, _fmt_value(_labels(ds, ax.name)[0]), _fmt_value(_labels(ds, ax.name)[-1]),
+                str(ds.sizes[ax.name]), ax.units, ax.scale] for ax in model.axes]))
     status = np.asarray(ds["status"].values)
     statuses = (Status.NOT_COMPUTED, *(s for s in model.statuses if int(s) != int(Status.NOT_COMPUTED)))
-    b.append(Paragraph("Points per status:"))
-    b.append(Table(["law", *(str(s) for s in statuses)],
-                   [[law, *(str(int(np.count_nonzero(status[i] == int(s)))) for s in statuses)]
-                    for i, law in enumerate(laws)]))
+    b.append(("p", "Points per status:"))
+    b.append(("table", ["law", *(str(s) for s in statuses)],
+              [[law, *(str(int(np.count_nonzero(status[i] == int(s)))) for s in statuses)]
+               for i, law in enumerate(laws)]))
     section = model.hook("report")
-    if section is not None:
-        b += section(ds, model, out, figures, stem)
-    return Section(f"Store {a.get('store_path', '(in memory)')}: study {a.get('title', '?')!r}", b)
+    return b + (section(ds, model, out, figures, stem) if section is not None else [])
 
 
 def block_section(ds, model, out: Path, figures: list, stem: str) -> list:
     """The ``report`` hook of a block model (single and damped block): per law, slip Δ against each
     axis and the stick-slip ↔ creep transitions along them."""
-    return [_law_section(ds, model, out, figures, stem, i, law, fits=False)
-            for i, law in enumerate(_labels(ds, model.labels.name))]
+    return _slip_blocks(ds, model, out, figures, stem, fits=False)
 
 
 def single_block_section(ds, model, out: Path, figures: list, stem: str) -> list:
     """The single block's ``report`` hook: ``block_section`` and, per law, the ν → 0 extrapolations
     and recurrence-time fits its theory allows."""
-    return [_law_section(ds, model, out, figures, stem, i, law, fits=True)
-            for i, law in enumerate(_labels(ds, model.labels.name))]
+    return _slip_blocks(ds, model, out, figures, stem, fits=True)
 
 
-def _law_section(ds, model, out: Path, figures: list, stem: str, i: int, law: str, *, fits: bool) -> Section:
+def _slip_blocks(ds, model, out: Path, figures: list, stem: str, *, fits: bool) -> list:
     from .render import _fmt
 
+    laws = _labels(ds, model.labels.name)
     b: list = []
-    fig, _ = _figure_law(ds, model, i, law)
-    name = f"{stem}_law{i}_delta.png"
-    F.save(fig, out / name)
-    figures.append(out / name)
-    b.append(Figure(name, f"Slip Δ of {law} against each axis of the store ({model.name}); only finished "
-                          "stick-slip and creep points are drawn."))
-    transitions = _transitions(ds, model, i)
-    if transitions:
-        b.append(Paragraph("Transition between stick-slip and creep along each axis (the grid's neighbouring "
+    for i, law in enumerate(laws):
+        b.append(("h3", f"Law {law}"))
+        fig, _ = _figure_law(ds, model, i, law)
+        name = f"{stem}_law{i}_delta.png"
+        F.save(fig, out / name)
+        figures.append(out / name)
+        b.append(("figure", name, f"Slip Δ of {law} against each axis of the store ({model.name}); only finished "
+                                   "stick-slip and creep points are drawn."))
+        transitions = _transitions(ds, model, i)
+        if transitions:
+            b.append(("p", "Transition between stick-slip and creep along each axis (the grid's neighbouring "
                            "labels either side: the finite-grid rounding of the transition):"))
-        b.append(Table(["along", "at", "between", "Δ either side"], transitions))
-    else:
-        b.append(Paragraph("No neighbouring points of this law change between stick-slip and creep on this grid."))
-    if not fits:
-        b.append(Paragraph(f"The ν → 0 extrapolation and the recurrence-time fit use the single block's theory; "
+            b.append(("table", ["along", "at", "between", "Δ either side"], transitions))
+        else:
+            b.append(("p", "No neighbouring points of this law change between stick-slip and creep on this grid."))
+        if not fits:
+            b.append(("p", f"The ν → 0 extrapolation and the recurrence-time fit use the single block's theory; "
                            f"they are not made for model {model.name}."))
-        return Section(f"Law {law}", b, level=3)
-    extrapolations, fitted, skipped = _single_block_fits(ds, law)
-    if extrapolations:
-        b.append(Paragraph("Δ(ν → 0) extrapolated from the finite-ν points at every ν_f whose series along ν "
+            continue
+        extrapolations, fitted, skipped = _single_block_fits(ds, law)
+        if extrapolations:
+            b.append(("p", "Δ(ν → 0) extrapolated from the finite-ν points at every ν_f whose series along ν "
                            f"allows it ({MIN_SERIES}+ points at ν ≤ 1e-6), against the direct limit (the engine's "
                            "ν = 0 orbit; 0 in creep):"))
-        b.append(Table(["ν_f", "regime", "points", "extrapolated Δ0", "uncertainty", "direct Δ0", "consistent"],
-                       [[f"{e.nu_f:g}", e.regime, str(e.nu.size), f"{e.delta0_extrapolated:.8g}",
-                         f"{e.uncertainty:.1e}", f"{e.delta0_direct:.12g}", "yes" if e.consistent else "NO"]
-                        for e in extrapolations]))
-    else:
-        b.append(Paragraph(f"No ν → 0 extrapolation: no ν_f of this store has {MIN_SERIES} finished points "
+            b.append(("table", ["ν_f", "regime", "points", "extrapolated Δ0", "uncertainty", "direct Δ0",
+                                "consistent"],
+                      [[f"{e.nu_f:g}", e.regime, str(e.nu.size), f"{e.delta0_extrapolated:.8g}",
+                        f"{e.uncertainty:.1e}", f"{e.delta0_direct:.12g}", "yes" if e.consistent else "NO"]
+                       for e in extrapolations]))
+        else:
+            b.append(("p", f"No ν → 0 extrapolation: no ν_f of this store has {MIN_SERIES} finished points "
                            "along ν at ν ≤ 1e-6."))
-    if fitted:
-        b.append(Paragraph("Recurrence time T − Δ0/ν = (α − ω) ln(1/ν) + C0 + K ν^−(α−ω)² + … at every such "
+        if fitted:
+            b.append(("p", "Recurrence time T − Δ0/ν = (α − ω) ln(1/ν) + C0 + K ν^−(α−ω)² + … at every such "
                            "ν_f below 1/2 (the fitted ln coefficient against α − ω):"))
-        b.append(Table(["ν_f", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "terms", "max |residual|"],
-                       [[f"{f.nu_f:g}", f"{f.log_coefficient:.8f} ± {f.log_coefficient_uncertainty:.0e}",
-                         f"{f.log_coefficient_expected:.8f}", f"{f.relative_deviation:+.1e}", _fmt(f.C0), _fmt(f.K),
-                         str(len(f.model)), f"{f.residual_max:.1e}"] for f in fitted]))
-    if skipped:
-        b.append(Items(skipped))
-    return Section(f"Law {law}", b, level=3)
+            b.append(("table", ["ν_f", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "terms",
+                                "max |residual|"],
+                      [[f"{f.nu_f:g}", f"{f.log_coefficient:.8f} ± {f.log_coefficient_uncertainty:.0e}",
+                        f"{f.log_coefficient_expected:.8f}", f"{f.relative_deviation:+.1e}", _fmt(f.C0), _fmt(f.K),
+                        str(len(f.model)), f"{f.residual_max:.1e}"] for f in fitted]))
+        if skipped:
+            b.append(("ul", skipped))
+    return b
 
 
 def _holds_paper_laws(stores) -> bool:
@@ -282,28 +283,29 @@ def write_store_report(sources, out) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     figures: list = []
     titles = ", ".join(repr(ds.attrs.get("title", "?")) for ds in stores)
-    blocks: list = [Heading(f"Study report: {titles}", 1)]
+    blocks: list = [("h1", f"Study report: {titles}")]
     from ..models import get_model
     from ..store.layout import store_model
 
     notes = [get_model(store_model(ds.attrs)).units_note for ds in stores]
     units = "units: " + ("; ".join(dict.fromkeys(n for n in notes if n))
                          or "those the model declares on its axes and outputs")
-    blocks.append(Paragraph(f"Every number below is read from the stores or computed from them by this package; {units}."))
+    blocks.append(("p", f"Every number below is read from the stores or computed from them by this package; {units}."))
     for k, ds in enumerate(stores):
-        blocks.append(_store_section(ds, out, figures, f"store{k}"))
+        blocks += _store_blocks(ds, out, figures, f"store{k}")
     if _holds_paper_laws(stores):
         claims = claims_table(stores)
-        blocks.append(Section("The paper's claims (the stores hold its two laws)", [
-            Table(["where", "the paper says", "we measure", "agreement", "verdict"],
-                  [[c.where, f"{c.statement}: {c.paper}", c.measured, c.agreement, c.verdict] for c in claims])]))
+        blocks.append(("h2", "The paper's claims (the stores hold its two laws)"))
+        blocks.append(("table", ["where", "the paper says", "we measure", "agreement", "verdict"],
+                       [[c.where, f"{c.statement}: {c.paper}", c.measured, c.agreement, c.verdict] for c in claims]))
+    blocks.append(("h2", "Provenance"))
     prov = [f"bifurcation {__version__}; " + ", ".join(f"{p} {v}" for p, v in _versions().items())]
     for ds in stores:
         a = ds.attrs
         prov.append(f"store {a.get('store_path', '(in memory)')}: model {a.get('model', 'single-block')}, workflow "
                     f"sha256 {str(a.get('workflow_sha256', '?'))[:16]}, precision {a.get('precision', '?')}, "
                     f"{math.prod(ds['status'].shape)} points, written by bifurcation {a.get('version_bifurcation', '?')}")
-    blocks.append(Section("Provenance", [Items(prov)]))
+    blocks.append(("ul", prov))
     md, page = out / "REPORT.md", out / "report.html"
     md.write_text(_markdown(blocks), encoding="utf-8")
     page.write_text(_html(blocks, out), encoding="utf-8")

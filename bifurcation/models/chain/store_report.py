@@ -19,7 +19,6 @@ MAX_RUNS = 40
 def chain_store_blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
     """Report blocks for the chain store ``ds`` (an ``open_store`` Dataset with ``store_path``); the
     model's ``report`` hook (it draws no figure: ``out``, ``figures`` and ``stem`` are unused)."""
-    from ...report.document import Paragraph, Section, Table
     from ...store.catalog import open_catalog
 
     path = ds.attrs.get("store_path")
@@ -44,10 +43,11 @@ def chain_store_blocks(ds, model, out=None, figures=None, stem: str = "") -> lis
             big = str(int(np.max(cat["n_blocks"])))
             spanning = f"{float(np.mean(cat['n_blocks'] == n)):.3f}"
         rows.append([*cells, names.get(int(status[index]), str(int(status[index]))), str(k), mean_p, big, spanning])
-    blocks = [Paragraph(f"{len(runs)} of {done.size} runs done; per-event catalogs are read with "
-                        "`bifurcation query --store S --catalog` (one run) or `bifurcation.store.catalog.read_catalog`."
-                        + (f" The first {MAX_RUNS} runs are listed." if len(runs) > MAX_RUNS else ""))]
+    blocks = [("h3", "Chain runs and their catalogs"),
+              ("p", f"{len(runs)} of {done.size} runs done; per-event catalogs are read with "
+                    "`bifurcation query --store S --catalog` (one run) or `bifurcation.store.catalog.read_catalog`."
+                    + (f" The first {MAX_RUNS} runs are listed." if len(runs) > MAX_RUNS else ""))]
     if rows:
-        blocks.append(Table([*varying, "status", "events", "mean potency", "largest event (blocks)",
-                             "system-spanning share"], rows))
-    return [Section("Chain runs and their catalogs", blocks, level=3)]
+        blocks.append(("table", [*varying, "status", "events", "mean potency", "largest event (blocks)",
+                                 "system-spanning share"], rows))
+    return blocks
