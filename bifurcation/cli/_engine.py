@@ -75,7 +75,7 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
 @click.option("--pipeline", "pipeline_points", default=0, show_default=True,
               help="Also time the Dask pipeline on this many points (0: skip).")
 @click.option("--suite", type=click.Choice(["engine", "rate-state", "chain"]), default="engine", show_default=True,
-              help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint; "
+              help="engine: the single block vs compiled DOP853; rate-state: rsfmodel's cases vs compiled LSODA; "
                    "chain: the exact chain vs fixed-step RK4.")
 @O.JSON
 def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
@@ -90,8 +90,9 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
             echo_json(report)
         return
 
-    if importlib.util.find_spec("scipy") is None:
-        raise click.UsageError("the benchmark's DOP853 baseline needs scipy; install it with "
+    missing = [m for m in ("scipy", "numba", "numbalsoda") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise click.UsageError(f"the benchmark's baselines need {', '.join(missing)}; install them with "
                                "python -m pip install -e \".[bench]\"")
     if suite == "rate-state":
         from ..models.rate_state._bench import run_rate_state_bench
