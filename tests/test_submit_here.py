@@ -1,0 +1,94 @@
+"""submit on the embedded default: small studies run in this process, large ones hand the rest to a
+local cluster; the store is the same bit for bit either way (and equals the serial reference)."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+import bifurcation.run.submission as submission
+from bifurcation.run import submit
+from bifurcation.run.tiles import compute_serial, tile_count
+from bifurcation.workflow import Workflow
+
+from _store_helpers import assert_store_equals
+
+
+@pytest.fixture(autouse=True)
+def no_scheduler(monkeypatch):
+    # the embedded default only: no DASK_SCHEDULER_ADDRESS from the environment
+    import dask
+
+    monkeypatch.delenv("DASK_SCHEDULER_ADDRESS", raising=False)
+    with dask.config.set({"scheduler-address": None}):
+        yield
+
+
+def workflow(**changes) -> Workflow:
+    options = dict(name="here-test", laws=("piecewise-linear", "carlson-langer"),
+                   nu=(1e-3, 1e-6, 1e-9, 1e-12, 1e-15), nu_f=tuple(round(0.05 * k, 2) for k in range(1, 20)),
+                   tiles=(5, 3))
+    options.update(changes)
+    return Workflow(**options)
+
+
+def test_a_small_study_runs_in_this_process(tmp_path, monkeypatch):
+    w = workflow()
+    started = []
+    monkeypatch.setattr(submission, "connect", lambda *a, **k: started.append(a) or pytest.fail("cluster"))
+    summary = submit(w, store=tmp_path / "s.zarr", workers=2, progress=False)
+    assert summary.complete and summary.computed == w.n_points and summary.cluster == "this process"
+    assert summary.tiles == tile_count(w) and not started
+    assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
+    # the store's history says where it ran
+    again = submit(w, store=tmp_path / "s.zarr", progress=False)
+    assert (again.computed, again.skipped) == (0, w.n_points)
+
+
+def test_a_tile_that_raises_is_retried_then_reported(tmp_path, monkeypatch):
+    w = workflow(laws=("carlson-langer",))
+    calls = []
+    real = submission.run_tile
+
+    def flaky(tile, store, run_id):
+        calls.append(tile.name)
+        if tile.name == "0-0-0" and calls.count("0-0-0") <= 2:
+            raise OSError("disk hiccup")
+        if tile.name == "0-5-0":
+            raise ValueError("always broken")
+        return real(tile, store, run_id)
+
+    monkeypatch.setattr(submission, "run_tile", flaky)
+    summary = submit(w, store=tmp_path / "s.zarr", progress=False, retries=2)
+    assert calls.count("0-0-0") == 3 and calls.count("0-5-0") == 3
+    assert summary.failed == 5 * 3 and summary.computed == w.n_points - 15 and not summary.complete
+    assert summary.errors == ("tile 0-5-0 (carlson-langer): ValueError: always broken",)
+    monkeypatch.setattr(submission, "run_tile", real)   # a resubmit computes the failed tile only
+    again = submit(w, store=tmp_path / "s.zarr", progress=False)
+    assert again.complete and again.computed == 15
+    assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
+
+
+@pytest.mark.slow   # ~8 s: starts a local cluster of two worker processes
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="a hand-over needs 2 cores")
+def test_a_large_study_hands_the_rest_to_the_embedded_cluster(tmp_path, monkeypatch):
+    # Fault-free hand-over on a study made "large" by a zero threshold: two tiles here (the first
+    # compiles, the second measures), the rest on a real local cluster of two worker processes.
+    monkeypatch.setattr(submission, "HANDOVER_CPU_SECONDS", 0.0)
+    w = workflow()
+    summary = submit(w, store=tmp_path / "s.zarr", workers=2, progress=False)
+    assert summary.complete and summary.computed == w.n_points
+    assert summary.cluster == "this process, then the embedded local cluster"
+    assert summary.tiles == tile_count(w)
+    assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
+
+
+def test_one_worker_never_starts_a_cluster(tmp_path, monkeypatch):
+    monkeypatch.setattr(submission, "HANDOVER_CPU_SECONDS", 0.0)
+    monkeypatch.setattr(submission, "connect", lambda *a, **k: pytest.fail("cluster"))
+    w = workflow(laws=("carlson-langer",))
+    summary = submit(w, store=tmp_path / "s.zarr", workers=1, progress=False)
+    assert summary.complete and summary.cluster == "this process"
+    assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
