@@ -71,18 +71,31 @@ def test_a_tile_that_raises_is_retried_then_reported(tmp_path, monkeypatch):
     assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
 
 
-@pytest.mark.slow   # ~8 s: starts a local cluster of two worker processes
+@pytest.mark.slow   # ~10-20 s: starts a local cluster of two worker processes, twice
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="a hand-over needs 2 cores")
 def test_a_large_study_hands_the_rest_to_the_embedded_cluster(tmp_path, monkeypatch):
-    # Fault-free hand-over on a study made "large" by a zero threshold: two tiles here (the first
-    # compiles, the second measures), the rest on a real local cluster of two worker processes.
+    # A study made "large" by a zero threshold: after two tiles here (the first compiles, the second
+    # measures) a real local cluster of 3 - 1 = 2 worker processes starts in the background and shares
+    # the rest with this process; both write tiles, and the store equals the serial run bit for bit.
     monkeypatch.setattr(submission, "HANDOVER_CPU_SECONDS", 0.0)
-    w = workflow()
-    summary = submit(w, store=tmp_path / "s.zarr", workers=2, progress=False)
-    assert summary.complete and summary.computed == w.n_points
-    assert summary.cluster == "this process, then the embedded local cluster"
-    assert summary.tiles == tile_count(w)
-    assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
+
+    class Started(submission._Helpers):   # tiles of 15 points take ~1 ms: wait for the cluster to be up
+        def __init__(self, n_workers):
+            super().__init__(n_workers)
+            self._thread.join()
+
+    monkeypatch.setattr(submission, "_Helpers", Started)
+    where = []
+    real = submission.run_tile
+    monkeypatch.setattr(submission, "run_tile", lambda *a: where.append(os.getpid()) or real(*a))
+    w = workflow(nu_f=tuple(round(0.01 * k, 2) for k in range(1, 100)))   # 66 tiles
+    for writer in ("workers", "client"):
+        where.clear()
+        summary = submit(w, store=tmp_path / f"{writer}.zarr", workers=3, progress=False, writer=writer)
+        assert summary.complete and summary.computed == w.n_points and not summary.errors
+        assert summary.cluster == "this process and an embedded local cluster of 2 worker processes"
+        assert summary.tiles == tile_count(w) and 2 <= len(where) < tile_count(w)   # both computed tiles
+        assert_store_equals(tmp_path / f"{writer}.zarr", compute_serial(w))
 
 
 def test_one_worker_never_starts_a_cluster(tmp_path, monkeypatch):

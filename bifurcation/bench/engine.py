@@ -263,9 +263,22 @@ def run_bench(points: int = 2000, subset: int = 12, pipeline_points: int = 0, ec
             f"engine: {cmp_['dop853']['time_ratio_vs_engine_grid']:.0f}x (second column)")
         report["laws"][law] = {"grid": race, "subset": cmp_}
     if pipeline_points:
-        from .pipeline import bench_pipeline
+        from .pipeline import bench_embedded, bench_pipeline
 
-        say(f"\n== pipeline: {pipeline_points} points, 2 workers, store writes included")
+        say(f"\n== submit on the embedded default: {pipeline_points} points, up to 2 processes, store writes "
+            f"included, against one process computing the same grid (each in a fresh process)")
+        emb = bench_embedded(points=pipeline_points, workers=2)
+        report["embedded"] = emb
+        say(f"  where: {emb['where']} ({emb['tiles']} tiles)")
+        say(f"  one process: {emb['serial_s']:.2f} s wall, {emb['serial_cpu_s']:.2f} s CPU, peak RSS "
+            f"{emb['serial_peak_rss_mb']:.0f} MB")
+        say(f"  submit:      {emb['submit_s']:.2f} s wall, {emb['submit_cpu_s']:.2f} s CPU (all processes), peak RSS "
+            f"{emb['submit_peak_rss_mb']:.0f} MB (largest worker {emb['worker_peak_rss_mb']:.0f} MB)")
+        say(f"  => speed-up {emb['speedup']:.2f}x in wall time on {emb['processes_computing']} computing "
+            f"process(es): {emb['rate_per_core_ratio']:.2f}x the one-process rate per core; CPU efficiency "
+            f"{emb['cpu_efficiency']:.2f}; peak RSS {emb['peak_rss_ratio']:.2f}x one process")
+        say(f"\n== pipeline on an explicit local cluster (the distributed path): {pipeline_points} points, 2 workers, "
+            f"store writes included")
         # Above 1e5 points the one-core engine run would take minutes: time the pipeline alone there.
         pipe = bench_pipeline(points=pipeline_points, workers=2, serial=pipeline_points <= 200_000)
         report["pipeline"] = pipe
