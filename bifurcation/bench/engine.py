@@ -273,7 +273,7 @@ def run_bench(points: int = 2000, subset: int = 12, pipeline_points: int = 0, ec
         say(f"  one process: {emb['serial_s']:.2f} s wall, {emb['serial_cpu_s']:.2f} s CPU, peak RSS "
             f"{emb['serial_peak_rss_mb']:.0f} MB")
         say(f"  submit:      {emb['submit_s']:.2f} s wall, {emb['submit_cpu_s']:.2f} s CPU (all processes), peak RSS "
-            f"{emb['submit_peak_rss_mb']:.0f} MB (largest worker {emb['worker_peak_rss_mb']:.0f} MB)")
+            f"{emb['submit_peak_rss_mb']:.0f} MB (the submitting process)")
         say(f"  => speed-up {emb['speedup']:.2f}x in wall time on {emb['processes_computing']} computing "
             f"process(es): {emb['rate_per_core_ratio']:.2f}x the one-process rate per core; CPU efficiency "
             f"{emb['cpu_efficiency']:.2f}; peak RSS {emb['peak_rss_ratio']:.2f}x one process")

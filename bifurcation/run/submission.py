@@ -2,8 +2,10 @@
 
 The submitting process is the coordinator: it checks the workflow against the store, creates the
 store (metadata only), hands tiles to the cluster a window at a time and consolidates the metadata at
-the end. On the embedded default it computes the tiles itself until the work left is worth a cluster
-(a small study never starts one: issue 18 measured 3.8 s of fixed CPU and 4x the memory per submit). Each tile is written into its own chunk by exactly one writer, data first and ``done`` last.
+the end. On the embedded default it computes the tiles itself, and starts a local cluster to share them
+only when the work left is worth one (a small study never starts one: issue 18 measured 3.8 s of fixed
+CPU and 4x the memory per submit). Each tile is written into its own chunk by exactly one writer, data
+first and ``done`` last.
 
 Faults. A task that raises is retried (``retries``); a task whose worker dies (``kill -9``) is
 rescheduled by the scheduler on another worker, and a later write of the same tile writes the same
@@ -126,11 +128,12 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     scheduler : str or distributed.Client, optional
         A scheduler address or scheduler file, or a ``Client`` (left open: several submits can share
         one cluster); default ``DASK_SCHEDULER_ADDRESS`` or else the embedded default: tiles run in
-        this process, and the rest goes to a local cluster of ``workers`` processes (default: the
-        number of cores) once the work left, measured on the tiles so far, exceeds
-        ``HANDOVER_CPU_SECONDS`` (``_run_here``). The store is the same bit for bit either way.
+        this process, and once the work left, measured on the tiles so far, exceeds
+        ``HANDOVER_CPU_SECONDS``, a local cluster of ``workers - 1`` processes shares the rest with it
+        (``_run_here``). The store is the same bit for bit either way.
     workers : int, optional
-        Embedded: the number of worker processes (1: everything runs in this process). With a scheduler: wait for that many workers, at
+        Embedded: the number of processes that compute, this one included (default: the number of
+        cores; 1: everything runs in this process). With a scheduler: wait for that many workers, at
         most ``workers_timeout`` seconds (default ``cluster.WORKERS_TIMEOUT``), saying so on stderr.
     progress : None, bool or callable
         See ``bifurcation.run.progress.Progress`` (default: a bar on a terminal, else a plain line

@@ -13,7 +13,7 @@ as in our engine.
 Both run at rtol = atol = 1e-12 (rsfmodel's setting) and at the loosest tolerance of 1e-12 … 3e-15
 that reaches the engine's error (else their most accurate); the reference for all is our real128 run
 (which matches the mpmath reference to 1e-28, tests/test_rate_state.py), and each error is printed
-beside each time. Times are the best of ``repeat`` runs, wall-clock, one core; reported as ratios,
+beside each time. Times are the best of ``repeat`` runs, CPU time, one core; reported as ratios,
 never asserted.
 """
 
@@ -138,11 +138,13 @@ def _lsoda_case(a, k, states, rtol):
 
 
 def _best(fn, repeat):
+    # CPU seconds of this process (every method is single-threaded): load from other processes on a
+    # shared machine disturbs them least
     best = math.inf
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         out = fn()
-        best = min(best, time.perf_counter() - t0)
+        best = min(best, time.process_time() - t0)
     return best, out
 
 
