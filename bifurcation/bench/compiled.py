@@ -13,8 +13,8 @@ from the located switch state. An event function is pinned away from zero at its
 (numbalsoda tests every sign change, in either direction; the start sits on a zero).
 
 Two settings of the baseline, measured and kept: ``t_eval = (t0, t_end)`` (numbalsoda otherwise
-appends every step to a growing array: 2.5–3.5× slower here), and rtol = atol (Hairer's code refuses
-rtol ≤ 10 u; at rtol = 3e-15 it silently lost a switch on the piecewise-linear law, Δ off by 2e-4).
+appends every step to a growing array: 2.5–3.5× slower here), and rtol = atol no tighter than 1e-14 (at
+rtol = 3e-15 it silently lost a switch on the piecewise-linear law: Δ off by 2e-4 at ν = 1e-9, ν_f = 0.064).
 Brent's tolerance in numbalsoda is 1e-8 in t; Δ = νW at the stop, where Ẇ = 0, so the stop's error
 enters Δ squared (≤ 1e-16), and the switches are kinks of the right-hand side (its value is
 continuous), so theirs enters at second order too — the measured errors bear this out.
