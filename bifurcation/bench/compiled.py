@@ -1,6 +1,6 @@
 """Compiled baselines of the single block: numbalsoda's DOP853 with numba right-hand sides.
 
-numbalsoda (PyPI) wraps Hairer's DOP853 (the modern-Fortran port) behind ``solve_ivp``: a numba
+numbalsoda (PyPI) wraps a Fortran DOP853 (its src/dop853_module.f90) behind ``solve_ivp``: a numba
 ``cfunc`` right-hand side and event function, called through C pointers with no Python in the loop,
 and an event located by Brent's method on DOP853's 7th-order dense output. Every event is terminal.
 The whole per-point loop is numba-compiled (``dop853_cycles``), so the cost measured is the
@@ -15,7 +15,7 @@ from the located switch state. An event function is pinned away from zero at its
 Two settings of the baseline, measured and kept: ``t_eval = (t0, t_end)`` (numbalsoda otherwise
 appends every step to a growing array: 2.5–3.5× slower here), and rtol = atol no tighter than 1e-14 (at
 rtol = 3e-15 it silently lost a switch on the piecewise-linear law: Δ off by 2e-4 at ν = 1e-9, ν_f = 0.064).
-Brent's tolerance in numbalsoda is 1e-8 in t; Δ = νW at the stop, where Ẇ = 0, so the stop's error
+Brent's tolerance in numbalsoda is 1e-8 in t (src/dop853_solve_ivp.f90, ``find_root``); Δ = νW at the stop, where Ẇ = 0, so the stop's error
 enters Δ squared (≤ 1e-16), and the switches are kinks of the right-hand side (its value is
 continuous), so theirs enters at second order too — the measured errors bear this out.
 """
