@@ -2,7 +2,7 @@
 
 Baselines, on the same scaled equations and the same events (stop at U̇ = 0, switches of the
 piecewise-linear law at U̇ = ν_f):
-- compiled (the ratio quoted): numbalsoda's DOP853 (Hairer's Fortran) with numba ``cfunc`` right-hand
+- compiled (the ratio quoted): numbalsoda's DOP853 (in Fortran) with numba ``cfunc`` right-hand
   side and events, the stop located by Brent's method on its dense output, the per-point loop in numba
   (``bench.compiled``), at rtol = atol = 1e-13 and 1e-14, on the engine's grid;
 - interpreted (second column): scipy ``solve_ivp`` DOP853 at rtol = atol = 1e-13 and its tightest
