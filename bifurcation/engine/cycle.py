@@ -223,7 +223,8 @@ def auto_batch(law, size: int, precision: str = "double") -> int:
 
     A function of the inputs and the host only (never of timing), so a call gives the same bits every
     time on a host. Batch results do not depend on the lane count or the order of points, and equal the
-    scalar ones to rounding (≤ 7e-15 seen on the bench grid of 1 989 points; the ill-conditioned ν_f ≈ 0.51 more, test_engine), not bit for bit. Batching pays for every law measured once
+    scalar ones to rounding (≤ 7e-15 on the bench grid of 1 989 points; more at the ill-conditioned
+    ν_f ≈ 0.51, see test_engine), not bit for bit. Batching pays for every law measured once
     the batch loop keeps its Python work per return small (``bifurcation bench``): Carlson–Langer
     1.7x, piecewise-linear 1.2x (its switches are terminal: they return control for all lanes),
     exp(-x) 2.3x (its rungs are terminal too) in CPU time per point at 2000 points.
@@ -252,8 +253,8 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
         ``auto_batch`` (a batch of ``batch_lanes()`` from 16 points in double precision, else scalar),
         chosen from the number of points, the precision and the host, never from timing. Results of a
         batch run do not depend on the batch size or the order of points, and agree with the scalar
-        run to rounding (≤ 7e-15 on the bench grid), not bit for bit (SIMD code differs): pass ``batch=1`` for the
-        scalar bits (workflows and the store use their own ``batch``, default 1).
+        run to rounding (≤ 7e-15 on the bench grid), not bit for bit (SIMD code differs): pass
+        ``batch=1`` for the scalar bits (workflows and the store use their own ``batch``, default 1).
 
     Returns
     -------
