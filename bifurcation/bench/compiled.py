@@ -15,9 +15,10 @@ from the located switch state. An event function is pinned away from zero at its
 Two settings of the baseline, measured and kept: ``t_eval = (t0, t_end)`` (numbalsoda otherwise
 appends every step to a growing array: 2.5–3.5× slower here), and rtol = atol no tighter than 1e-14 (at
 rtol = 3e-15 it silently lost a switch on the piecewise-linear law: Δ off by 2e-4 at ν = 1e-9, ν_f = 0.064).
-Brent's tolerance in numbalsoda is 1e-8 in t (src/dop853_solve_ivp.f90, ``find_root``); Δ = νW at the stop, where Ẇ = 0, so the stop's error
-enters Δ squared (≤ 1e-16), and the switches are kinks of the right-hand side (its value is
-continuous), so theirs enters at second order too — the measured errors bear this out.
+Brent's tolerance in numbalsoda is 1e-8 in t (src/dop853_solve_ivp.f90, ``find_root``); Δ = νW at the
+stop, where Ẇ = 0, so the stop's error enters Δ squared (≤ 1e-16), and the switches are kinks of the
+right-hand side (its value is continuous), so theirs enters at second order too — the measured errors
+bear this out.
 """
 
 from __future__ import annotations
