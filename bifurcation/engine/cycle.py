@@ -210,10 +210,10 @@ def _run_group(model, law, values, size, structure, precision, t_max, max_steps,
 
 
 def batch_lanes() -> int:
-    """Lanes of ``slip``'s default batch on this host: twice heyoka's recommended SIMD width (4 on AVX2
-    and AVX-512 hosts, where heyoka prefers 256-bit vectors: 8 lanes). Measured on AVX-512 (CPU time per
-    point, 2000 points): 8 and 16 lanes within 3 % of each other, 4 lanes up to 10 % slower (the Python
-    work per return of the batch integrator is shared by more lanes)."""
+    """Lanes of ``slip``'s default batch on this host: twice heyoka's recommended SIMD width (it says 4 on
+    the AVX-512 development host: 8 lanes). Measured there (CPU time per point, 2000 points): 8 and 16
+    lanes within 3 % of each other, 4 lanes up to 10 % slower (the Python work per return of the batch
+    integrator is shared by more lanes)."""
     return 2 * int(hy.recommended_simd_size())
 
 
