@@ -15,6 +15,7 @@ from bifurcation.bench.compiled import dop853_cycles  # noqa: E402
 from bifurcation.theory.reference import piecewise_linear_exact  # noqa: E402
 
 
+@pytest.mark.slow   # numba compiles the baseline's driver: ~3-6 s
 def test_compiled_dop853_piecewise_linear_matches_the_exact_solution():
     # Reference: the closed-form piecewise solution in mpmath (theory.reference, 30 digits), switches
     # included. Tolerance 1e-12: DOP853 at rtol = atol = 1e-14 accumulates ~1e-13 over its ~50 steps
@@ -26,6 +27,7 @@ def test_compiled_dop853_piecewise_linear_matches_the_exact_solution():
     assert np.max(np.abs(got - ref) / ref) < 1e-12
 
 
+@pytest.mark.slow   # numba compiles the baseline's driver (once per process)
 def test_compiled_dop853_carlson_langer_matches_quad():
     # Reference: the engine in real128 (agrees with mpmath references to ~1e-30, tests/test_precision.py).
     nus = np.array([1e-3, 1e-9, 1e-15])
