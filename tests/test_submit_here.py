@@ -105,3 +105,17 @@ def test_one_worker_never_starts_a_cluster(tmp_path, monkeypatch):
     summary = submit(w, store=tmp_path / "s.zarr", workers=1, progress=False)
     assert summary.complete and summary.cluster == "this process"
     assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
+
+
+@pytest.mark.slow   # two fresh Python processes that import heyoka and compile: ~5-10 s
+def test_bench_embedded_smoke():
+    from bifurcation.bench.pipeline import bench_embedded
+
+    out = bench_embedded(points=2000, workers=1, tiles=(8, 64))
+    assert out["complete"] and out["where"] == "this process" and out["processes_computing"] == 1
+    assert out["points"] == 32 * 64
+    # VmHWM of fresh processes: ~100-250 MB each (numpy, heyoka, and for the submit xarray and zarr);
+    # the bounds catch a unit error (kB taken as MB or bytes: a factor 1024) and the inherited peak of
+    # the parent that ru_maxrss reported, not small changes
+    assert 50 < out["serial_peak_rss_mb"] < 1000 and 50 < out["submit_peak_rss_mb"] < 1000
+    assert out["serial_cpu_s"] > 0 and out["submit_cpu_s"] > 0
