@@ -85,11 +85,12 @@ def test_console_script_exit_status_and_no_traceback():
     assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
 
 
-def test_bench_without_scipy_says_how_to_install_it(monkeypatch):
+@pytest.mark.parametrize("module", ["scipy", "numbalsoda"])
+def test_bench_without_its_baselines_says_how_to_install_them(monkeypatch, module):
     import importlib.util
 
     real = importlib.util.find_spec
-    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "scipy" else real(name, *a))
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == module else real(name, *a))
     result = run("bench", "--points", "10")
     assert result.exit_code == 2
-    assert 'needs scipy; install it with python -m pip install -e ".[bench]"' in result.stderr
+    assert f'need {module}; install them with python -m pip install -e ".[bench]"' in result.stderr

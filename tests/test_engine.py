@@ -208,7 +208,7 @@ def test_unknown_law():
 def test_batch_mode_agrees_and_is_reproducible(law):
     nu = np.repeat(NUS, 7)
     nu_f = np.tile([0.05, 0.2, 0.4, 0.5, 0.51, 0.7, 0.95], NUS.size)
-    scalar = bf.slip(law, nu=nu, nu_f=nu_f)
+    scalar = bf.slip(law, nu=nu, nu_f=nu_f, batch=1)
     eight = bf.slip(law, nu=nu, nu_f=nu_f, batch=8)
     perm = np.random.default_rng(0).permutation(nu.size)
     four = bf.slip(law, nu=nu[perm], nu_f=nu_f[perm], batch=4)
@@ -221,6 +221,31 @@ def test_batch_mode_agrees_and_is_reproducible(law):
         assert (np.isnan(a) == np.isnan(b)).all(), field
         assert np.nanmax(np.abs(a - b) / np.abs(b)) <= 3e-14, field
         assert (getattr(four, field) == a[perm])[~np.isnan(a[perm])].all(), field
+
+
+@pytest.mark.parametrize("law", ["piecewise-linear", "carlson-langer", "exponential"])
+def test_default_batch_is_chosen_from_the_inputs(law):
+    # slip's default (batch=None) batches from AUTO_BATCH_MIN_POINTS points in double precision, with
+    # batch_lanes() lanes, and is scalar below: a function of the inputs and the host, never of timing,
+    # so the same call gives the same bits; batch results equal scalar ones to rounding only.
+    from bifurcation.engine.cycle import AUTO_BATCH_MIN_POINTS, auto_batch, batch_lanes
+
+    lanes = batch_lanes()
+    assert lanes >= 2 and auto_batch(law, AUTO_BATCH_MIN_POINTS) == lanes
+    assert auto_batch(law, AUTO_BATCH_MIN_POINTS - 1) == 1 and auto_batch(law, 10**6, "quad") == 1
+    nu = np.repeat(NUS, 7)
+    nu_f = np.tile([0.05, 0.2, 0.4, 0.5, 0.51, 0.7, 0.95], NUS.size)
+    assert nu.size >= AUTO_BATCH_MIN_POINTS
+    default = bf.slip(law, nu=nu, nu_f=nu_f)
+    batched = bf.slip(law, nu=nu, nu_f=nu_f, batch=lanes)
+    scalar = bf.slip(law, nu=nu, nu_f=nu_f, batch=1)
+    for field in ("delta", "max_velocity", "creep_time", "stop_time", "steps", "status"):
+        np.testing.assert_array_equal(getattr(default, field), getattr(batched, field), err_msg=field)
+    np.testing.assert_array_equal(bf.slip(law, nu=nu, nu_f=nu_f).delta, default.delta)   # again: same bits
+    # the 3e-14 bound is test_batch_mode_agrees_and_is_reproducible's (ν_f = 0.51 is ill-conditioned)
+    assert np.nanmax(np.abs(default.delta - scalar.delta) / scalar.delta) <= 3e-14
+    few = bf.slip(law, nu=nu[:AUTO_BATCH_MIN_POINTS - 1], nu_f=nu_f[:AUTO_BATCH_MIN_POINTS - 1])
+    np.testing.assert_array_equal(few.delta, scalar.delta[:AUTO_BATCH_MIN_POINTS - 1])
 
 
 def test_bad_batch():

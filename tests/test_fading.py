@@ -114,6 +114,19 @@ def test_batch_matches_reference():
     assert np.array_equal(few.delta, r.delta[:2])
 
 
+def test_idle_lanes_start_clean_after_points_without_a_stop():
+    # Regression (found when batching became slip's default): a lane that finished a point without a
+    # stop kept a non-finite time when it went idle, and heyoka refused the next call on the same cached
+    # integrator ("one of the current times is not finite"). Idle lanes rest at time 0 now.
+    points = _groups("cycle")["exp(-x)"]
+    nu = np.array([p["nu"] for p in points])
+    nu_f = np.array([p["nu_f"] for p in points])
+    first = bf.slip("exponential", nu=nu, nu_f=nu_f, batch=8)
+    assert (first.status != int(Status.STICK_SLIP)).any()   # the points that left a lane non-finite
+    few = bf.slip("exponential", nu=nu[:2], nu_f=nu_f[:2], batch=8)
+    np.testing.assert_array_equal(few.delta, first.delta[:2])
+
+
 # -- the issue's failing cases, before the fix ------------------------------------------------------------
 def test_without_rungs_the_issue_comes_back(monkeypatch):
     # Fault injection: the same integrator without its ladder steps over the deceleration again

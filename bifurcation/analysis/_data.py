@@ -249,7 +249,8 @@ def slip_dataset(laws, nu_f, nu, *, precision: str = "double"):
     nu = np.atleast_1d(np.asarray(nu, dtype=float))
     data = {f: [] for f in (*FIELDS, "steps", "status")}
     for law in laws:
-        r = slip(law, nu=nu[None, :], nu_f=nu_f[:, None], precision=precision)
+        # scalar (batch=1), as the store computes by default: the same bits as a stored study
+        r = slip(law, nu=nu[None, :], nu_f=nu_f[:, None], precision=precision, batch=1)
         for f in data:
             data[f].append(np.asarray(r[f]))
     dims = ("law", "nu_f", "nu")

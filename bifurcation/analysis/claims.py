@@ -2,7 +2,8 @@
 
 Vasconcelos, PRL 76, 4865 (1996). Each row is *computed* here from the engine (``slip``, ``limit``), the
 closed forms of ``bifurcation.theory`` and the fits of this package; only the paper's own statements are
-text. Verdicts: "confirmed", "confirmed (corrected form)" where the printed formula is wrong but the
+text. Every ``slip`` here is scalar (``batch=1``): the committed claims' digits do not move with the
+host's default batching (``bifurcation.engine.cycle.auto_batch``). Verdicts: "confirmed", "confirmed (corrected form)" where the printed formula is wrong but the
 claim behind it holds, "incomplete" (right as far as it goes, but misses a term that dominates),
 "refuted", "consistent" (a figure, reproduced qualitatively: the paper prints no numbers for it).
 """
@@ -65,8 +66,8 @@ def _creep_claims(nu=_FIG_NU):
     from ..theory import alpha, creep_coefficient, max_velocity_creep, stop_time_creep
 
     nf = _CREEP_NU_F
-    pl = slip("piecewise-linear", nu=nu, nu_f=nf)
-    cl = slip("carlson-langer", nu=nu, nu_f=nf)
+    pl = slip("piecewise-linear", nu=nu, nu_f=nf, batch=1)
+    cl = slip("carlson-langer", nu=nu, nu_f=nf, batch=1)
     grid = ", ".join(f"{x:g}" for x in nf)
     out = []
     eq8 = max_velocity_creep(nu, nf)
@@ -105,7 +106,7 @@ def _stick_claims(lim):
 
     out = []
     nus = np.array([1e-6, 1e-9, 1e-12, 1e-15])
-    r = slip("piecewise-linear", nu=nus, nu_f=0.4)
+    r = slip("piecewise-linear", nu=nus, nu_f=0.4, batch=1)
     diffs = np.abs(r.creep_time - creep_time_asymptotic(nus, 0.4))
     out.append(Claim(
         "eq13", "Eq. (13)", "creep time t1 (U̇(t1) = ν_f) diverges logarithmically as ν → 0",
@@ -140,7 +141,7 @@ def _stick_claims(lim):
         "direct ν → 0 orbit, same ν_f (at 1/2 the limit τ1 + 1/2)", f"max |Δτ2| = {d17:.1e}",
         "confirmed" if d17 < 1e-12 else "refuted", numbers={"abs_diff": d17, "tau2_minus_tau1": s.tolist()}))
     d18 = _rel(lim.delta0, d0)
-    fin = slip("piecewise-linear", nu=1e-15, nu_f=nf)
+    fin = slip("piecewise-linear", nu=1e-15, nu_f=nf, batch=1)
     out.append(Claim(
         "eq18", "Eq. (18)", "ν → 0 slip of the piecewise-linear law; √e at ν_f = 1/2, 0 above",
         "Δ = (1 + ω/α)^{(1 + α/ω)/2} (ν_f ≤ 1/2)", f"direct ν → 0 limit (engine, quad), ν_f ∈ {{{grid}}}",
@@ -165,7 +166,7 @@ def _figure_claims(source, half):
     fallback = ""
     if s is None or len(s) < 10:
         nf = np.linspace(0.02, 1.0, 50)
-        r = slip("piecewise-linear", nu=_FIG_NU, nu_f=nf)
+        r = slip("piecewise-linear", nu=_FIG_NU, nu_f=nf, batch=1)
         ok = np.isin(r.status, _GOOD)
         x, d = nf[ok], r.delta[ok]
         fallback = f"Δ along ν_f ({nf.size} in {nf[0]:g} … {nf[-1]:g}) at ν = {_FIG_NU:g}, piecewise-linear"
@@ -185,7 +186,7 @@ def _figure_claims(source, half):
     steps = []
     for h in (0.004, 0.002, 0.001):
         grid = np.round(np.arange(0.46, 0.56 + h / 2, h), 6)
-        d = slip("carlson-langer", nu=_FIG_NU, nu_f=grid).delta
+        d = slip("carlson-langer", nu=_FIG_NU, nu_f=grid, batch=1).delta
         steps.append(float(np.nanmax(np.abs(np.diff(d)))))
         if h == 0.004:
             at_half = float(d[np.argmin(np.abs(grid - 0.5))])
@@ -201,7 +202,7 @@ def _figure_claims(source, half):
         numbers={"max_steps": steps, "delta_half_1e-9": at_half, "jump_limit": d0_half}))
 
     creep_nu = np.array([1e-6, 1e-9, 1e-12, 1e-15])
-    creep = slip("carlson-langer", nu=creep_nu, nu_f=0.55)
+    creep = slip("carlson-langer", nu=creep_nu, nu_f=0.55, batch=1)
     ratio = creep.delta / creep.nu
     coefficient = float(creep_coefficient(0.55))
     out.append(Claim(

@@ -8,6 +8,10 @@
 CPU seconds of both are reported too (``cpu_efficiency`` = serial CPU / pipeline CPU, workers and
 coordinator): on a shared machine the wall-clock ratio depends on the other load, these much less.
 Worker memory is the peak RSS (``ru_maxrss``) of each worker process after the run.
+
+(c) ``bench_embedded``: ``submit`` on the embedded default (no scheduler: this process computes, and a
+    local cluster shares the rest when it is worth one) against one process computing the same grid,
+    each in a fresh Python process: the rate per computing process and the peak RSS against one process.
 """
 
 from __future__ import annotations
@@ -35,8 +39,18 @@ def bench_workflow(points: int, *, law: str = "carlson-langer", tiles=(128, 64))
 
 
 def _peak_rss() -> int:
+    """Peak resident memory of this process in bytes: Linux's VmHWM, which a new program image starts
+    afresh. (``ru_maxrss`` survives exec: a worker or benchmark child started from a 400 MB parent
+    reported the parent's 400 MB.)"""
     import resource
 
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024   # kB
+    except OSError:
+        pass
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024   # Linux: kB
 
 
@@ -64,9 +78,9 @@ def bench_pipeline(points: int = 100_000, workers: int = 2, *, law: str = "carls
            "writer": writer}
     if serial:
         nu_f, nu = np.meshgrid(np.asarray(workflow.nu_f), np.asarray(workflow.nu), indexing="ij")
-        slip(law, nu=1e-3, nu_f=0.3)   # compile outside the timing, as every worker does once
+        slip(law, nu=1e-3, nu_f=0.3, batch=workflow.batch)   # compile outside the timing, as every worker does
         t0, cpu0 = time.perf_counter(), time.process_time()
-        slip(law, nu=nu.ravel(), nu_f=nu_f.ravel())
+        slip(law, nu=nu.ravel(), nu_f=nu_f.ravel(), batch=workflow.batch)   # what the tiles compute
         out["serial_s"] = time.perf_counter() - t0
         out["serial_cpu_s"] = time.process_time() - cpu0
         out["serial_points_per_s"] = workflow.n_points / out["serial_s"]
@@ -105,3 +119,77 @@ def bench_pipeline(points: int = 100_000, workers: int = 2, *, law: str = "carls
         out["ratio"] = out["serial_s"] / out["pipeline_s"]
         out["cpu_efficiency"] = out["serial_cpu_s"] / out["pipeline_cpu_s"]
     return out
+
+
+# -- the embedded default against one process, each in a fresh process -----------------------------------
+_SERIAL_CHILD = """
+import json, resource, sys, time
+import numpy as np
+from bifurcation.bench.pipeline import bench_workflow
+from bifurcation.engine.solve import solve
+w = bench_workflow({points}, law={law!r}, tiles={tiles!r})
+nu_f, nu = np.meshgrid(np.asarray(w.nu_f), np.asarray(w.nu), indexing="ij")
+t0, c0 = time.perf_counter(), time.process_time()
+solve(w.spec, {law!r}, {{"nu_f": nu_f, "nu": nu}}, batch=w.batch)   # compiles first, as a fresh script does
+from bifurcation.bench.pipeline import _peak_rss
+out = dict(wall_s=time.perf_counter() - t0, cpu_s=time.process_time() - c0, peak_rss_mb=_peak_rss() / 2**20)
+print(json.dumps(out))
+"""
+
+_SUBMIT_CHILD = """
+import json, resource, sys, time
+from bifurcation.bench.pipeline import bench_workflow
+from bifurcation.run.submission import submit
+import dask.array, xarray, zarr   # imports are not timed (create_store and write_tile need them)
+w = bench_workflow({points}, law={law!r}, tiles={tiles!r})
+if __name__ == "__main__":
+    c0 = time.process_time()
+    s = submit(w, store={store!r}, workers={workers}, progress=False, new_store=True)
+    from bifurcation.bench.pipeline import _peak_rss
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)   # the cluster's processes, once it has closed
+    out = dict(wall_s=s.wall_time, complete=s.complete, cluster=s.cluster, tiles=s.tiles,
+               cpu_s=time.process_time() - c0 + kids.ru_utime + kids.ru_stime, peak_rss_mb=_peak_rss() / 2**20)
+    print(json.dumps(out))
+"""
+
+
+def _child(code: str, cwd: str) -> dict:
+    import json
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if not k.startswith("DASK_")}   # the embedded default
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=cwd,
+                          timeout=1800)
+    if proc.returncode:
+        raise RuntimeError(f"benchmark child failed: {proc.stderr.strip().splitlines()[-1:]}")
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def bench_embedded(points: int = 100_000, workers: int = 2, *, law: str = "carlson-langer",
+                   tiles=(128, 64)) -> dict:
+    """``submit`` on the embedded default (no scheduler) against one process computing the same grid
+    (``solve`` with the workflow's batch, as the store does), each in a fresh Python process, imports
+    untimed, compilation timed in both. Returns wall and CPU seconds, the rate per core (points per
+    second per process that computes: 1 when the study stayed in the submitting process, else the
+    workers), and the submitting process's peak RSS (a worker's is not read here: ``bench_pipeline``
+    reads it on an explicit cluster)."""
+    import os
+
+    with tempfile.TemporaryDirectory(prefix="bifurcation-bench-") as tmp:
+        serial = _child(_SERIAL_CHILD.format(points=points, law=law, tiles=tuple(tiles)), tmp)
+        run = _child(_SUBMIT_CHILD.format(points=points, law=law, tiles=tuple(tiles), workers=workers,
+                                          store=str(Path(tmp) / "embedded.zarr")), tmp)
+    n = bench_workflow(points, law=law, tiles=tiles).n_points
+    here = run["cluster"] == "this process"
+    cores = 1 if here else min(workers, os.cpu_count() or 1)
+    serial_rate = n / serial["wall_s"]
+    rate = n / run["wall_s"]
+    return {"points": n, "workers": workers, "where": run["cluster"], "tiles": run["tiles"],
+            "complete": run["complete"], "serial_s": serial["wall_s"], "serial_cpu_s": serial["cpu_s"],
+            "serial_peak_rss_mb": serial["peak_rss_mb"], "submit_s": run["wall_s"], "submit_cpu_s": run["cpu_s"],
+            "speedup": serial["wall_s"] / run["wall_s"], "processes_computing": cores,
+            "rate_per_core_ratio": rate / cores / serial_rate,
+            "cpu_efficiency": serial["cpu_s"] / run["cpu_s"],
+            "submit_peak_rss_mb": run["peak_rss_mb"], "peak_rss_ratio": run["peak_rss_mb"] / serial["peak_rss_mb"]}

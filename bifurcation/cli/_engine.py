@@ -83,7 +83,7 @@ def _suites() -> list[str]:
               help="Also time the Dask pipeline on this many points (0: skip).")
 @click.option("--suite", type=click.Choice(["engine", *_suites()]), default="engine", show_default=True,
               help="A model whose declaration has a bench hook; engine (the single block): the engine vs "
-                   "DOP853; rate-state: rsfmodel's cases vs odeint; chain: the exact chain vs fixed-step RK4.")
+                   "compiled DOP853; rate-state: rsfmodel's cases vs compiled LSODA; chain: the chain vs RK4.")
 @O.JSON
 def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
     """Benchmarks, side by side in one run, reported as ratios (never a test)."""
@@ -95,7 +95,7 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
     model = get_model(DEFAULT_MODEL if suite == "engine" else suite)
     missing = [m for m in model.hooks.bench_needs if importlib.util.find_spec(m) is None]
     if missing:
-        raise click.UsageError(f"the {suite} benchmark's baseline needs {', '.join(missing)}; install it with "
+        raise click.UsageError(f"the {suite} benchmark's baselines need {', '.join(missing)}; install them with "
                                "python -m pip install -e \".[bench]\"")
     run = model.hook("bench")
     options = {"points": points, "subset": subset, "pipeline_points": pipeline_points}

@@ -26,10 +26,11 @@ PRECISION = click.option("--precision", type=click.Choice(PRECISIONS), default=P
 FORMAT = click.option("--format", "fmt", type=click.Choice(FORMATS), default=FORMATS[0], show_default=True)
 SCHEDULER = click.option("--scheduler", metavar="ADDRESS|SCHEDULER_FILE", default=None,
                          help="Dask scheduler (tcp://host:8786) or scheduler file. Default: "
-                              "$DASK_SCHEDULER_ADDRESS, else an embedded local cluster.")
+                              "$DASK_SCHEDULER_ADDRESS, else this process, joined by an embedded local cluster "
+                              "when the work left is worth one.")
 WORKERS = click.option("--workers", type=int, default=None,
-                       help="Embedded cluster: worker processes (default: cores). With --scheduler: wait for N "
-                            "workers.")
+                       help="Embedded: processes that compute, this one included (default: cores; 1: no "
+                            "cluster). With --scheduler: wait for N workers.")
 WRITE_FROM = click.option("--write-from", "writer", type=click.Choice(WRITERS), default=WRITERS[0],
                           show_default=True,
                           help="Who writes finished tiles: the workers (store on a filesystem all workers share) "

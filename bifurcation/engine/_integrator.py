@@ -118,12 +118,17 @@ class LaneRecorder:
 
     def maximum(self, name: str, index: int):
         values = self.values[name]
+        views = []   # (times buffer, d_output view) of the one integrator whose events call this
 
         def callback(ta, time, d_sgn, lane) -> None:
-            times = np.array(ta.time)
+            if not views or views[0][2] is not ta:   # d_output is a live view: fetched once per integrator
+                views[:] = [(np.zeros(len(values)), ta.d_output, ta)]   # (per call: ~1 µs of ~20 per point)
+            times, d_output, _ = views[0]
+            times[:] = ta.time
             times[lane] = time
             ta.update_d_output(times)
-            values[lane] = max(values[lane], ta.d_output[index, lane])
+            if d_output[index, lane] > values[lane]:
+                values[lane] = d_output[index, lane]
 
         return callback
 

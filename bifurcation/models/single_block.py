@@ -202,6 +202,6 @@ SINGLE_BLOCK = Model(
     classify=_classify,
     hooks=Hooks(describe_label="bifurcation.laws:resolve_law",
                 report="bifurcation.report.study:single_block_section",
-                bench="bifurcation.bench:run_bench", bench_needs=("scipy",)),
+                bench="bifurcation.bench:run_bench", bench_needs=("scipy", "numba", "numbalsoda")),
     units_note=BLOCK_UNITS,
 )

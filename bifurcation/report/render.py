@@ -83,7 +83,7 @@ def _fallback_curves(law, nus):
 
     nu_f = np.round(np.concatenate([np.arange(0.01, 1.0, 0.01), np.arange(0.481, 0.52, 0.002)]), 6)
     nu_f = np.unique(nu_f)
-    r = slip(law, nu=np.asarray(nus)[:, None], nu_f=nu_f[None, :])
+    r = slip(law, nu=np.asarray(nus)[:, None], nu_f=nu_f[None, :], batch=1)   # scalar: committed digits
     out = {}
     for i, nu in enumerate(nus):
         ok = np.isin(r.status[i], _GOOD)

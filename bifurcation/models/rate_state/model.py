@@ -184,7 +184,7 @@ RATE_STATE = Model(
     runner=_run,
     hooks=Hooks(describe_label="bifurcation.models.rate_state.store_report:describe_label",
                 report="bifurcation.models.rate_state.store_report:blocks",
-                bench="bifurcation.models.rate_state._bench:run_rate_state_bench", bench_needs=("scipy",),
+                bench="bifurcation.models.rate_state._bench:run_rate_state_bench", bench_needs=("scipy", "numba", "numbalsoda"),
                 commands="bifurcation.cli._rate_state:COMMANDS"),
     units_note="those of the workflow's own V_lp, Dc and M (docs/rate-state.md)",
 )

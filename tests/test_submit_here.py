@@ -1,0 +1,121 @@
+"""submit on the embedded default: small studies run in this process, large ones hand the rest to a
+local cluster; the store is the same bit for bit either way (and equals the serial reference)."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+import bifurcation.run.submission as submission
+from bifurcation.run import submit
+from bifurcation.run.tiles import compute_serial, tile_count
+from bifurcation.workflow import Workflow
+
+from _store_helpers import assert_store_equals
+
+
+@pytest.fixture(autouse=True)
+def no_scheduler(monkeypatch):
+    # the embedded default only: no DASK_SCHEDULER_ADDRESS from the environment
+    import dask
+
+    monkeypatch.delenv("DASK_SCHEDULER_ADDRESS", raising=False)
+    with dask.config.set({"scheduler-address": None}):
+        yield
+
+
+def workflow(**changes) -> Workflow:
+    options = dict(name="here-test", laws=("piecewise-linear", "carlson-langer"),
+                   nu=(1e-3, 1e-6, 1e-9, 1e-12, 1e-15), nu_f=tuple(round(0.05 * k, 2) for k in range(1, 20)),
+                   tiles=(5, 3))
+    options.update(changes)
+    return Workflow(**options)
+
+
+def test_a_small_study_runs_in_this_process(tmp_path, monkeypatch):
+    w = workflow()
+    started = []
+    monkeypatch.setattr(submission, "connect", lambda *a, **k: started.append(a) or pytest.fail("cluster"))
+    summary = submit(w, store=tmp_path / "s.zarr", workers=2, progress=False)
+    assert summary.complete and summary.computed == w.n_points and summary.cluster == "this process"
+    assert summary.tiles == tile_count(w) and not started
+    assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
+    # the store's history says where it ran
+    again = submit(w, store=tmp_path / "s.zarr", progress=False)
+    assert (again.computed, again.skipped) == (0, w.n_points)
+
+
+def test_a_tile_that_raises_is_retried_then_reported(tmp_path, monkeypatch):
+    w = workflow(laws=("carlson-langer",))
+    calls = []
+    real = submission.run_tile
+
+    def flaky(tile, store, run_id):
+        calls.append(tile.name)
+        if tile.name == "0-0-0" and calls.count("0-0-0") <= 2:
+            raise OSError("disk hiccup")
+        if tile.name == "0-5-0":
+            raise ValueError("always broken")
+        return real(tile, store, run_id)
+
+    monkeypatch.setattr(submission, "run_tile", flaky)
+    summary = submit(w, store=tmp_path / "s.zarr", progress=False, retries=2)
+    assert calls.count("0-0-0") == 3 and calls.count("0-5-0") == 3
+    assert summary.failed == 5 * 3 and summary.computed == w.n_points - 15 and not summary.complete
+    assert summary.errors == ("tile 0-5-0 (carlson-langer): ValueError: always broken",)
+    monkeypatch.setattr(submission, "run_tile", real)   # a resubmit computes the failed tile only
+    again = submit(w, store=tmp_path / "s.zarr", progress=False)
+    assert again.complete and again.computed == 15
+    assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
+
+
+@pytest.mark.slow   # ~10-20 s: starts a local cluster of two worker processes, twice
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="a hand-over needs 2 cores")
+def test_a_large_study_hands_the_rest_to_the_embedded_cluster(tmp_path, monkeypatch):
+    # A study made "large" by a zero threshold: after two tiles here (the first compiles, the second
+    # measures) a real local cluster of 3 - 1 = 2 worker processes starts in the background and shares
+    # the rest with this process; both write tiles, and the store equals the serial run bit for bit.
+    monkeypatch.setattr(submission, "HANDOVER_CPU_SECONDS", 0.0)
+
+    class Started(submission._Helpers):   # tiles of 15 points take ~1 ms: wait for the cluster to be up
+        def __init__(self, n_workers):
+            super().__init__(n_workers)
+            self._thread.join()
+
+    monkeypatch.setattr(submission, "_Helpers", Started)
+    where = []
+    real = submission.run_tile
+    monkeypatch.setattr(submission, "run_tile", lambda *a: where.append(os.getpid()) or real(*a))
+    w = workflow(nu_f=tuple(round(0.01 * k, 2) for k in range(1, 100)))   # 66 tiles
+    for writer in ("workers", "client"):
+        where.clear()
+        summary = submit(w, store=tmp_path / f"{writer}.zarr", workers=3, progress=False, writer=writer)
+        assert summary.complete and summary.computed == w.n_points and not summary.errors
+        assert summary.cluster == "this process and an embedded local cluster of 2 worker processes"
+        assert summary.tiles == tile_count(w) and 2 <= len(where) < tile_count(w)   # both computed tiles
+        assert_store_equals(tmp_path / f"{writer}.zarr", compute_serial(w))
+
+
+def test_one_worker_never_starts_a_cluster(tmp_path, monkeypatch):
+    monkeypatch.setattr(submission, "HANDOVER_CPU_SECONDS", 0.0)
+    monkeypatch.setattr(submission, "connect", lambda *a, **k: pytest.fail("cluster"))
+    w = workflow(laws=("carlson-langer",))
+    summary = submit(w, store=tmp_path / "s.zarr", workers=1, progress=False)
+    assert summary.complete and summary.cluster == "this process"
+    assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
+
+
+@pytest.mark.slow   # two fresh Python processes that import heyoka and compile: ~5-10 s
+def test_bench_embedded_smoke():
+    from bifurcation.bench.pipeline import bench_embedded
+
+    out = bench_embedded(points=2000, workers=1, tiles=(8, 64))
+    assert out["complete"] and out["where"] == "this process" and out["processes_computing"] == 1
+    assert out["points"] == 32 * 64
+    # VmHWM of fresh processes: ~100-250 MB each (numpy, heyoka, and for the submit xarray and zarr);
+    # the bounds catch a unit error (kB taken as MB or bytes: a factor 1024) and the inherited peak of
+    # the parent that ru_maxrss reported, not small changes
+    assert 50 < out["serial_peak_rss_mb"] < 1000 and 50 < out["submit_peak_rss_mb"] < 1000
+    assert out["serial_cpu_s"] > 0 and out["submit_cpu_s"] > 0
