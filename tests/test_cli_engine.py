@@ -93,4 +93,7 @@ def test_bench_without_its_baselines_says_how_to_install_them(monkeypatch, modul
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == module else real(name, *a))
     result = run("bench", "--points", "10")
     assert result.exit_code == 2
-    assert f'need {module}; install them with python -m pip install -e ".[bench]"' in result.stderr
+    # the message lists every missing baseline package (numbalsoda may be absent too on this host)
+    need = result.stderr.split("need ", 1)[1].split(";", 1)[0]
+    assert module in need.split(", ")
+    assert 'install them with python -m pip install -e ".[bench]"' in result.stderr
