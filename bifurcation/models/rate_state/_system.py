@@ -1,19 +1,23 @@
 """The rate-and-state slider as heyoka Taylor integrators, compiled once per structure.
 
-Variables (docs/rate-state.md): x = ln V, y_i = ln θ_i and, with inertia, z = k(δ_lp − δ) − μ = M V̇
-(the net force). In these variables
+Variables (docs/rate-state.md): x = ln V, y_i = ln θ_i and, with inertia, z = k(δ_lp − δ) − ηV − μ = M V̇
+(the net force; η ≥ 0 the radiation damping, friction per unit slip rate). In these variables
 
-    quasi-static:  a ẋ = k(V_lp − e^x) − Σ b_i ẏ_i
-    inertial:      ẋ = z e^{−x}/M,   ż = k(V_lp − e^x) − a ẋ − Σ b_i ẏ_i
+    quasi-static:  (a + η e^x) ẋ = k(V_lp − e^x) − Σ b_i ẏ_i
+    inertial:      ẋ = z e^{−x}/M,   ż = k(V_lp − e^x) − (a + η e^x) ẋ − Σ b_i ẏ_i
     state:         ẏ_i = law_i.rate(x, y_i; Dc_i)                     (laws.py)
+
+An undamped slider (η = 0) is compiled without the η terms (``damped=False``): the same equations
+and step sequence as before damping existed, and no division by a series where a constant does.
 
 x and y keep their relative precision over any number of decades of V (a double x carries V to 2e-16
 relative at V = 1e-20 as at V = 1e3), and the net force z is integrated directly, never formed as the
-small difference of two O(μ0) forces. The slip δ needs no equation: k(δ_lp − δ) = μ (+ z with inertia).
+small difference of two O(μ0) forces. The slip δ needs no equation: k(δ_lp − δ) = μ + ηV (+ z with
+inertia).
 
-Runtime parameters (one compiled integrator serves every parameter set of a structure):
-par[0] = a, par[1] = k, par[2] = V_lp (set per load segment), par[3] = M (unused quasi-static),
-par[4 + i] = b_i, par[4 + n + i] = Dc_i, par[4 + 2n + j] = ln of the j-th slip-velocity threshold.
+Runtime parameters (one compiled integrator serves every parameter set of a structure), in the slots
+of ``Slots``: a, k, V_lp (set per load segment), M (unused quasi-static), η (unused undamped), then
+b_i, Dc_i and the ln of each slip-velocity threshold; ``parameters`` fills them.
 
 Events, all non-terminal and located exactly by heyoka's polynomial root finding on each step:
 ẋ = 0 (velocity extrema: maximum when ẋ goes from + to −) and x = ln V_j (slip thresholds).
@@ -28,9 +32,37 @@ import numpy as np
 
 from .laws import resolve_state_law
 
-__all__ = ["Compiled", "Recorder", "compiled", "fp_info", "rhs_expressions"]
+__all__ = ["Compiled", "Recorder", "Slots", "compiled", "fp_info", "parameters", "rhs_expressions"]
 
 _CACHE: dict = {}
+
+
+class Slots:
+    """Where each runtime parameter lives in the integrator's ``pars`` (n state variables)."""
+
+    A, K, V_LP, MASS, DAMPING = range(5)
+    FIXED = 5
+
+    @staticmethod
+    def b(n: int, i: int) -> int:
+        return Slots.FIXED + i
+
+    @staticmethod
+    def dc(n: int, i: int) -> int:
+        return Slots.FIXED + n + i
+
+    @staticmethod
+    def threshold(n: int, j: int) -> int:
+        return Slots.FIXED + 2 * n + j
+
+    @staticmethod
+    def size(n: int, n_thresholds: int) -> int:
+        return Slots.FIXED + 2 * n + n_thresholds
+
+
+def parameters(spec, k, v_lp, ln_thresholds=()) -> list:
+    """The runtime parameter vector of ``spec`` at spring stiffness k and load-point velocity V_lp."""
+    return [spec.a, k, v_lp, spec.mass or 1.0, spec.damping, *spec.b, *spec.dc, *ln_thresholds]
 
 
 def fp_info(precision: str):
@@ -90,6 +122,7 @@ class Compiled:
 
     laws: tuple[str, ...]
     inertial: bool
+    damped: bool
     n_thresholds: int
     precision: str
     integrator: object
@@ -97,61 +130,65 @@ class Compiled:
     dtype: type
 
 
-def rhs_expressions(laws, inertial: bool, variables, par, exp, log):
-    """Right-hand sides for ``variables`` = (x, y_1..y_n[, z]) with parameters ``par`` (a sequence).
+def rhs_expressions(laws, inertial: bool, variables, par, exp, log, damped: bool = True):
+    """Right-hand sides for ``variables`` = (x, y_1..y_n[, z]) with parameters ``par`` (``Slots``).
 
     Works on heyoka expressions (the integrator) and on mpmath numbers (the Hopf analysis and the
-    reference), so every consumer integrates the same equations.
+    reference), so every consumer integrates the same equations. ``damped=False`` leaves out the
+    radiation-damping terms (η = 0 exactly).
     """
     n = len(laws)
     x, ys = variables[0], variables[1:1 + n]
-    a, k, v_lp, mass = par[0], par[1], par[2], par[3]
-    b = [par[4 + i] for i in range(n)]
-    dc = [par[4 + n + i] for i in range(n)]
+    a, k, v_lp, mass = par[Slots.A], par[Slots.K], par[Slots.V_LP], par[Slots.MASS]
+    b = [par[Slots.b(n, i)] for i in range(n)]
+    dc = [par[Slots.dc(n, i)] for i in range(n)]
+    # the velocity-strengthening coefficient of ẋ: a, plus ηV with radiation damping
+    resist = a + par[Slots.DAMPING] * exp(x) if damped else a
     ydot = [resolve_state_law(law).rate(x, y, d, exp, log) for law, y, d in zip(laws, ys, dc)]
     state_force = b[0] * ydot[0]
     for bi, yi in zip(b[1:], ydot[1:]):
         state_force = state_force + bi * yi
     load = k * (v_lp - exp(x))
     if not inertial:
-        return [(load - state_force) / a, *ydot]
+        return [(load - state_force) / resist, *ydot]
     z = variables[1 + n]
     xdot = z * exp(-x) / mass
-    return [xdot, *ydot, load - a * xdot - state_force]
+    return [xdot, *ydot, load - resist * xdot - state_force]
 
 
 def compiled(laws: tuple[str, ...], inertial: bool, n_thresholds: int = 0, precision: str = "double",
-             section: bool = False) -> Compiled:
-    """The cached integrator for (laws, inertia, number of thresholds, precision[, section]).
+             section: bool = False, damped: bool = False) -> Compiled:
+    """The cached integrator for (laws, inertia, number of thresholds, precision[, section, damping]).
 
     ``section=True`` adds a terminal event on the upward crossing of the first threshold (x = ln V_0
-    with ẋ > 0): the Poincaré section of the cycle continuation.
+    with ẋ > 0): the Poincaré section of the cycle continuation. ``damped=True`` includes the
+    radiation-damping terms (η in its parameter slot).
     """
-    key = (tuple(laws), bool(inertial), int(n_thresholds), precision, bool(section))
+    key = (tuple(laws), bool(inertial), int(n_thresholds), precision, bool(section), bool(damped))
     hit = _CACHE.get(key)
     if hit is None:
         hit = _CACHE[key] = _build(*key)
     return hit
 
 
-def _build(laws, inertial, n_thresholds, precision, section=False) -> Compiled:
+def _build(laws, inertial, n_thresholds, precision, section=False, damped=False) -> Compiled:
     fp_type, dtype = fp_info(precision)
     n = len(laws)
     names = ["x"] + [f"y{i}" for i in range(n)] + (["z"] if inertial else [])
     variables = hy.make_vars(*names)
     if len(names) == 1:
         variables = [variables]
-    par = [hy.par[i] for i in range(4 + 2 * n + n_thresholds)]
-    rhs = rhs_expressions(laws, inertial, variables, par, hy.exp, hy.log)
+    par = [hy.par[i] for i in range(Slots.size(n, n_thresholds))]
+    rhs = rhs_expressions(laws, inertial, variables, par, hy.exp, hy.log, damped=damped)
     recorder = Recorder()
     fp = {"fp_type": fp_type} if fp_type is not None else {}
     nt = [hy.nt_event(rhs[0], recorder.extremum, **fp)]
     for j in range(n_thresholds):
-        nt.append(hy.nt_event(variables[0] - par[4 + 2 * n + j], recorder.crossing(j), **fp))
+        nt.append(hy.nt_event(variables[0] - par[Slots.threshold(n, j)], recorder.crossing(j), **fp))
     t_ev = []
     if section:
-        t_ev.append(hy.t_event(variables[0] - par[4 + 2 * n], direction=hy.event_direction.positive, **fp))
+        t_ev.append(hy.t_event(variables[0] - par[Slots.threshold(n, 0)], direction=hy.event_direction.positive, **fp))
     ta = hy.taylor_adaptive(list(zip(variables, rhs)), np.zeros(len(names), dtype=dtype),
                             pars=np.zeros(len(par), dtype=dtype), nt_events=nt, t_events=t_ev,
                             compact_mode=precision == "quad", **fp)
-    return Compiled(tuple(laws), bool(inertial), n_thresholds, precision, ta, recorder, dtype)
+    return Compiled(tuple(laws), bool(inertial), bool(damped), n_thresholds, precision, ta, recorder, dtype)

@@ -66,9 +66,9 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
     """Integrate the perturbed steady slide of ``spec`` at load-point velocity ``v_lp`` (module docstring)."""
     import heyoka as hy
 
-    from ._system import compiled
+    from ._system import compiled, parameters
 
-    c = compiled(spec.state_law, spec.inertial, 1, "double")
+    c = compiled(spec.state_law, spec.inertial, 1, "double", damped=spec.damped)
     ta = c.integrator
     x_star = math.log(v_lp)
     y_star = np.array([math.log(law.steady_factor * d / v_lp) for law, d in zip(spec.laws, spec.dc)])
@@ -80,7 +80,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
     start[0] += PERTURBATION
     ta.time = 0.0
     ta.state[:] = start
-    ta.pars[:] = [spec.a, spec.k, v_lp, spec.mass or 1.0, *spec.b, *spec.dc, x_star]
+    ta.pars[:] = parameters(spec, spec.k, v_lp, [x_star])
     ta.reset_cooldowns()
     rec = c.recorder
     rec.reset(0.0)

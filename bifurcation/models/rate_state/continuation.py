@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._system import compiled, rhs_expressions
+from ._system import compiled, parameters, rhs_expressions
 from .hopf import HopfPoint, hopf_point, steady_state
 from .spec import SliderSpec
 
@@ -63,7 +63,7 @@ class ReturnMap:
 
     def __init__(self, spec: SliderSpec, v_lp: float, t_max: float, max_steps: int = 200_000) -> None:
         self.spec, self.v_lp, self.t_max, self.max_steps = spec, float(v_lp), float(t_max), max_steps
-        self.c = compiled(spec.state_law, spec.inertial, 1, "double", section=True)
+        self.c = compiled(spec.state_law, spec.inertial, 1, "double", section=True, damped=spec.damped)
         self.x0 = math.log(self.v_lp)
         self.last_failure = ""
 
@@ -74,7 +74,7 @@ class ReturnMap:
         ta.time = 0.0
         ta.state[0] = self.x0
         ta.state[1:] = w
-        ta.pars[:] = [spec.a, k, self.v_lp, spec.mass or 1.0, *spec.b, *spec.dc, self.x0]
+        ta.pars[:] = parameters(spec, k, self.v_lp, [self.x0])
         ta.reset_cooldowns()
         c.recorder.reset(0.0)
         c.recorder.x0 = self.x0
@@ -144,9 +144,9 @@ def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, points: int = 60, e
 
     # Two starting cycles of amplitudes ε and 2ε (first section coordinate fixed), then arclength.
     # Oriented so that ẋ > 0 at the start (the section is crossed upwards, P is one full turn).
-    par = [spec.a, h.k_c, float(v_lp), spec.mass or 1.0, *spec.b, *spec.dc]
+    par = parameters(spec, h.k_c, float(v_lp))
     xdot = rhs_expressions(spec.state_law, spec.inertial, np.append(u_star[0], w_star + 1e-6 * direction), par,
-                           np.exp, np.log)[0]
+                           np.exp, np.log, damped=spec.damped)[0]
     sign = 1.0 if xdot > 0 else -1.0
     starts = []
     unit = direction / np.max(np.abs(direction) * weights[:m])

@@ -1,10 +1,15 @@
 """An independent high-precision reference for the quasi-static slider: Taylor series in mpmath.
 
-No heyoka, and not the engine's variables: this integrates rsfmodel's own formulation, the friction μ
-and the states θ_i themselves,
+No heyoka, and not the engine's variables: this integrates rsfmodel's own formulation, the spring
+force τ = k(δ_lp − δ) and the states θ_i themselves,
 
-    dμ/dt = k (V_lp − V),   V = V* exp[(μ − μ0 − Σ_i b_i ln(V* θ_i/(c_i Dc_i))) / a],
-    dθ_i/dt = the law's rate (laws.py, in θ rather than ln θ),
+    dτ/dt = k (V_lp − V),   τ = μ + ηV,   μ = μ0 + a ln(V/V*) + Σ_i b_i ln(V* θ_i/(c_i Dc_i)),
+    dθ_i/dt = the law's rate (laws.py, in θ rather than ln θ).
+
+Without radiation damping (η = 0) τ = μ and V = V* exp[(μ − μ0 − Σ b_i ln(…))/a]. With it, V solves
+a ln(V/V*) + ηV = R := τ − μ0 − Σ b_i ln(…): V = (a/η) W((ηV*/a) e^{R/a}) (Lambert W, at each step's
+start), and the Taylor coefficients L_n of L = ln(V/V*) follow from a L_n + η V_n = R_n with
+V_n = L_n V_0 + (1/n) Σ_{j=1}^{n−1} j L_j V_{n−j}: L_n = (R_n − η S_n)/(a + η V_0).
 
 with Taylor coefficients from the classical recurrences of automatic differentiation (Moore 1966;
 Jorba & Zou, Exp. Math. 14, 99 (2005)): for a product (fg)_n = Σ_j f_j g_{n−j}; for e = exp f,
@@ -26,9 +31,18 @@ from .spec import LoadHistory, SliderSpec
 __all__ = ["reference_run"]
 
 
+def _velocity(a, eta, vref, r):
+    """V with a ln(V/V*) + ηV = r (η ≥ 0)."""
+    if eta == 0:
+        return vref * mp.exp(r / a)
+    # a ln(V/V*) + ηV = r  ⇔  (ηV/a) e^{ηV/a} = (ηV*/a) e^{r/a}
+    return (a / eta) * mp.re(mp.lambertw((eta * vref / a) * mp.exp(r / a)))
+
+
 def _coefficients(spec: SliderSpec, v_lp, mu, thetas, order: int):
-    """Taylor coefficients [μ_n], [[θ_i,n]] at the current point, up to ``order``."""
+    """Taylor coefficients [τ_n], [[θ_i,n]] at the current point (τ = ``mu`` + ηV), up to ``order``."""
     a, k, mu0, vref = mp.mpf(spec.a), mp.mpf(spec.k), mp.mpf(spec.mu0), mp.mpf(spec.v_ref)
+    eta = mp.mpf(spec.damping)
     laws = [resolve_state_law(n).name for n in spec.state_law]
     n_s = len(laws)
     b = [mp.mpf(x) for x in spec.b]
@@ -37,7 +51,7 @@ def _coefficients(spec: SliderSpec, v_lp, mu, thetas, order: int):
     M = [mu]
     TH = [[t] for t in thetas]
     LT = [[] for _ in range(n_s)]          # ln(V* θ_i/(c_i Dc_i))
-    ARG, V = [], []                        # (μ − μ0 − Σ b LT)/a and V = V* e^ARG
+    ARG, V = [], []                        # L = ln(V/V*) and V = V* e^L
     P = [[] for _ in range(n_s)]           # V θ_i / Dc_i
     LP = [[] for _ in range(n_s)]          # ln P (slip law)
     Q2 = [[] for _ in range(n_s)]          # (P/2)² (PRZ)
@@ -53,12 +67,14 @@ def _coefficients(spec: SliderSpec, v_lp, mu, thetas, order: int):
             else:
                 s = mp.fsum(j * LT[i][j] * f[n - j] for j in range(1, n))
                 LT[i].append((n * f[n] - s) / (n * f[0]))
-        arg = (M[n] - (mu0 if n == 0 else 0) - mp.fsum(bi * LT[i][n] for i, bi in enumerate(b))) / a
-        ARG.append(arg)
+        r = M[n] - (mu0 if n == 0 else 0) - mp.fsum(bi * LT[i][n] for i, bi in enumerate(b))
         if n == 0:
-            V.append(vref * mp.exp(arg))
+            V.append(_velocity(a, eta, vref, r))
+            ARG.append(mp.log(V[0] / vref))
         else:
-            V.append(mp.fsum(j * ARG[j] * V[n - j] for j in range(1, n + 1)) / n)
+            partial = mp.fsum(j * ARG[j] * V[n - j] for j in range(1, n)) / n
+            ARG.append((r - eta * partial) / (a + eta * V[0]))
+            V.append(ARG[n] * V[0] + partial)
         M.append(k * ((v_lp if n == 0 else 0) - V[n]) / (n + 1))
         for i, law in enumerate(laws):
             P[i].append(conv(V, TH[i], n) / dc[i])
@@ -86,35 +102,44 @@ def _horner(c, h):
 
 
 def reference_run(spec: SliderSpec, history: LoadHistory, times, *, dps: int = 40, order: int = 36,
-                  tol_digits: int = 36, safety: float = 0.5):
-    """μ, θ_i and V at ``times`` (mpf values), quasi-static, from the steady state at V = V*·… .
+                  tol_digits: int = 36, safety: float = 0.5, v0=None, theta0=None):
+    """μ, θ_i and V at ``times`` (mpf values), quasi-static (with radiation damping ``spec.damping``).
 
-    The start is rsfmodel's: μ(t0) = μ0 + a ln(V0/V*) with V0 the first load-point velocity and θ_i at
-    steady state there. Returns a dict of lists of mpf: ``mu``, ``theta`` (per variable), ``v``, and
-    ``steps``.
+    The start is rsfmodel's: V0 the first load-point velocity and θ_i at steady state there, μ(t0) =
+    μ0 + a ln(V0/V*) + Σ b_i ln(V* θ_i/(c_i Dc_i)) (unless ``v0``/``theta0`` are given: decimal strings
+    or numbers, converted at ``dps`` digits). Returns a dict of lists of mpf: ``mu``, ``theta`` (per
+    variable), ``v``, ``t``, and ``steps``.
     """
     if spec.inertial:
         raise ValueError("the mpmath reference is for the quasi-static slider")
     with mp.workdps(dps):
         tol = mp.mpf(10) ** (-tol_digits)
-        v0 = mp.mpf(history.velocities[0])
-        mu = mp.mpf(spec.mu0) + mp.mpf(spec.a) * mp.log(v0 / mp.mpf(spec.v_ref))
-        thetas = [mp.mpf(resolve_state_law(n).steady_factor) * mp.mpf(d) / v0
-                  for n, d in zip(spec.state_law, spec.dc)]
+        v0 = mp.mpf(history.velocities[0] if v0 is None else v0)
+        if theta0 is None:
+            thetas = [mp.mpf(resolve_state_law(n).steady_factor) * mp.mpf(d) / v0
+                      for n, d in zip(spec.state_law, spec.dc)]
+        else:
+            thetas = [mp.mpf(x) for x in theta0]
+        vref = mp.mpf(spec.v_ref)
+        lt0 = mp.fsum(mp.mpf(b) * mp.log(vref * th / (resolve_state_law(n).steady_factor * mp.mpf(d)))
+                      for b, th, n, d in zip(spec.b, thetas, spec.state_law, spec.dc))
+        # the integrated variable is the spring force τ = μ + ηV
+        mu = mp.mpf(spec.mu0) + mp.mpf(spec.a) * mp.log(v0 / vref) + lt0 + mp.mpf(spec.damping) * v0
         t = mp.mpf(history.times[0])
         stops = sorted({mp.mpf(x) for x in times} | {mp.mpf(x) for x in history.times[1:]})
         stops = [s for s in stops if s >= t]
         want = {mp.mpf(x) for x in times}
         out = {"mu": [], "theta": [[] for _ in thetas], "v": [], "t": []}
         steps = 0
-        vref, a = mp.mpf(spec.v_ref), mp.mpf(spec.a)
+        a = mp.mpf(spec.a)
 
         def record():
             lt = mp.fsum(mp.mpf(b) * mp.log(vref * th / (resolve_state_law(n).steady_factor * mp.mpf(d)))
                          for b, th, n, d in zip(spec.b, thetas, spec.state_law, spec.dc))
+            v = _velocity(a, mp.mpf(spec.damping), vref, mu - mp.mpf(spec.mu0) - lt)
             out["t"].append(t)
-            out["mu"].append(mu)
-            out["v"].append(vref * mp.exp((mu - mp.mpf(spec.mu0) - lt) / a))
+            out["mu"].append(mu - mp.mpf(spec.damping) * v)
+            out["v"].append(v)
             for i, th in enumerate(thetas):
                 out["theta"][i].append(th)
 
