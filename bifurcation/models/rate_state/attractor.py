@@ -60,6 +60,7 @@ class Fate:
     slip: float = math.nan
     multiplier_max: float = math.nan
     steps: int = 0
+    w: tuple = ()       # a cycle's section coordinates (ln θ_i[, z]) at x = ln V_lp, ẋ > 0
 
 
 def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> Fate:
@@ -135,7 +136,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
                     if top_c - bottom_c > MIN_AMPLITUDE and np.max(np.abs(ups[-1] - w) / w_scale) < BASIN_TOL \
                             and mult < 1:
                         return Fate("cycle", period=period, ln_v_max=top_c, ln_v_min=bottom_c, slip=v_lp * period,
-                                    multiplier_max=mult, steps=steps)
+                                    multiplier_max=mult, steps=steps, w=tuple(float(v) for v in w))
                 # the return map has its own compiled integrator (section=True): the run resumes here
         if float(ta.time) >= t_end:
             return Fate("unresolved", f"neither steady sliding nor a cycle within {float(ta.time):.6g} "
