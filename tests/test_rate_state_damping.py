@@ -4,6 +4,7 @@ spring-block, the attracting cycle as a result (``rate-state --cycle``), and bad
 import json
 import math
 import pathlib
+import textwrap
 
 import mpmath as mp
 import numpy as np
@@ -157,3 +158,47 @@ def test_hopf_cli_damping():
     r = _cli("hopf", "--state-law", "aging", "--a", "0.01", "--b", "0.015", "--dc", "0.01", "--v-lp", "1",
              "--damping", "-0.1")
     assert r.exit_code == 2 and "damping=-0.1: must be >= 0" in r.output
+
+
+def test_continuation_with_damping_from_the_damped_hopf_point():
+    # The branch of cycles from the damped Hopf point (k_c = 40 for the QDYN cases' parameters), each
+    # period checked by a direct run of the engine (a second turn, independent step grid): <= 1e-12,
+    # the shooting Newton's tolerance; measured <= 8e-14 (the two smallest cycles) and ~1e-15 elsewhere.
+    from bifurcation.models.rate_state.continuation import continue_cycles, period_by_simulation
+
+    br = continue_cycles(state_law="aging", a=0.01, b=0.015, dc=1e-4, v_lp=1e-3, damping=1.0, points=9,
+                         max_step=0.5, kappa_range=(0.45, 20))
+    assert br.hopf.k_c == pytest.approx(40.0, rel=1e-14) and br.hopf.criticality == "supercritical"
+    assert min(p.kappa for p in br.points) < 0.6 and all(p.status == "ok" for p in br.points)
+    for i, p in enumerate(br.points):
+        assert abs(period_by_simulation(br, i) / p.period - 1) < 1e-12
+    # the branch passes the QDYN case at κ = 0.8 in between its neighbours' periods
+    q = next(c for c in QDYN["cases"] if c["law"] == "aging" and c["kappa"] == 0.8)
+    below = [p for p in br.points if p.kappa < 0.8]
+    above = [p for p in br.points if p.kappa > 0.8]
+    assert max(p.period for p in above) < q["period"] < min(p.period for p in below)
+
+
+def test_continuation_workflow_takes_a_damping_key(tmp_path):
+    from bifurcation.models.rate_state.study import load_study
+
+    text = textwrap.dedent("""
+        [study]
+        name = "damped"
+        [slider]
+        a = 0.01
+        b = 0.015
+        dc = 1e-4
+        v_lp = 1e-3
+        [[branch]]
+        state_law = "slip"
+        damping = {value}
+        """)
+    wf = tmp_path / "w.toml"
+    wf.write_text(text.format(value="1.0"))
+    assert load_study(wf).branches[0].damping == 1.0
+    wf.write_text(text.format(value="-1.0"))
+    with pytest.raises(InputError, match=r"branch\[0\].damping"):
+        load_study(wf)
+    r = _cli("continue", str(wf))
+    assert r.exit_code == 2 and "branch[0].damping=-1.0" in r.output and len(r.output.strip().splitlines()) == 1

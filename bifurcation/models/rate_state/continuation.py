@@ -105,12 +105,12 @@ def _jac(fun, x, h):
     return f0, np.array(cols).T
 
 
-def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, points: int = 60, eps: float = 1e-3,
+def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, damping=0.0, points: int = 60, eps: float = 1e-3,
                     step: float = 0.05, max_step: float = 2.0, kappa_range=(0.05, 20.0),
                     min_ln_v: float = -200.0, t_max_periods: float = 1e4, max_steps: int = 200_000) -> Branch:
     """Trace the branch of cycles born at the Hopf point of steady sliding at V_lp (module docstring)."""
-    h = hopf_point(a=a, b=b, dc=dc, state_law=state_law, v_lp=v_lp, mass=mass, dps=30)
-    spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=h.k_c, mass=mass)
+    h = hopf_point(a=a, b=b, dc=dc, state_law=state_law, v_lp=v_lp, mass=mass, damping=damping, dps=30)
+    spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=h.k_c, mass=mass, damping=damping)
     period0 = 2 * math.pi / h.omega_c
     pmap = ReturnMap(spec, v_lp, t_max=t_max_periods * period0, max_steps=max_steps)
     u_star = np.array([float(v) for v in steady_state(spec, v_lp)])
@@ -261,7 +261,8 @@ def period_by_simulation(branch: Branch, index: int, precision: str = "double") 
     p = branch.points[index]
     spec = branch.spec
     v_lp = p.v_lp if math.isfinite(p.v_lp) else branch.v_lp
-    run = SliderSpec(a=spec.a, b=spec.b, dc=spec.dc, state_law=spec.state_law, k=p.k, mass=spec.mass)
+    run = SliderSpec(a=spec.a, b=spec.b, dc=spec.dc, state_law=spec.state_law, k=p.k, mass=spec.mass,
+                     damping=spec.damping)
     n = spec.n_states
     turns = 1.5 if precision == "quad" else 2.5
     r = run_spec(run, load_history(v_lp), [0.0, turns * p.period], ln_v0=math.log(v_lp),
