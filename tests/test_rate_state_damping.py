@@ -202,3 +202,23 @@ def test_continuation_workflow_takes_a_damping_key(tmp_path):
         load_study(wf)
     r = _cli("continue", str(wf))
     assert r.exit_code == 2 and "branch[0].damping=-1.0" in r.output and len(r.output.strip().splitlines()) == 1
+
+
+def test_continue_damping_option_is_checked_before_work(tmp_path):
+    out = tmp_path / "out"
+    for value, message in (("-1", "--damping=-1.0: must be >= 0"), ("nan", "--damping=nan: is not finite")):
+        r = _cli("continue", "workflows/rate-state-quick.toml", "--out", str(out), "--damping", value)
+        assert r.exit_code == 2 and message in r.output and len(r.output.strip().splitlines()) == 1
+        assert not out.exists()
+
+
+@pytest.mark.slow
+def test_continue_damping_option_reaches_the_branches(tmp_path):
+    # ~14 s: the quick workflow's PRZ branch with η = 0.002: k_c = (b − a − η)/Dc = 0.3 in the store
+    import xarray as xr
+
+    r = _cli("continue", "workflows/rate-state-quick.toml", "--out", str(tmp_path), "--damping", "0.002")
+    assert r.exit_code == 0, r.output
+    ds = xr.open_zarr(tmp_path / "branches.zarr", consolidated=False)
+    assert ds["damping"].values.tolist() == [0.002]
+    assert ds["k_c"].values[0] == pytest.approx(0.3, rel=1e-14)

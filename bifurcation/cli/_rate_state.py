@@ -147,12 +147,17 @@ def _cycle(spec, history, precision, as_json) -> None:
     'bifurcation continue workflows/rate-state-quick.toml --out rate-state-quick'))
 @click.argument("workflow")
 @click.option("--out", default=None, help="Output directory (default results/<study name>/).")
-def continue_cmd(workflow: str, out) -> None:
+@click.option("--damping", default=None, callback=number("--damping", "0.002"),
+              help="Radiation damping ETA >= 0 for every branch (replaces the workflow's damping keys).")
+def continue_cmd(workflow: str, out, damping) -> None:
     """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
+    from ..models.rate_state.spec import _finite
     from ..models.rate_state.study import load_study, run_study
 
     load_study(workflow)  # validate before anything is computed or written
-    run_study(workflow, out, echo=click.echo)
+    if damping is not None:
+        damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
+    run_study(workflow, out, echo=click.echo, damping=damping)
 
 
 COMMANDS = [continue_cmd, hopf_cmd, rate_state_cmd]

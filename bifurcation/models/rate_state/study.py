@@ -216,8 +216,12 @@ def _bautin(law: str, a=0.01, b=0.015, dc=0.01, v=1.0):
     return math.nan
 
 
-def run_study(path, out_dir=None, echo=print) -> dict:
-    """Run the workflow at ``path``; write ``<out>/branches.zarr``, ``REPORT.md`` and the figure."""
+def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
+    """Run the workflow at ``path``; write ``<out>/branches.zarr``, ``REPORT.md`` and the figure.
+
+    ``damping`` (``continue --damping``), when given, replaces every branch's radiation damping.
+    """
+    import dataclasses
     import pathlib
 
     from .continuation import continue_cycles, continue_in_v_lp, period_by_simulation
@@ -225,6 +229,9 @@ def run_study(path, out_dir=None, echo=print) -> dict:
     from .spec import SliderSpec
 
     spec = load_study(path)
+    if damping is not None:
+        spec = dataclasses.replace(spec, branches=tuple(dataclasses.replace(b, damping=damping)
+                                                        for b in spec.branches))
     out = pathlib.Path(out_dir or f"results/{spec.name}")
     t_start = time.perf_counter()
     echo(f"study {spec.name}: {len(spec.branches)} branches")
