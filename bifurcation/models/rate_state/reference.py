@@ -158,3 +158,87 @@ def reference_run(spec: SliderSpec, history: LoadHistory, times, *, dps: int = 4
                 record()
         out["steps"] = steps
         return out
+
+
+def _section_function(spec: SliderSpec, v_lp):
+    """g(τ, θ) = a ln(V/V*) + ηV − a ln(V_lp/V*) − ηV_lp: zero on the section V = V_lp, increasing in V."""
+    a, eta, vref, mu0 = mp.mpf(spec.a), mp.mpf(spec.damping), mp.mpf(spec.v_ref), mp.mpf(spec.mu0)
+    laws = [resolve_state_law(n) for n in spec.state_law]
+    offset = mu0 + a * mp.log(v_lp / vref) + eta * v_lp
+
+    def g(tau, thetas):
+        return tau - offset - mp.fsum(mp.mpf(b) * mp.log(vref * th / (law.steady_factor * mp.mpf(d)))
+                                      for b, th, law, d in zip(spec.b, thetas, laws, spec.dc))
+    return g
+
+
+def reference_cycle(spec: SliderSpec, v_lp, theta0, *, turns: int = 2, dps: int = 40, order: int = 30,
+                    tol_digits: int = 32, safety: float = 0.5, max_steps: int = 200_000) -> dict:
+    """Turns of the quasi-static (damped) slider from the section V = V_lp, crossed upwards, in mpmath.
+
+    Starts at V = V_lp with θ_i = ``theta0`` (decimal strings or numbers) and integrates τ = μ + ηV and
+    θ_i by the Taylor recurrences of ``reference_run``, step size from a relative tolerance
+    (h = ρ (tol·max(|c_0|, tiny)/|c_N|)^{1/N} for τ, each θ_i and V: V and θ span tens of decades in a
+    stick-slip cycle). The return to the section is the root of g(t) = a ln(V/V_lp) + η(V − V_lp) on the
+    step where g goes from < 0 to ≥ 0 (g from the τ and θ polynomials; ``mpmath.findroot``), the velocity
+    extrema the roots of g′ (dV/dt = 0 ⇔ dg/dt = 0). Returns per turn: ``period``, ``theta`` at the
+    return, ``ln_v_max``, ``ln_v_min`` (ln(V/V_lp); the start's 0 included) and ``steps``; all mpf.
+    """
+    if spec.inertial:
+        raise ValueError("the mpmath cycle reference is for the quasi-static slider")
+    with mp.workdps(dps):
+        v_lp = mp.mpf(v_lp)
+        a, eta, vref = mp.mpf(spec.a), mp.mpf(spec.damping), mp.mpf(spec.v_ref)
+        tol = mp.mpf(10) ** (-tol_digits)
+        g = _section_function(spec, v_lp)
+        thetas = [mp.mpf(x) for x in theta0]
+        out = []
+
+        def velocity(tau, ths):
+            return _velocity(a, eta, vref, g(tau, ths) + a * mp.log(v_lp / vref) + eta * v_lp)
+
+        for _ in range(turns):
+            # on the section: τ from V = V_lp and θ (g = 0)
+            tau = g(mp.mpf(0), thetas) * -1
+            t, steps, left = mp.mpf(0), 0, False
+            top = bottom = mp.mpf(0)
+            while True:
+                M, TH = _coefficients(spec, v_lp, tau, thetas, order)
+                scales = [(M, max(abs(M[0]), mp.mpf(1) / 10))] + [(c, abs(c[0])) for c in TH]
+                h = min((tol * s / abs(c[-1])) ** (mp.mpf(1) / order) if c[-1] != 0 else mp.inf
+                        for c, s in scales)
+                h = safety * h
+
+                def g_at(s):
+                    return g(_horner(M, s), [_horner(c, s) for c in TH])
+
+                dM = [j * M[j] for j in range(1, len(M))]
+                dTH = [[j * c[j] for j in range(1, len(c))] for c in TH]
+
+                def dg_at(s):
+                    ths = [_horner(c, s) for c in TH]
+                    return _horner(dM, s) - mp.fsum(mp.mpf(b) * _horner(dc_, s) / th
+                                                    for b, dc_, th in zip(spec.b, dTH, ths))
+
+                g0, g1 = g_at(0), g_at(h)
+                d0, d1 = dg_at(0), dg_at(h)
+                if d0 * d1 < 0 and (steps > 0 or t > 0):
+                    s = mp.findroot(dg_at, (mp.mpf(0), h), solver="anderson")
+                    x = mp.log(velocity(_horner(M, s), [_horner(c, s) for c in TH]) / v_lp)
+                    top, bottom = max(top, x), min(bottom, x)
+                if g1 < 0:
+                    left = True
+                if left and g0 < 0 <= g1:
+                    s = mp.findroot(g_at, (mp.mpf(0), h), solver="anderson")
+                    thetas = [_horner(c, s) for c in TH]
+                    t += s
+                    steps += 1
+                    break
+                tau = _horner(M, h)
+                thetas = [_horner(c, h) for c in TH]
+                t += h
+                steps += 1
+                if steps >= max_steps:
+                    raise RuntimeError(f"reference_cycle: no return within {max_steps} steps (t = {t})")
+            out.append({"period": t, "theta": thetas, "ln_v_max": top, "ln_v_min": bottom, "steps": steps})
+        return {"turns": out}
