@@ -75,7 +75,7 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
 @click.option("--pipeline", "pipeline_points", default=0, show_default=True,
               help="Also time the Dask pipeline on this many points (0: skip).")
 @click.option("--suite", type=click.Choice(["engine", "rate-state", "chain"]), default="engine", show_default=True,
-              help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint; "
+              help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint, deep cycles vs LSODA; "
                    "chain: the exact chain vs fixed-step RK4.")
 @O.JSON
 def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
@@ -97,6 +97,9 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
         from ..models.rate_state._bench import run_rate_state_bench
 
         report = run_rate_state_bench(echo=None if as_json else click.echo)
+        from ..models.rate_state._bench_cycles import run_deep_cycle_bench
+
+        report["deep_cycles"] = run_deep_cycle_bench(echo=None if as_json else click.echo)
         if as_json:
             echo_json(report)
         return
