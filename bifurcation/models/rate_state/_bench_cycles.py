@@ -10,11 +10,20 @@ the same end time; the error is the phase drift per cycle |Δt|/(N T_ref) read f
 numba, with a numba ``cfunc`` right-hand side in the same variables ln V, ln θ — a compiled integrator
 with a compiled right-hand side, what a user would write) at rtol = atol = 1e-8 … 1e-12. Best of
 ``repeat`` wall-clock times on one core; ratios, never asserted.
+
+QDYN, if the environment variable ``BIFURCATION_QDYN`` names a built QDYN source directory (its
+``qdyn`` executable beside ``pyqdyn.py``; github.com/ydluo/qdyn, not part of this package): its
+spring-block (MESHDIM = 0, RK45 at its default ACC = 1e-7 and its tightest 1e-11) on the same slider in its units
+(σ = 1e6 Pa, shear modulus 3e10 Pa, L = μ/(kσ), c_s = μ/(2ησ)) from the same section point, for the
+same time; time per cycle from a run that writes its time series every 10⁶ steps (so the wall time is
+the solver's, plus process start), drift from a second run that writes every step (upward V = V_lp
+crossings interpolated linearly in ln V: the mean period against the reference).
 """
 
 from __future__ import annotations
 
 import math
+import os
 import time
 
 import numpy as np
@@ -91,6 +100,57 @@ def _best(fn, repeat):
     return best, out
 
 
+def _qdyn_case(src: str, law: str, eta: float, k: float, theta0: float, t_end: float, every: int, acc: float):
+    """(wall seconds, t, ln(V/V_lp)) of one QDYN spring-block run (module docstring)."""
+    import os
+    import shutil
+    import subprocess
+    import sys
+    import tempfile
+
+    sys.path.insert(0, src)
+    from pyqdyn import qdyn   # QDYN's own input writer
+
+    sigma, mu = 1e6, 3e10
+    work = tempfile.mkdtemp(prefix="bifurcation_qdyn_")
+    cwd = os.getcwd()
+    try:
+        os.chdir(work)
+        p = qdyn()
+        s = p.set_dict
+        s.update({"MESHDIM": 0, "TMAX": t_end, "NTOUT": 10 ** 9, "NTOUT_OT": every, "V_PL": _BASE["v_lp"],
+                  "MU": mu, "VS": mu / (2 * eta * sigma), "SIGMA": sigma, "L": mu / (k * sigma), "ACC": acc,
+                  "SOLVER": 2, "FRICTION_MODEL": "RSF", "V_TH": 1e300})
+        s["SET_DICT_RSF"].update({"RNS_LAW": 0, "THETA_LAW": {"aging": 1, "slip": 2}[law], "A": _BASE["a"],
+                                  "B": _BASE["b"], "DC": _BASE["dc"], "V_SS": _BASE["v_lp"], "MU_SS": 0.6,
+                                  "V_0": _BASE["v_lp"], "TH_0": theta0})
+        p.settings(s)
+        p.render_mesh()
+        p.write_input()
+        t0 = time.perf_counter()
+        run = subprocess.run([os.path.join(src, "qdyn")], capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        ot = np.loadtxt("output_ot_0", comments="#", ndmin=2)
+    finally:
+        os.chdir(cwd)
+        shutil.rmtree(work, ignore_errors=True)
+    last = [ln.strip() for ln in (run.stdout + run.stderr).splitlines() if "error" in ln.lower()]
+    return wall, ot[:, 0], np.log(ot[:, 3] / _BASE["v_lp"]), (last[-1] if last else "")
+
+
+def _qdyn_row(src, law, eta, spec, theta0, t_ref, cycles, acc) -> dict:
+    wall, _, _, _ = _qdyn_case(src, law, eta, spec.k, theta0, cycles * t_ref, 10 ** 6, acc)
+    _, t, x, error = _qdyn_case(src, law, eta, spec.k, theta0, cycles * t_ref, 1, acc)
+    if t[-1] < 0.99 * cycles * t_ref:   # QDYN stopped early: no time per cycle to report
+        return {"acc": acc, "ms_per_cycle": math.nan, "period_error": math.nan, "steps": int(t.size),
+                "stopped": f"QDYN stopped at t = {t[-1]:.4g} (ln V/V_lp = {x[-1]:.3g}): {error or 'no message'}"}
+    up = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
+    t_up = t[up] - x[up] * (t[up + 1] - t[up]) / (x[up + 1] - x[up])
+    period = float(np.mean(np.diff(t_up))) if t_up.size > 1 else math.nan
+    return {"acc": acc, "ms_per_cycle": 1e3 * wall / cycles, "period_error": abs(period / t_ref - 1),
+            "steps": int(t.size)}
+
+
 def run_deep_cycle_bench(cycles: int = 20, repeat: int = 3, echo=print) -> dict:
     """Time per cycle and phase error per cycle for the engine and LSODA+numba (module docstring)."""
     from ._system import parameters, rhs_expressions
@@ -140,10 +200,20 @@ def run_deep_cycle_bench(cycles: int = 20, repeat: int = 3, echo=print) -> dict:
                 row["lsoda"].append({"rtol": rtol, "ms_per_cycle": 1e3 * t_l / cycles, "ok": bool(ok),
                                      "drift_per_cycle": drift(float(usol[-1, 0])) if ok else math.nan,
                                      "ratio": t_l / t_eng})
+        qdyn_src = os.environ.get("BIFURCATION_QDYN")
+        if qdyn_src and law in ("aging", "slip"):   # QDYN has no PRZ law
+            row["qdyn"] = [_qdyn_row(qdyn_src, law, eta, spec, math.exp(f.w[0]), t_ref, cycles, acc)
+                           for acc in (1e-7, 1e-11)]   # QDYN's default accuracy and its tightest
+            for q in row["qdyn"]:
+                q["ratio"] = q["ms_per_cycle"] / row["engine_ms_per_cycle"]
         rows.append(row)
         if echo:
             base = " | ".join(f"LSODA {x['rtol']:g}: {x['ms_per_cycle']:.2f} ms ({x['ratio']:.1f}x), drift "
                               f"{x['drift_per_cycle']:.1e}" for x in row["lsoda"]) or "LSODA: numbalsoda not installed"
+            for q in row.get("qdyn", []):
+                base += (f" | QDYN ACC {q['acc']:g}: {q['stopped']}" if "stopped" in q else
+                         f" | QDYN ACC {q['acc']:g}: {q['ms_per_cycle']:.2f} ms ({q['ratio']:.1f}x), period error "
+                         f"{q['period_error']:.1e}")
             echo(f"{row['case']:24s} span {row['span_ln_v']:.1f}: engine {row['engine_ms_per_cycle']:.2f} ms/cycle "
                  f"({row['engine_steps_per_cycle']:.0f} steps), drift {row['engine_drift_per_cycle']:.1e} | {base}")
     return {"suite": "rate-state deep cycles", "cycles": cycles, "repeat": repeat, "cases": rows,
