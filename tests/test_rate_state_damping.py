@@ -252,3 +252,19 @@ def test_deep_cycle_bench_references_are_the_golden_periods():
 
     golden = {(c["state_law"], c["damping"], c["kappa"]): c["period"] for c in DEEP["cases"]}
     assert all(_REFERENCE[case] == golden[case] for case in _CASES)
+
+
+def test_inertial_damped_cycle_against_a_real128_turn():
+    # With mass and damping (PRZ, M = 1e-4, η = 0.001): k_c from the closed form with a' = a + ηV, the
+    # `--cycle` result a supercritical cycle at κ = 0.2/k_c; its period against the first turn of a real128
+    # run (tolerance 1.9e-34) from the same section point, within 10 × the error estimate (~3e-16 T).
+    from bifurcation.models.rate_state.attractor import fate
+
+    spec = SliderSpec(a=0.01, b=0.015, dc=0.01, state_law="prz", k=0.2, mass=1e-4, damping=0.001)
+    c = limit_cycle(spec, 1.0)
+    assert c.status == "limit-cycle" and c.multiplier_max < 1
+    f = fate(spec, 1.0, c.period, max_steps=10 ** 6, t_max=math.inf)
+    r = run_spec(spec, load_history(1.0), [0.0, 1.5 * c.period], ln_v0=0.0, ln_theta0=[f.w[0]], z0=f.w[1],
+                 thresholds=[1.0], precision="quad")
+    ups = [float(t) for (t, s), cr in zip(r.crossing_states, r.crossings) if cr[2] > 0]
+    assert abs(ups[0] - c.period) <= 10 * c.period_error < 1e-13 * c.period
