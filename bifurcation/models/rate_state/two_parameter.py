@@ -23,7 +23,7 @@ import mpmath as mp
 from .hopf import _max_real, hopf_point
 from .spec import SliderSpec
 
-__all__ = ["HopfCurve", "bautin_point", "closed_form_k_c", "hopf_curve"]
+__all__ = ["FoldPoint", "HopfCurve", "bautin_point", "closed_form_k_c", "fold_curve", "hopf_curve"]
 
 PARAMETERS = ("eta", "b_over_a", "damping")
 
@@ -115,4 +115,101 @@ def bautin_point(parameter: str, bracket, *, state_law="aging", a=0.01, b=0.015,
                 root = mp.findroot(lambda x: l1(mp.exp(x)), (math.log(g0), math.log(g1)), solver="secant", tol=1e-26)
             value = math.exp(float(root))
             out.append({"value": value, "bracket": (g0, g1), "l1_at_value": l1(value), "inside": g0 < value < g1})
+    return out
+
+
+@dataclass(frozen=True)
+class FoldPoint:
+    """A fold of cycles (limit point of cycles): a cycle with a Floquet multiplier exactly 1."""
+
+    eta: float                   # normalised mass M V²/(a Dc)
+    kappa: float                 # k / k_c(η)
+    k: float
+    period: float
+    w: tuple                     # section coordinates (ln θ[, z]) at V = V_lp, ẋ > 0
+    ln_v_max: float
+    ln_v_min: float
+    multipliers: tuple           # nontrivial Floquet multipliers (one of them 1 at the fold)
+    residual: float              # max |P(w) − w| at the converged point
+    fold_residual: float         # |μ₁ − 1| (μ₁ from central differences: ~1e-10 of noise)
+    status: str                  # "ok" or "no-convergence"
+
+
+def fold_curve(etas, start_w, start_kappa, *, state_law="aging", a=0.01, b=0.015, dc=0.01, v_lp=1.0,
+               damping=0.0, max_steps=200_000) -> list:
+    """Folds of cycles continued in η = M V²/(a Dc): the curve that ends at a Bautin point.
+
+    Unknowns X = (w, κ) at each η, equations F(X) = [P(w; κ k_c) − w; μ₁(∂P/∂w) − 1] (μ₁ the real
+    multiplier nearest 1; ``continuation.ReturnMap`` for P, ∂P/∂w by central differences), solved by a
+    Newton whose Jacobian (central differences of F) is formed at each iterate; the predictor is
+    the previous fold (or the secant through the last two). ``start_w``, ``start_kappa``: a cycle near
+    the fold at ``etas[0]`` (e.g. the point where ``continue_cycles`` flags a fold). The multiplier comes
+    from central differences of P, so a fold is located to ~1e-9 in κ while the cycle there satisfies
+    P(w) = w to rounding (``residual`` is max |P(w) − w|, ``fold_residual`` |μ₁ − 1|).
+    """
+    import numpy as np
+
+    from .continuation import ReturnMap
+
+    out, prev = [], []
+    X = np.append(np.array(start_w, dtype=float), float(start_kappa))
+    m = X.size - 1
+    scale = np.ones(m + 1)
+    scale[m - 1] = max(b - a, a)          # the net force z, in units of the friction drop
+    for i, eta in enumerate(etas):
+        mass = eta * a * dc / v_lp ** 2
+        spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=1.0, mass=mass, damping=damping)
+        k_c = float(closed_form_k_c(spec, v_lp))
+        pmap = ReturnMap(spec, v_lp, t_max=1e4 * dc / v_lp, max_steps=max_steps)
+        if len(prev) >= 2:
+            X = prev[-1] + (prev[-1] - prev[-2]) * (eta - etas[i - 1]) / (etas[i - 1] - etas[i - 2])
+
+        def P(w, kappa):
+            r = pmap(w, kappa * k_c)
+            if r is None:
+                raise RuntimeError(pmap.last_failure)
+            return r
+
+        def DP(w, kappa):
+            # h = 1e-5: truncation ~h² and rounding ~1e-15/h balance near 1e-10 in μ₁
+            h = 1e-5 * np.maximum(np.abs(w), scale[:m])
+            cols = []
+            for j in range(m):
+                e = np.zeros(m)
+                e[j] = h[j]
+                cols.append((P(w + e, kappa)[0] - P(w - e, kappa)[0]) / (2 * h[j]))
+            return np.array(cols).T
+
+        def F(Y):
+            w, kappa = Y[:m], Y[m]
+            mult = np.linalg.eigvals(DP(w, kappa))
+            near = mult[np.argmin(np.abs(mult - 1))]
+            return np.append(P(w, kappa)[0] - w, near.real - 1)
+
+        try:
+            ok = False
+            for _ in range(12):
+                hY = 1e-6 * np.maximum(np.abs(X), scale)
+                J = np.array([(F(X + e) - F(X - e)) / (2 * hj) for hj, e in zip(hY, np.diag(hY))]).T
+                FX = F(X)
+                dX = np.linalg.solve(J, FX)
+                X = X - dX
+                # μ₁ comes from central differences of P: ~1e-10 of noise, so the fold is located to
+                # ~1e-9 in κ; the cycle itself (P(w) = w) is converged to rounding
+                if np.max(np.abs(dX) / scale) < 1e-9 and np.max(np.abs(F(X)[:m]) / scale[:m]) < 1e-12:
+                    ok = True
+                    break
+            w, kappa = X[:m], X[m]
+            r = P(w, kappa)
+            mult = np.linalg.eigvals(DP(w, kappa))
+            FX = F(X)
+            resid, fold_resid = float(np.max(np.abs(FX[:m]))), float(abs(FX[m]))
+            # near the Bautin point dμ₁/dκ → 0 and the multiplier's noise moves κ by more than 1e-9 per
+            # step: judged by what matters, a cycle to rounding with a multiplier within 1e-9 of 1
+            ok = ok or (resid < 1e-12 * max(1.0, float(np.max(np.abs(X[:m])))) and fold_resid < 1e-9)
+        except (RuntimeError, np.linalg.LinAlgError):
+            break
+        out.append(FoldPoint(float(eta), float(kappa), float(kappa * k_c), r[1], tuple(float(v) for v in w), r[2], r[3],
+                             tuple(complex(z) for z in mult), resid, fold_resid, "ok" if ok else "no-convergence"))
+        prev.append(X.copy())
     return out
