@@ -178,8 +178,8 @@ def reference_cycle(spec: SliderSpec, v_lp, theta0, *, turns: int = 2, dps: int 
 
     Starts at V = V_lp with θ_i = ``theta0`` (decimal strings or numbers) and integrates τ = μ + ηV and
     θ_i by the Taylor recurrences of ``reference_run``, step size from a relative tolerance
-    (h = ρ (tol·max(|c_0|, tiny)/|c_N|)^{1/N} for τ, each θ_i and V: V and θ span tens of decades in a
-    stick-slip cycle). The return to the section is the root of g(t) = a ln(V/V_lp) + η(V − V_lp) on the
+    (h = ρ (tol·|c_0|/|c_N|)^{1/N} for each θ_i, which spans tens of decades in a stick-slip cycle, and
+    for τ with |c_0| floored at 0.1). The return to the section is the root of g(t) = a ln(V/V_lp) + η(V − V_lp) on the
     step where g goes from < 0 to ≥ 0 (g from the τ and θ polynomials; ``mpmath.findroot``), the velocity
     extrema the roots of g′ (dV/dt = 0 ⇔ dg/dt = 0). Returns per turn: ``period``, ``theta`` at the
     return, ``ln_v_max``, ``ln_v_min`` (ln(V/V_lp); the start's 0 included) and ``steps``; all mpf.
