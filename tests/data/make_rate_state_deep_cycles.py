@@ -10,6 +10,10 @@ order 30, relative tolerance 1e-32; variables τ = μ + ηV and θ, no heyoka) r
 is the reference (the first turn moves the start onto the mpmath cycle: the multipliers are ≤ 0.1, so
 a 1e-16 start error leaves ≤ 1e-17 after a turn). ``self_consistency``: the second turn again at order
 24, tolerance 1e-26, relative difference of the periods. Values are 30-digit strings.
+
+The start is the engine's double-precision fixed point, whose last bits can differ on another CPU
+(AVX2 vs AVX-512): after the first, contracting turn that moves the reference's digits beyond ~1e-17
+relative, far below what the tests compare (1e-13), but a regenerated file may differ there.
 """
 
 from __future__ import annotations
