@@ -268,3 +268,13 @@ def test_inertial_damped_cycle_against_a_real128_turn():
                  thresholds=[1.0], precision="quad")
     ups = [float(t) for (t, s), cr in zip(r.crossing_states, r.crossings) if cr[2] > 0]
     assert abs(ups[0] - c.period) <= 10 * c.period_error < 1e-13 * c.period
+
+
+@pytest.mark.parametrize("value,message", [("-1.0", "is out of range"), ("nan", "is not finite")])
+def test_grid_damping_axis_refuses_bad_values(value, message):
+    from bifurcation.workflow import parse_workflow
+
+    text = ('[study]\nname = "x"\n[model]\nname = "rate-state"\n[engine]\nlaws = ["slip"]\n'
+            f'[grid.kappa]\nvalues = [0.5]\n[grid.damping]\nvalues = [{value}]\n')
+    with pytest.raises(InputError, match=f"grid.damping.values\\[0\\]={value}: {message}"):
+        parse_workflow(text)
