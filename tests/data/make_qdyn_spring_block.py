@@ -49,6 +49,56 @@ def slider_parameters(case: dict) -> dict:
     return {"k": case["kappa"] * k_c, "damping": eta, "k_c": k_c}
 
 
+#: QDYN's own test case test/stickslip.py ("RSF" mode) with pyqdyn's defaults for what it leaves out:
+#: V_PL = 1e-6, MU = 2e10, L = 10 (k = MU/L), SIGMA = 5e7, VS = 3000, A = 0.01, B = 0.025, DC = 1e-5,
+#: V_SS = 1e-6 (pyqdyn default), MU_SS = 0.6, aging law (THETA_LAW = 1), V0 = 0.9 V_PL, θ0 = DC/V_PL.
+#: k/k_c = 0.0267: a deep stick-slip cycle (ln V/V_PL from −25 to +15). Its TMAX = 1e4 s is ~1.3 cycles;
+#: here the run is long enough to settle on the cycle.
+STICKSLIP = {"v_pl": 1e-6, "mu": 2e10, "l": 10.0, "sigma": 5e7, "vs": 3000.0, "a": 0.01, "b": 0.025, "dc": 1e-5,
+             "mu0": 0.6}
+
+
+def run_stickslip(src: str, acc: float, tmax: float) -> dict:
+    """QDYN's stickslip test case run to ``tmax``; its cycle read off the last third of the run."""
+    sys.path.insert(0, src)
+    from pyqdyn import qdyn   # noqa: PLC0415
+
+    c = STICKSLIP
+    work = tempfile.mkdtemp(prefix="qdyn_")
+    cwd = os.getcwd()
+    os.chdir(work)
+    try:
+        p = qdyn()
+        s = p.set_dict
+        s.update({"MESHDIM": 0, "TMAX": tmax, "NTOUT": 10 ** 9, "NTOUT_OT": 1, "V_PL": c["v_pl"], "MU": c["mu"],
+                  "VS": c["vs"], "SIGMA": c["sigma"], "L": c["l"], "ACC": acc, "SOLVER": 2,
+                  "FRICTION_MODEL": "RSF", "V_TH": 1e300})
+        s["SET_DICT_RSF"].update({"RNS_LAW": 0, "THETA_LAW": 1, "A": c["a"], "B": c["b"], "DC": c["dc"],
+                                  "V_SS": c["v_pl"], "MU_SS": c["mu0"], "V_0": 0.9 * c["v_pl"],
+                                  "TH_0": c["dc"] / c["v_pl"]})
+        p.settings(s)
+        p.render_mesh()
+        p.write_input()
+        p.run(test=True)
+        ot = np.loadtxt("output_ot_0", comments="#")
+    finally:
+        os.chdir(cwd)
+        shutil.rmtree(work, ignore_errors=True)
+    t, x = ot[:, 0], np.log(ot[:, 3] / c["v_pl"])
+    keep = t >= t[-1] * 2 / 3
+    t, x = t[keep], x[keep]
+    up = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
+    t_up = t[up] - x[up] * (t[up + 1] - t[up]) / (x[up + 1] - x[up])
+    peaks, troughs = [], []
+    for lo, hi in zip(up[:-1], up[1:]):
+        for pick, out in ((np.argmax, peaks), (np.argmin, troughs)):
+            i = lo + 1 + int(pick(x[lo + 1:hi + 1]))
+            cf = np.polyfit(t[i - 1:i + 2] - t[i], x[i - 1:i + 2], 2)
+            out.append(cf[2] - cf[1] ** 2 / (4 * cf[0]) if cf[0] != 0 else x[i])
+    return {"acc": acc, "tmax": tmax, "periods": np.diff(t_up).tolist(), "ln_v_max": peaks, "ln_v_min": troughs,
+            "k": c["mu"] / c["l"] / c["sigma"], "damping": c["mu"] / (2 * c["vs"]) / c["sigma"]}
+
+
 def run_case(src: str, law: str, kappa: float, acc: float, tmax_periods: float) -> dict:
     sys.path.insert(0, src)
     from pyqdyn import qdyn   # noqa: PLC0415 (QDYN's own wrapper, from its source tree)
@@ -110,12 +160,18 @@ def main() -> None:
     ap.add_argument("--commit", default="", help="QDYN's git commit, recorded in the output")
     ap.add_argument("--laws", default="aging,slip")
     ap.add_argument("--kappas", default=",".join(map(str, KAPPAS)))
+    ap.add_argument("--stickslip-tmax", type=float, default=0.0,
+                    help="also run QDYN's stickslip test case to this time (s), at ACC 1e-7 and --acc")
     args = ap.parse_args()
     cases = [run_case(os.path.abspath(args.src), law, float(k), args.acc, args.tmax_periods)
              for law in args.laws.split(",") for k in args.kappas.split(",")]
-    print(json.dumps({"generator": "tests/data/make_qdyn_spring_block.py", "qdyn_commit": args.commit,
-                      "acc": args.acc, "solver": "RK45 (SOLVER = 2)", "tmax_periods": args.tmax_periods,
-                      "base": BASE, "cases": cases}, indent=1))
+    doc = {"generator": "tests/data/make_qdyn_spring_block.py", "qdyn_commit": args.commit,
+           "acc": args.acc, "solver": "RK45 (SOLVER = 2)", "tmax_periods": args.tmax_periods,
+           "base": BASE, "cases": cases}
+    if args.stickslip_tmax > 0:
+        doc["stickslip"] = {"case": STICKSLIP, "runs": [run_stickslip(os.path.abspath(args.src), acc, args.stickslip_tmax)
+                                                        for acc in (1e-7, args.acc)]}
+    print(json.dumps(doc, indent=1))
 
 
 if __name__ == "__main__":
