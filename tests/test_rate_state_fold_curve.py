@@ -42,3 +42,19 @@ def test_fold_curve_ends_at_the_bautin_point():
                      thresholds=[1.0])
         ups = [c[0] for c in r.crossings if c[2] > 0]
         assert abs((ups[1] - ups[0]) / f.period - 1) < 1e-10
+
+
+@pytest.mark.slow
+def test_with_damping_the_fold_curve_joins_the_two_bautin_points():
+    # ~8 s. Damping 1e-4 gives the aging law two Bautin points in η (0.025707, 0.112441: secant roots of
+    # l1, tests/test_rate_state_two_parameter.py). The fold of cycles found on the branch at η = 0.07
+    # continued both ways ends on each: √(κ_f − 1) extrapolated to 0 from the last two folds lands
+    # within 1e-3 relative of them (measured 1.5e-5 and 7.5e-4: the lower end is steeper).
+    br = continue_cycles(state_law="aging", a=0.01, b=0.015, dc=0.01, v_lp=1.0, mass=0.07e-4, damping=1e-4,
+                         points=12, max_step=0.04, kappa_range=(0.4, 20))
+    start = br.points[br.folds[0]]
+    for end, eta_b in ((0.1122, 0.11244119819140375), (0.0259, 0.02570725865335719)):
+        fc = fold_curve(list(np.linspace(0.07, end, 30)), start.w, start.kappa, state_law="aging", damping=1e-4)
+        assert len(fc) == 30 and all(f.status == "ok" and f.kappa > 1 for f in fc)
+        (e1, k1), (e2, k2) = [(f.eta, math.sqrt(f.kappa - 1)) for f in fc[-2:]]
+        assert abs((e2 - k2 * (e2 - e1) / (k2 - k1)) / eta_b - 1) < 1e-3
