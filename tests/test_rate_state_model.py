@@ -47,9 +47,9 @@ def test_labels_canonicalise_aliases_and_refuse_unknown_laws():
     with pytest.raises(InputError, match="names 3 state variables"):
         resolve_label("aging+slip+prz")
     w = parse_workflow(WORKFLOW)
-    assert w.laws == ("aging", "Ruina") and w.shape == (2, 3, 1, 1, 1, 1, 2, 1, 1)
+    assert w.laws == ("aging", "Ruina") and w.shape == (2, 3, 1, 1, 1, 1, 2, 1, 1, 1)
     # the defaults stand in for the axes left out
-    assert (w.v_lp, w.a, w.b, w.dc, w.b2, w.dc2) == ((1.0,), (0.01,), (0.015,), (0.01,), (0.0,), (0.1,))
+    assert (w.v_lp, w.a, w.b, w.dc, w.b2, w.dc2, w.damping) == ((1.0,), (0.01,), (0.015,), (0.01,), (0.0,), (0.1,), (0.0,))
 
 
 def test_workflow_round_trips_with_its_defaults_written_out():
@@ -94,13 +94,13 @@ def test_stored_hopf_points_equal_the_closed_forms(submitted):
     for m, mass in enumerate((0.0, 1e-5)):
         k_c = (b - a) / dc * (1 + mass * v * v / (a * dc))
         omega = v / dc * math.sqrt((b - a) / a)
-        got = ds["k_c"].values[:, :, 0, 0, 0, 0, m, 0, 0]
+        got = ds["k_c"].values[:, :, 0, 0, 0, 0, m, 0, 0, 0]
         # found by mpmath at 30 digits, rounded to double: a few ulps of the closed form
         np.testing.assert_allclose(got, k_c, rtol=1e-14)
-        np.testing.assert_allclose(ds["omega_c"].values[:, :, 0, 0, 0, 0, m, 0, 0], omega, rtol=1e-14)
-        np.testing.assert_allclose(ds["k"].values[:, :, 0, 0, 0, 0, m, 0, 0], k_c * np.array([[0.5, 0.9, 1.5]] * 2),
+        np.testing.assert_allclose(ds["omega_c"].values[:, :, 0, 0, 0, 0, m, 0, 0, 0], omega, rtol=1e-14)
+        np.testing.assert_allclose(ds["k"].values[:, :, 0, 0, 0, 0, m, 0, 0, 0], k_c * np.array([[0.5, 0.9, 1.5]] * 2),
                                    rtol=1e-14)
-    crit = ds["criticality"].values[:, 0, 0, 0, 0, 0, :, 0, 0]
+    crit = ds["criticality"].values[:, 0, 0, 0, 0, 0, :, 0, 0, 0]
     # quasi-static aging and slip: degenerate (3); with η = M V²/(a Dc) = 0.1 aging is subcritical (1)
     # below its Bautin point η ≈ 0.138 and slip supercritical (2) (docs/rate-state.md)
     assert crit.tolist() == [[3, 1], [3, 2]]
@@ -109,7 +109,7 @@ def test_stored_hopf_points_equal_the_closed_forms(submitted):
 def test_fates_along_kappa(submitted):
     _, store, _ = submitted
     ds = open_store(store)
-    status = ds["status"].values[:, :, 0, 0, 0, 0, :, 0, 0]
+    status = ds["status"].values[:, :, 0, 0, 0, 0, :, 0, 0, 0]
     S = RateStateStatus
     # quasi-static: below k_c V blows up (no bounded cycle), above it sliding is restored;
     # with inertia, stable cycles below k_c
@@ -117,9 +117,9 @@ def test_fates_along_kappa(submitted):
         assert status[law, :, 0].tolist() == [S.UNBOUNDED_GROWTH, S.UNBOUNDED_GROWTH, S.STEADY_SLIDING]
         assert status[law, :, 1].tolist() == [S.LIMIT_CYCLE, S.LIMIT_CYCLE, S.STEADY_SLIDING]
     cyc = status == S.LIMIT_CYCLE
-    assert np.all(np.isfinite(ds["period"].values[:, :, 0, 0, 0, 0, :, 0, 0][cyc]))
-    assert np.all(np.isnan(ds["period"].values[:, :, 0, 0, 0, 0, :, 0, 0][~cyc]))
-    assert np.all(ds["multiplier_max"].values[:, :, 0, 0, 0, 0, :, 0, 0][cyc] < 1)
+    assert np.all(np.isfinite(ds["period"].values[:, :, 0, 0, 0, 0, :, 0, 0, 0][cyc]))
+    assert np.all(np.isnan(ds["period"].values[:, :, 0, 0, 0, 0, :, 0, 0, 0][~cyc]))
+    assert np.all(ds["multiplier_max"].values[:, :, 0, 0, 0, 0, :, 0, 0, 0][cyc] < 1)
 
 
 @pytest.mark.parametrize("law", ["aging", "slip"])
@@ -133,17 +133,17 @@ def test_cycle_period_and_extrema_against_a_direct_run(submitted, law):
     ds = open_store(store)
     i = 0 if law == "aging" else 1
     for j, kappa in ((0, 0.5), (1, 0.9)):
-        k = float(ds["k"].values[i, j, 0, 0, 0, 0, 1, 0, 0])
-        period = float(ds["period"].values[i, j, 0, 0, 0, 0, 1, 0, 0])
+        k = float(ds["k"].values[i, j, 0, 0, 0, 0, 1, 0, 0, 0])
+        period = float(ds["period"].values[i, j, 0, 0, 0, 0, 1, 0, 0, 0])
         r = rate_state(a=0.01, b=0.015, dc=0.01, state_law=law, k=k, mass=1e-5, v_lp=1.0,
                        t=[0.0, 80 * period], v0=math.exp(1e-2), theta0=[0.01], thresholds=[1.0])
         ups = r.crossings[r.crossings[:, 2] > 0, 0]
         # double arithmetic over 80 periods, two event times of O(10) each rounded to ~1e-15 relative
         assert ups[-1] - ups[-2] == pytest.approx(period, rel=1e-10), (law, kappa)
         last = r.extrema[r.extrema[:, 0] > ups[-2]]
-        assert last[:, 1].max() == pytest.approx(float(ds["ln_v_max"].values[i, j, 0, 0, 0, 0, 1, 0, 0]),
+        assert last[:, 1].max() == pytest.approx(float(ds["ln_v_max"].values[i, j, 0, 0, 0, 0, 1, 0, 0, 0]),
                                                  abs=1e-9)
-        assert last[:, 1].min() == pytest.approx(float(ds["ln_v_min"].values[i, j, 0, 0, 0, 0, 1, 0, 0]),
+        assert last[:, 1].min() == pytest.approx(float(ds["ln_v_min"].values[i, j, 0, 0, 0, 0, 1, 0, 0, 0]),
                                                  abs=1e-9)
 
 
@@ -169,7 +169,7 @@ def test_points_the_engine_cannot_vouch_for_get_a_status():
     from bifurcation.engine.solve import solve
 
     S = RateStateStatus
-    base = {"kappa": [0.9], "v_lp": 1.0, "a": 0.01, "b": 0.015, "dc": 0.01, "mass": 0.0, "b2": 0.0, "dc2": 0.1}
+    base = {"kappa": [0.9], "v_lp": 1.0, "a": 0.01, "b": 0.015, "dc": 0.01, "mass": 0.0, "b2": 0.0, "dc2": 0.1, "damping": 0.0}
     out = solve(get_model("rate-state"), "aging", {**base, "b": [0.005]})       # b < a: velocity strengthening
     assert out["status"][0] == S.NO_HOPF_POINT and math.isnan(out["k_c"][0])
     out = solve(get_model("rate-state"), "aging", {**base, "b2": [0.01]})       # b2 for a one-variable label
@@ -187,7 +187,7 @@ def test_two_state_variables_take_b2_and_dc2():
     from bifurcation.engine.solve import solve
     from bifurcation.models.rate_state.hopf import hopf_point
 
-    pts = {"kappa": [0.9], "v_lp": 1.0, "a": 0.01, "b": 0.012, "dc": 0.01, "mass": 0.0, "b2": 0.006, "dc2": 0.1}
+    pts = {"kappa": [0.9], "v_lp": 1.0, "a": 0.01, "b": 0.012, "dc": 0.01, "mass": 0.0, "b2": 0.006, "dc2": 0.1, "damping": 0.0}
     out = solve(get_model("rate-state"), "aging+slip", pts)
     h = hopf_point(a=0.01, b=[0.012, 0.006], dc=[0.01, 0.1], state_law=["aging", "slip"], v_lp=1.0, dps=30)
     assert out["k_c"][0] == h.k_c and out["status"][0] == RateStateStatus.LIMIT_CYCLE
@@ -223,7 +223,7 @@ def test_a_deep_inertial_slip_cycle_against_a_direct_run():
     from bifurcation.engine.solve import solve
     from bifurcation.models.rate_state import rate_state
 
-    pts = {"kappa": [0.1], "v_lp": 1.0, "a": 0.01, "b": 0.05, "dc": 0.01, "mass": 1e-2, "b2": 0.0, "dc2": 0.1}
+    pts = {"kappa": [0.1], "v_lp": 1.0, "a": 0.01, "b": 0.05, "dc": 0.01, "mass": 1e-2, "b2": 0.0, "dc2": 0.1, "damping": 0.0}
     out = solve(get_model("rate-state"), "slip", pts, max_steps=1_000_000)
     assert out["status"][0] == RateStateStatus.LIMIT_CYCLE
     period, k = float(out["period"][0]), float(out["k"][0])
@@ -246,9 +246,43 @@ def test_v_lp_only_rescales_a_point_at_fixed_eta():
     rows = []
     for v in (1e-9, 1.0, 1e3):
         out = solve(get_model("rate-state"), "slip", {"kappa": [0.5, 1.5], "v_lp": v, "a": 0.01, "b": 0.015, "dc": 0.01,
-                                           "mass": 1e-5 / v ** 2, "b2": 0.0, "dc2": 0.1})
+                                           "mass": 1e-5 / v ** 2, "b2": 0.0, "dc2": 0.1, "damping": 0.0})
         assert out["status"].tolist() == [RateStateStatus.LIMIT_CYCLE, RateStateStatus.STEADY_SLIDING]
         assert out["k_c"][0] == pytest.approx(0.55, rel=1e-14)   # (b − a)/Dc · (1 + η), η = 0.1
         rows.append((v * out["period"][0], out["ln_v_min"][0] - math.log(v), out["ln_v_max"][0] - math.log(v)))
     for row in rows[1:]:
         np.testing.assert_allclose(row, rows[0], rtol=1e-9, atol=1e-9)
+
+
+def test_damping_axis_gives_the_damped_hopf_point_and_cycle():
+    # One tile with η = 1 (the QDYN cases' units: a = 0.01, b = 0.015, Dc = 1e-4, V_lp = 1e-3):
+    # k_c = (b − a − ηV)/Dc = 40 (docs/rate-state.md), a cycle at κ = 0.8 that is the `--cycle` result
+    # (same engine and Newton: equal to 1e-12), steady sliding at κ = 1.2, and ηV_lp ≥ b − a
+    # (η = 6) gives no Hopf point.
+    from bifurcation.models.rate_state import SliderSpec
+    from bifurcation.models.rate_state.cycle import limit_cycle
+
+    w = parse_workflow(textwrap.dedent("""
+        [study]
+        name = "rs-damped"
+        [model]
+        name = "rate-state"
+        [engine]
+        laws = ["slip"]
+        [grid.kappa]
+        values = [0.8, 1.2]
+        [grid.v_lp]
+        values = [1e-3]
+        [grid.dc]
+        values = [1e-4]
+        [grid.damping]
+        values = [1.0, 6.0]
+        """))
+    fields = compute_serial(w)
+    status = fields["status"].reshape(2, 2)   # kappa × damping
+    k_c = fields["k_c"].reshape(2, 2)
+    assert list(status[:, 0]) == [RateStateStatus.LIMIT_CYCLE, RateStateStatus.STEADY_SLIDING]
+    assert list(status[:, 1]) == [RateStateStatus.NO_HOPF_POINT] * 2
+    assert k_c[0, 0] == pytest.approx(40.0, rel=1e-14)
+    c = limit_cycle(SliderSpec(a=0.01, b=0.015, dc=1e-4, state_law="slip", k=0.8 * k_c[0, 0], damping=1.0), 1e-3)
+    assert fields["period"].reshape(2, 2)[0, 0] == pytest.approx(c.period, rel=1e-12)

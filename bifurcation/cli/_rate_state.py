@@ -32,16 +32,20 @@ def _floats(name: str, example: str):
 @click.option("--dc", required=True, callback=_floats("--dc", "0.01 or 0.01,0.1"), help="Dc_i > 0.")
 @click.option("--v-lp", "v_lp", required=True, callback=number("--v-lp", "1"), help="Load-point velocity > 0.")
 @click.option("--mass", default=None, callback=number("--mass", "1e-3"), help="Mass M > 0 (inertial).")
+@click.option("--damping", default=None, callback=number("--damping", "0.002"),
+              help="Radiation damping ETA >= 0, friction per unit slip rate (k(V_lp t - δ) - ETA V = μ - μ0); "
+                   "default 0.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-def hopf_cmd(state_law, a, b, dc, v_lp, mass, as_json) -> None:
+def hopf_cmd(state_law, a, b, dc, v_lp, mass, damping, as_json) -> None:
     """The Hopf point of steady sliding: k_c, ω_c, the first Lyapunov coefficient, criticality."""
     from ..models.rate_state.hopf import hopf_point
 
     laws = [s.strip() for s in state_law.split(",")]
     if len(laws) == 1 and len(b) > 1:
         laws = laws * len(b)
-    record = hopf_point(a=a, b=b, dc=dc, state_law=laws, v_lp=v_lp, mass=mass).to_record()
-    record = {"state_law": laws, "a": a, "b": b, "dc": dc, "v_lp": v_lp, "mass": mass, **record}
+    damping = 0.0 if damping is None else damping
+    record = hopf_point(a=a, b=b, dc=dc, state_law=laws, v_lp=v_lp, mass=mass, damping=damping).to_record()
+    record = {"state_law": laws, "a": a, "b": b, "dc": dc, "v_lp": v_lp, "mass": mass, "damping": damping, **record}
     if as_json:
         echo_json(record)
         return
@@ -50,7 +54,8 @@ def hopf_cmd(state_law, a, b, dc, v_lp, mass, as_json) -> None:
 
 
 @click.command("rate-state", epilog=examples(
-    'bifurcation rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 --outputs 5'))
+    'bifurcation rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 --outputs 5',
+    'bifurcation rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --damping 1 --cycle --json'))
 @click.option("--state-law", required=True, help="aging (dieterich), slip (ruina) or prz; comma-separated for two.")
 @click.option("--a", "a", required=True, callback=number("--a", "0.01"), help="Direct effect a > 0.")
 @click.option("--b", "b", required=True, callback=_floats("--b", "0.015 or 0.015,0.005"), help="b_i >= 0.")
@@ -60,21 +65,40 @@ def hopf_cmd(state_law, a, b, dc, v_lp, mass, as_json) -> None:
               help="Load-point velocities, comma-separated (0 is a hold).")
 @click.option("--at", "at", default=None, callback=_floats("--at", "10"),
               help="Times of the velocity steps, comma-separated, increasing (one fewer than --v-lp).")
-@click.option("--t-end", "t_end", required=True, callback=number("--t-end", "40"), help="End time.")
+@click.option("--t-end", "t_end", default=None, callback=number("--t-end", "40"),
+              help="End time (required unless --cycle).")
 @click.option("--outputs", default=41, show_default=True, help="Number of evenly spaced output times.")
 @click.option("--mass", default=None, callback=number("--mass", "1e-3"), help="Mass M > 0 (inertial).")
+@click.option("--damping", default=None, callback=number("--damping", "0.002"),
+              help="Radiation damping ETA >= 0, friction per unit slip rate (k(V_lp t - δ) - ETA V = μ - μ0); "
+                   "default 0.")
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
+@click.option("--cycle", is_flag=True,
+              help="Print the attracting cycle reached from perturbed steady sliding (period, ln(V/V_lp) "
+                   "extrema, slip, each with an error estimate) instead of a time series; one --v-lp.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, precision, as_json) -> None:
+def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, damping, precision, cycle,
+                   as_json) -> None:
     """One run of the rate-and-state spring-slider: μ, V, θ at evenly spaced times, and the extrema of V."""
     import numpy as np
 
-    from ..models.rate_state import load_history, rate_state
+    from ..errors import InputError
+    from ..models.rate_state import SliderSpec, load_history, rate_state
 
     laws = [s.strip() for s in state_law.split(",")]
+    if len(laws) == 1 and len(b) > 1:
+        laws = laws * len(b)
+    damping = 0.0 if damping is None else damping
+    spec = SliderSpec(a=a, b=b, dc=dc, state_law=laws, k=k, mass=mass, damping=damping)   # checks before work
     history = load_history(v_lp, at=at or [])
+    if cycle:
+        _cycle(spec, history, precision, as_json)
+        return
+    if t_end is None:
+        raise InputError("--t-end", None, "is missing", "give the end time of the run, e.g. --t-end 40 (or --cycle)")
     t = np.linspace(history.times[0], t_end, outputs)
-    r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, precision=precision)
+    r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, damping=damping,
+                   precision=precision)
     record = {"status": r.status, "message": r.message, "steps": r.steps, "t": r.t.tolist(),
               "mu": [float(x) for x in r.mu], "v": r.v.tolist(), "theta": r.theta.tolist(),
               "slip": [float(x) for x in r.slip], "extrema": r.extrema.tolist()}
@@ -87,16 +111,53 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, preci
         click.echo(f"{ti:12.6g} {mi:20.16f} {vi:24.17g}")
 
 
+def _cycle(spec, history, precision, as_json) -> None:
+    """``rate-state --cycle``: the attracting cycle, or its absence as a status (one line, exit 2)."""
+    import math
+
+    from ..errors import InputError
+    from ..models.rate_state.cycle import limit_cycle
+    from ._common import fail
+
+    if len(history.velocities) != 1 or not history.velocities[0] > 0:
+        raise InputError("--v-lp", list(history.velocities), "must be one load-point velocity > 0 with --cycle",
+                         "give a constant loading, e.g. --v-lp 1, without --at")
+    if precision != "double":
+        raise InputError("--precision", precision, "is not available with --cycle",
+                         "leave --precision at double (real128 is for verification runs)")
+    import heyoka
+
+    # a run that blows up (a status here) makes heyoka log a warning about the non-finite step
+    heyoka.set_logger_level_error()
+    c = limit_cycle(spec, history.velocities[0])
+    record = c.to_record()
+    if as_json:
+        echo_json(record)
+    if c.status != "limit-cycle":
+        fail(f"--cycle: {c.status}: {c.message}")
+    if not as_json:
+        for key, value in record.items():
+            if isinstance(value, float) and math.isfinite(value):
+                click.echo(f"{key:16s} {value:.17g}")
+            else:
+                click.echo(f"{key:16s} {value}")
+
+
 @click.command("continue", epilog=examples(
     'bifurcation continue workflows/rate-state-quick.toml --out rate-state-quick'))
 @click.argument("workflow")
 @click.option("--out", default=None, help="Output directory (default results/<study name>/).")
-def continue_cmd(workflow: str, out) -> None:
+@click.option("--damping", default=None, callback=number("--damping", "0.002"),
+              help="Radiation damping ETA >= 0 for every branch (replaces the workflow's damping keys).")
+def continue_cmd(workflow: str, out, damping) -> None:
     """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
+    from ..models.rate_state.spec import _finite
     from ..models.rate_state.study import load_study, run_study
 
     load_study(workflow)  # validate before anything is computed or written
-    run_study(workflow, out, echo=click.echo)
+    if damping is not None:
+        damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
+    run_study(workflow, out, echo=click.echo, damping=damping)
 
 
 COMMANDS = [continue_cmd, hopf_cmd, rate_state_cmd]

@@ -8,10 +8,12 @@ from __future__ import annotations
 from ..._lazy import lazy_names
 
 _LAZY = {
+    "CycleResult": "cycle",
     "LoadHistory": "spec",
     "RateStateResult": "simulate",
     "STATE_LAWS": "laws",
     "SliderSpec": "spec",
+    "limit_cycle": "cycle",
     "load_history": "spec",
     "rate_state": "simulate",
     "resolve_state_law": "laws",

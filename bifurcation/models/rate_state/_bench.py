@@ -25,7 +25,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
-__all__ = ["run_rate_state_bench"]
+__all__ = ["run_rate_state_bench", "run_suite"]
 
 _CASES = {  # name: (a, k, [(law, b, Dc)]) — rsfmodel's tests/rsf_tests.py at 8b1c9dd, numbers only
     "dieterich_1": (0.005, 1e-3, [("aging", 0.01, 10.0)]),
@@ -198,3 +198,12 @@ def run_rate_state_bench(repeat: int = 5, echo=print) -> dict:
             "reference": "heyoka real128 run of the same model (agrees with the mpmath reference to 1e-28)",
             "baselines": {"lsoda_numba": "numbalsoda.lsoda, numba cfunc right-hand side",
                           "odeint": "scipy.integrate.odeint, Python right-hand side"}}
+
+
+def run_suite(echo=print) -> dict:
+    """The model's bench hook: rsfmodel's five cases, then the deep stick-slip cycles (``_bench_cycles``)."""
+    from ._bench_cycles import run_deep_cycle_bench
+
+    report = run_rate_state_bench(echo=echo)
+    report["deep_cycles"] = run_deep_cycle_bench(echo=echo)
+    return report

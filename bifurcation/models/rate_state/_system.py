@@ -1,19 +1,23 @@
 """The rate-and-state slider as heyoka Taylor integrators, compiled once per structure.
 
-Variables (docs/rate-state.md): x = ln V, y_i = ln θ_i and, with inertia, z = k(δ_lp − δ) − μ = M V̇
-(the net force). In these variables
+Variables (docs/rate-state.md): x = ln V, y_i = ln θ_i and, with inertia, z = k(δ_lp − δ) − ηV − μ = M V̇
+(the net force; η ≥ 0 the radiation damping, friction per unit slip rate). In these variables
 
-    quasi-static:  a ẋ = k(V_lp − e^x) − Σ b_i ẏ_i
-    inertial:      ẋ = z e^{−x}/M,   ż = k(V_lp − e^x) − a ẋ − Σ b_i ẏ_i
+    quasi-static:  (a + η e^x) ẋ = k(V_lp − e^x) − Σ b_i ẏ_i
+    inertial:      ẋ = z e^{−x}/M,   ż = k(V_lp − e^x) − (a + η e^x) ẋ − Σ b_i ẏ_i
     state:         ẏ_i = law_i.rate(x, y_i; Dc_i)                     (laws.py)
+
+An undamped slider (η = 0) is compiled without the η terms (``damped=False``): the same equations
+and step sequence as before damping existed, and no division by a series where a constant does.
 
 x and y keep their relative precision over any number of decades of V (a double x carries V to 2e-16
 relative at V = 1e-20 as at V = 1e3), and the net force z is integrated directly, never formed as the
-small difference of two O(μ0) forces. The slip δ needs no equation: k(δ_lp − δ) = μ (+ z with inertia).
+small difference of two O(μ0) forces. The slip δ needs no equation: k(δ_lp − δ) = μ + ηV (+ z with
+inertia).
 
-Runtime parameters (one compiled integrator serves every parameter set of a structure):
-par[0] = a, par[1] = k, par[2] = V_lp (set per load segment), par[3] = M (unused quasi-static),
-par[4 + i] = b_i, par[4 + n + i] = Dc_i, par[4 + 2n + j] = ln of the j-th slip-velocity threshold.
+Runtime parameters (one compiled integrator serves every parameter set of a structure), in the slots
+of ``Slots``: a, k, V_lp (set per load segment), M (unused quasi-static), η (unused undamped), then
+b_i, Dc_i and the ln of each slip-velocity threshold; ``parameters`` fills them.
 
 Events, all non-terminal and located exactly by heyoka's polynomial root finding on each step:
 ẋ = 0 (velocity extrema: maximum when ẋ goes from + to −) and x = ln V_j (slip thresholds).
@@ -28,9 +32,37 @@ import numpy as np
 
 from .laws import resolve_state_law
 
-__all__ = ["Compiled", "Recorder", "compiled", "fp_info", "rhs_expressions"]
+__all__ = ["Compiled", "Recorder", "Slots", "compiled", "fp_info", "parameters", "rhs_expressions"]
 
 _CACHE: dict = {}
+
+
+class Slots:
+    """Where each runtime parameter lives in the integrator's ``pars`` (n state variables)."""
+
+    A, K, V_LP, MASS, DAMPING = range(5)
+    FIXED = 5
+
+    @staticmethod
+    def b(n: int, i: int) -> int:
+        return Slots.FIXED + i
+
+    @staticmethod
+    def dc(n: int, i: int) -> int:
+        return Slots.FIXED + n + i
+
+    @staticmethod
+    def threshold(n: int, j: int) -> int:
+        return Slots.FIXED + 2 * n + j
+
+    @staticmethod
+    def size(n: int, n_thresholds: int) -> int:
+        return Slots.FIXED + 2 * n + n_thresholds
+
+
+def parameters(spec, k, v_lp, ln_thresholds=()) -> list:
+    """The runtime parameter vector of ``spec`` at spring stiffness k and load-point velocity V_lp."""
+    return [spec.a, k, v_lp, spec.mass or 1.0, spec.damping, *spec.b, *spec.dc, *ln_thresholds]
 
 
 def fp_info(precision: str):
@@ -64,7 +96,7 @@ class Recorder:
         if time == self.start and self.first:
             return  # at a steady start ẋ = 0 exactly: not an extremum of the run
         ta.update_d_output(time)
-        x = float(ta.d_output[0])
+        x = _peak(ta, time, float(ta.d_output[0]))
         # At a steady state ẋ is rounding noise that changes sign at almost every step: an "extremum"
         # within 64 ulps of the last recorded one is that noise, not an oscillation, and is dropped.
         # Real extrema of a smooth ln V alternate between maxima and minima, so a repeat of the last
@@ -84,12 +116,46 @@ class Recorder:
         return record
 
 
+def _peak(ta, time, x_dense: float) -> float:
+    """ln V at an extremum, from the step's Taylor polynomial in the step's own time.
+
+    The callback's event time is an absolute double: at t ~ 1e3 it carries ~1e-13 of rounding, and at a
+    slip spike (|ẍ| ~ 1e20 and more) the dense output read there is off by ½|ẍ|δt² (3.5e-8 in ln V_max
+    of a deep slip-law cycle, against real128 and mpmath). Newton on p'(τ) = 0 with τ measured from the
+    step's start (to the precision of the step, not of t) removes that; the value is p(τ*). Falls back
+    to the dense-output value if the iteration leaves the step.
+    """
+    if ta.tc.dtype != np.float64:
+        return x_dense   # real128: its t carries 1e-34 relative, the dense output is already exact enough
+    try:
+        c = ta.tc[0]
+        h = float(ta.last_h)
+        hi, lo = ta.dtime
+        tau = (float(time) - float(hi)) - float(lo) + h
+        d1 = c[1:] * np.arange(1, c.size)
+        d2 = d1[1:] * np.arange(1, d1.size)
+        if not (np.all(np.isfinite(d2)) and np.isfinite(tau)):
+            return x_dense
+        for _ in range(6):
+            step = np.polyval(d1[::-1], tau) / np.polyval(d2[::-1], tau)
+            tau -= step
+            if abs(step) <= 1e-16 * abs(h):
+                break
+        if not (-1e-12 * abs(h) <= tau <= h * (1 + 1e-12)) or not np.isfinite(tau):
+            return x_dense
+        x = float(np.polyval(c[::-1], tau))
+        return x if abs(x - x_dense) < 1e-6 * max(1.0, abs(x_dense)) else x_dense
+    except Exception:   # a precision whose coefficients numpy cannot hold: the dense output's value
+        return x_dense
+
+
 @dataclass(frozen=True)
 class Compiled:
     """A compiled integrator for one structure, and where its parameters and events live."""
 
     laws: tuple[str, ...]
     inertial: bool
+    damped: bool
     n_thresholds: int
     precision: str
     integrator: object
@@ -97,61 +163,65 @@ class Compiled:
     dtype: type
 
 
-def rhs_expressions(laws, inertial: bool, variables, par, exp, log):
-    """Right-hand sides for ``variables`` = (x, y_1..y_n[, z]) with parameters ``par`` (a sequence).
+def rhs_expressions(laws, inertial: bool, variables, par, exp, log, damped: bool = True):
+    """Right-hand sides for ``variables`` = (x, y_1..y_n[, z]) with parameters ``par`` (``Slots``).
 
     Works on heyoka expressions (the integrator) and on mpmath numbers (the Hopf analysis and the
-    reference), so every consumer integrates the same equations.
+    reference), so every consumer integrates the same equations. ``damped=False`` leaves out the
+    radiation-damping terms (η = 0 exactly).
     """
     n = len(laws)
     x, ys = variables[0], variables[1:1 + n]
-    a, k, v_lp, mass = par[0], par[1], par[2], par[3]
-    b = [par[4 + i] for i in range(n)]
-    dc = [par[4 + n + i] for i in range(n)]
+    a, k, v_lp, mass = par[Slots.A], par[Slots.K], par[Slots.V_LP], par[Slots.MASS]
+    b = [par[Slots.b(n, i)] for i in range(n)]
+    dc = [par[Slots.dc(n, i)] for i in range(n)]
+    # the velocity-strengthening coefficient of ẋ: a, plus ηV with radiation damping
+    resist = a + par[Slots.DAMPING] * exp(x) if damped else a
     ydot = [resolve_state_law(law).rate(x, y, d, exp, log) for law, y, d in zip(laws, ys, dc)]
     state_force = b[0] * ydot[0]
     for bi, yi in zip(b[1:], ydot[1:]):
         state_force = state_force + bi * yi
     load = k * (v_lp - exp(x))
     if not inertial:
-        return [(load - state_force) / a, *ydot]
+        return [(load - state_force) / resist, *ydot]
     z = variables[1 + n]
     xdot = z * exp(-x) / mass
-    return [xdot, *ydot, load - a * xdot - state_force]
+    return [xdot, *ydot, load - resist * xdot - state_force]
 
 
 def compiled(laws: tuple[str, ...], inertial: bool, n_thresholds: int = 0, precision: str = "double",
-             section: bool = False) -> Compiled:
-    """The cached integrator for (laws, inertia, number of thresholds, precision[, section]).
+             section: bool = False, damped: bool = False) -> Compiled:
+    """The cached integrator for (laws, inertia, number of thresholds, precision[, section, damping]).
 
     ``section=True`` adds a terminal event on the upward crossing of the first threshold (x = ln V_0
-    with ẋ > 0): the Poincaré section of the cycle continuation.
+    with ẋ > 0): the Poincaré section of the cycle continuation. ``damped=True`` includes the
+    radiation-damping terms (η in its parameter slot).
     """
-    key = (tuple(laws), bool(inertial), int(n_thresholds), precision, bool(section))
+    key = (tuple(laws), bool(inertial), int(n_thresholds), precision, bool(section), bool(damped))
     hit = _CACHE.get(key)
     if hit is None:
         hit = _CACHE[key] = _build(*key)
     return hit
 
 
-def _build(laws, inertial, n_thresholds, precision, section=False) -> Compiled:
+def _build(laws, inertial, n_thresholds, precision, section=False, damped=False) -> Compiled:
     fp_type, dtype = fp_info(precision)
     n = len(laws)
     names = ["x"] + [f"y{i}" for i in range(n)] + (["z"] if inertial else [])
     variables = hy.make_vars(*names)
     if len(names) == 1:
         variables = [variables]
-    par = [hy.par[i] for i in range(4 + 2 * n + n_thresholds)]
-    rhs = rhs_expressions(laws, inertial, variables, par, hy.exp, hy.log)
+    par = [hy.par[i] for i in range(Slots.size(n, n_thresholds))]
+    rhs = rhs_expressions(laws, inertial, variables, par, hy.exp, hy.log, damped=damped)
     recorder = Recorder()
     fp = {"fp_type": fp_type} if fp_type is not None else {}
     nt = [hy.nt_event(rhs[0], recorder.extremum, **fp)]
     for j in range(n_thresholds):
-        nt.append(hy.nt_event(variables[0] - par[4 + 2 * n + j], recorder.crossing(j), **fp))
+        nt.append(hy.nt_event(variables[0] - par[Slots.threshold(n, j)], recorder.crossing(j), **fp))
     t_ev = []
     if section:
-        t_ev.append(hy.t_event(variables[0] - par[4 + 2 * n], direction=hy.event_direction.positive, **fp))
+        t_ev.append(hy.t_event(variables[0] - par[Slots.threshold(n, 0)], direction=hy.event_direction.positive, **fp))
     ta = hy.taylor_adaptive(list(zip(variables, rhs)), np.zeros(len(names), dtype=dtype),
                             pars=np.zeros(len(par), dtype=dtype), nt_events=nt, t_events=t_ev,
                             compact_mode=precision == "quad", **fp)
-    return Compiled(tuple(laws), bool(inertial), n_thresholds, precision, ta, recorder, dtype)
+    return Compiled(tuple(laws), bool(inertial), bool(damped), n_thresholds, precision, ta, recorder, dtype)

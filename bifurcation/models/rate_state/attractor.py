@@ -60,15 +60,16 @@ class Fate:
     slip: float = math.nan
     multiplier_max: float = math.nan
     steps: int = 0
+    w: tuple = ()       # a cycle's section coordinates (ln θ_i[, z]) at x = ln V_lp, ẋ > 0
 
 
 def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> Fate:
     """Integrate the perturbed steady slide of ``spec`` at load-point velocity ``v_lp`` (module docstring)."""
     import heyoka as hy
 
-    from ._system import compiled
+    from ._system import compiled, parameters
 
-    c = compiled(spec.state_law, spec.inertial, 1, "double")
+    c = compiled(spec.state_law, spec.inertial, 1, "double", damped=spec.damped)
     ta = c.integrator
     x_star = math.log(v_lp)
     y_star = np.array([math.log(law.steady_factor * d / v_lp) for law, d in zip(spec.laws, spec.dc)])
@@ -80,7 +81,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
     start[0] += PERTURBATION
     ta.time = 0.0
     ta.state[:] = start
-    ta.pars[:] = [spec.a, spec.k, v_lp, spec.mass or 1.0, *spec.b, *spec.dc, x_star]
+    ta.pars[:] = parameters(spec, spec.k, v_lp, [x_star])
     ta.reset_cooldowns()
     rec = c.recorder
     rec.reset(0.0)
@@ -107,9 +108,15 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
         seen = len(rec.extrema)
         if top - x_star > BLOWUP or (outcome != hy.taylor_outcome.time_limit and x - x_star > 10
                                      and steps < max_steps):
+            if spec.damped:
+                # with radiation damping V stays bounded (ηV caps the slip rate): what stopped the run is
+                # the integrator — at slip rates e^x/Dc beyond ~1e15 the Taylor coefficients (rate^order)
+                # overflow a double — not a blow-up
+                return Fate("unresolved", f"the integrator could not follow the slip spike (Taylor "
+                            f"coefficients overflow at slip rates ~ e^x/Dc > 1e15): {where}", steps=steps)
             return Fate("unbounded", f"V grows without bound: {where}", steps=steps)
         if outcome == hy.taylor_outcome.err_nf_state:
-            if last_x[0] - x_star > 20:   # the step from V > 5e8 V_lp overflowed: V blows up in finite time
+            if last_x[0] - x_star > 20 and not spec.damped:   # the step from V > 5e8 V_lp overflowed: V blows up in finite time
                 return Fate("unbounded", f"V grows without bound: non-finite after ln V/V_lp = "
                             f"{last_x[0] - x_star:.4g}, {steps} Taylor steps", steps=steps)
             return Fate("unresolved", f"non-finite state after ln V/V_lp = {last_x[0] - x_star:.4g}, {steps} "
@@ -135,7 +142,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
                     if top_c - bottom_c > MIN_AMPLITUDE and np.max(np.abs(ups[-1] - w) / w_scale) < BASIN_TOL \
                             and mult < 1:
                         return Fate("cycle", period=period, ln_v_max=top_c, ln_v_min=bottom_c, slip=v_lp * period,
-                                    multiplier_max=mult, steps=steps)
+                                    multiplier_max=mult, steps=steps, w=tuple(float(v) for v in w))
                 # the return map has its own compiled integrator (section=True): the run resumes here
         if float(ta.time) >= t_end:
             return Fate("unresolved", f"neither steady sliding nor a cycle within {float(ta.time):.6g} "

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._system import compiled, rhs_expressions
+from ._system import compiled, parameters, rhs_expressions
 from .hopf import HopfPoint, hopf_point, steady_state
 from .spec import SliderSpec
 
@@ -63,7 +63,7 @@ class ReturnMap:
 
     def __init__(self, spec: SliderSpec, v_lp: float, t_max: float, max_steps: int = 200_000) -> None:
         self.spec, self.v_lp, self.t_max, self.max_steps = spec, float(v_lp), float(t_max), max_steps
-        self.c = compiled(spec.state_law, spec.inertial, 1, "double", section=True)
+        self.c = compiled(spec.state_law, spec.inertial, 1, "double", section=True, damped=spec.damped)
         self.x0 = math.log(self.v_lp)
         self.last_failure = ""
 
@@ -74,7 +74,7 @@ class ReturnMap:
         ta.time = 0.0
         ta.state[0] = self.x0
         ta.state[1:] = w
-        ta.pars[:] = [spec.a, k, self.v_lp, spec.mass or 1.0, *spec.b, *spec.dc, self.x0]
+        ta.pars[:] = parameters(spec, k, self.v_lp, [self.x0])
         ta.reset_cooldowns()
         c.recorder.reset(0.0)
         c.recorder.x0 = self.x0
@@ -105,12 +105,12 @@ def _jac(fun, x, h):
     return f0, np.array(cols).T
 
 
-def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, points: int = 60, eps: float = 1e-3,
+def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, damping=0.0, points: int = 60, eps: float = 1e-3,
                     step: float = 0.05, max_step: float = 2.0, kappa_range=(0.05, 20.0),
                     min_ln_v: float = -200.0, t_max_periods: float = 1e4, max_steps: int = 200_000) -> Branch:
     """Trace the branch of cycles born at the Hopf point of steady sliding at V_lp (module docstring)."""
-    h = hopf_point(a=a, b=b, dc=dc, state_law=state_law, v_lp=v_lp, mass=mass, dps=30)
-    spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=h.k_c, mass=mass)
+    h = hopf_point(a=a, b=b, dc=dc, state_law=state_law, v_lp=v_lp, mass=mass, damping=damping, dps=30)
+    spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=h.k_c, mass=mass, damping=damping)
     period0 = 2 * math.pi / h.omega_c
     pmap = ReturnMap(spec, v_lp, t_max=t_max_periods * period0, max_steps=max_steps)
     u_star = np.array([float(v) for v in steady_state(spec, v_lp)])
@@ -144,9 +144,9 @@ def continue_cycles(*, a, b, dc, state_law, v_lp, mass=None, points: int = 60, e
 
     # Two starting cycles of amplitudes ε and 2ε (first section coordinate fixed), then arclength.
     # Oriented so that ẋ > 0 at the start (the section is crossed upwards, P is one full turn).
-    par = [spec.a, h.k_c, float(v_lp), spec.mass or 1.0, *spec.b, *spec.dc]
+    par = parameters(spec, h.k_c, float(v_lp))
     xdot = rhs_expressions(spec.state_law, spec.inertial, np.append(u_star[0], w_star + 1e-6 * direction), par,
-                           np.exp, np.log)[0]
+                           np.exp, np.log, damped=spec.damped)[0]
     sign = 1.0 if xdot > 0 else -1.0
     starts = []
     unit = direction / np.max(np.abs(direction) * weights[:m])
@@ -261,7 +261,8 @@ def period_by_simulation(branch: Branch, index: int, precision: str = "double") 
     p = branch.points[index]
     spec = branch.spec
     v_lp = p.v_lp if math.isfinite(p.v_lp) else branch.v_lp
-    run = SliderSpec(a=spec.a, b=spec.b, dc=spec.dc, state_law=spec.state_law, k=p.k, mass=spec.mass)
+    run = SliderSpec(a=spec.a, b=spec.b, dc=spec.dc, state_law=spec.state_law, k=p.k, mass=spec.mass,
+                     damping=spec.damping)
     n = spec.n_states
     turns = 1.5 if precision == "quad" else 2.5
     r = run_spec(run, load_history(v_lp), [0.0, turns * p.period], ln_v0=math.log(v_lp),

@@ -10,7 +10,9 @@ scan of k over 16 decades around Σ b_i/Dc_i and its sign change refined by ``mp
 (Anderson's bracketing method); ω_c = Im λ there. Closed forms, one state variable (all three laws
 share the linearisation at steady state): k_c = (b − a)/Dc quasi-static (Ruina 1983),
 k_c = (b − a)/Dc · [1 + M V²/(a Dc)] with inertia (Rice & Ruina 1983), and in both cases
-ω_c = (V/Dc) √((b − a)/a) (derived in docs/rate-state.md).
+ω_c = (V/Dc) √((b − a)/a). With radiation damping η, a becomes a' = a + ηV wherever it multiplies
+ẋ: k_c = (b − a')/Dc · [1 + M V²/(a' Dc)] (M = 0: quasi-static), ω_c = (V/Dc) √((b − a')/a'), and
+no Hopf point when ηV ≥ b − a (all derived in docs/rate-state.md).
 
 First Lyapunov coefficient (Kuznetsov, Elements of Applied Bifurcation Theory, 3rd ed., Eq. 3.20):
 with A q = iω q, Aᵀ p = −iω p, ⟨q, q⟩ = 1, ⟨p, q⟩ = 1 (⟨u, v⟩ = ū·v),
@@ -30,7 +32,7 @@ from dataclasses import dataclass
 import mpmath as mp
 
 from .spec import SliderSpec, _finite
-from ._system import rhs_expressions
+from ._system import parameters, rhs_expressions
 
 __all__ = ["HopfPoint", "closed_form", "hopf_point", "jacobian", "lyapunov_by_simulation", "steady_state"]
 
@@ -65,15 +67,14 @@ def steady_state(spec: SliderSpec, v_lp) -> list:
 
 
 def _pars(spec: SliderSpec, k, v_lp):
-    return [mp.mpf(spec.a), mp.mpf(k), mp.mpf(v_lp), mp.mpf(spec.mass or 1), *map(mp.mpf, spec.b),
-            *map(mp.mpf, spec.dc)]
+    return [mp.mpf(v) for v in parameters(spec, k, v_lp)]
 
 
 def _field(spec, k, v_lp):
     par = _pars(spec, k, v_lp)
 
     def f(u):
-        return rhs_expressions(spec.state_law, spec.inertial, u, par, mp.exp, mp.log)
+        return rhs_expressions(spec.state_law, spec.inertial, u, par, mp.exp, mp.log, damped=spec.damped)
     return f
 
 
@@ -105,26 +106,32 @@ def closed_form(spec: SliderSpec, v_lp) -> tuple[float, float]:
     """(k_c, ω_c) from the closed forms (one state variable), or NaN for two."""
     if spec.n_states != 1:
         return math.nan, math.nan
-    a, b, dc, v = (mp.mpf(spec.a), mp.mpf(spec.b[0]), mp.mpf(spec.dc[0]), mp.mpf(v_lp))
+    b, dc, v = (mp.mpf(spec.b[0]), mp.mpf(spec.dc[0]), mp.mpf(v_lp))
+    a = mp.mpf(spec.a) + mp.mpf(spec.damping) * v   # radiation damping adds ηV to a (docs/rate-state.md)
     k_qs = (b - a) / dc
     k_c = k_qs if not spec.inertial else k_qs * (1 + mp.mpf(spec.mass) * v * v / (a * dc))
     omega = (v / dc) * mp.sqrt((b - a) / a) if b > a else mp.nan
     return k_c, omega
 
 
-def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, dps: int = 50, lyapunov: bool = True) -> HopfPoint:
+def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, damping=0.0, dps: int = 50,
+               lyapunov: bool = True) -> HopfPoint:
     """The Hopf point of the steady state at V = V_lp, found numerically, and l1 (module docstring).
 
     Raises ``InputError`` when the steady state is stable for every k (Σ b_i ≤ a: velocity
-    strengthening, no Hopf point).
+    strengthening; with one state variable also ηV_lp ≥ b − a: damping outweighs the weakening).
     """
     from ...errors import InputError
 
-    spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=1.0, mass=mass)
+    spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=1.0, mass=mass, damping=damping)
     v_lp = _finite("v_lp", v_lp, positive=True, fix="give a load-point velocity > 0")
     if sum(spec.b) <= spec.a:
         raise InputError("b", spec.b, f"sums to <= a = {spec.a:g}: velocity strengthening, steady sliding is "
                          "stable for every k and there is no Hopf point", "give b > a")
+    if spec.n_states == 1 and spec.damping * v_lp >= spec.b[0] - spec.a:
+        raise InputError("damping", spec.damping, f"gives ηV_lp = {spec.damping * v_lp:g} >= b - a = "
+                         f"{spec.b[0] - spec.a:g}: steady sliding is stable for every k and there is no Hopf point",
+                         "give damping < (b - a)/V_lp")
     with mp.workdps(dps):
         scale = sum(mp.mpf(bi) / mp.mpf(d) for bi, d in zip(spec.b, spec.dc))
         if spec.inertial:
@@ -252,7 +259,7 @@ def lyapunov_by_simulation(spec: SliderSpec, point: HopfPoint, v_lp, eps: float,
     u_star = np.array([float(v) for v in steady_state(spec, v_lp)])
     phi = math.pi / 2 - cmath.phase(q[0])
     spec_k = SliderSpec(a=spec.a, b=spec.b, dc=spec.dc, state_law=spec.state_law, k=point.k_c, mass=spec.mass,
-                        mu0=spec.mu0, v_ref=spec.v_ref)
+                        mu0=spec.mu0, v_ref=spec.v_ref, damping=spec.damping)
     f = _field(spec_k, point.k_c, v_lp)
     for turn in (0.0, math.pi):
         d = 2 * eps * (cmath.exp(1j * (phi + turn)) * q).real

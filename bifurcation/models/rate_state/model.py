@@ -36,7 +36,7 @@ class RateStateStatus(IntEnum):
     LIMIT_CYCLE = 2         #: it went to an attracting cycle (found by Newton, multipliers inside 1)
     UNBOUNDED_GROWTH = 3    #: V grew beyond e^80 V_lp, or blew up in finite time (quasi-static, k < k_c)
     NOT_RESOLVED = 4        #: step or time budget spent, stiffness at small V, or no converged cycle
-    NO_HOPF_POINT = 5       #: Σb ≤ a: velocity strengthening, steady sliding is stable at every k (κ undefined)
+    NO_HOPF_POINT = 5       #: Σb ≤ a (or ηV_lp ≥ b − a): steady sliding is stable at every k (κ undefined)
     NOT_APPLICABLE = 6      #: b2 > 0 for a label with one state variable
 
     def __str__(self) -> str:
@@ -87,6 +87,8 @@ AXES = (
          bounds=(0.0, 1.0), example=0.006, default_tile=1, default=0.0),
     Axis("dc2", "D_c2", "critical slip distance of the second state variable", bounds=(1e-9, 1e6),
          units="length", scale="log", example=0.1, default_tile=1, default=0.1),
+    Axis("damping", "η", "radiation damping η, friction per unit slip rate (0: none; k(V_lp t − δ) − ηV = μ − μ0)",
+         bounds=(0.0, 1e30), units="time/length", example=0.002, default_tile=1, default=0.0),
 )
 
 OUTPUTS = (
@@ -131,11 +133,11 @@ def _run(model, label, points, *, precision, t_max, max_steps, batch):
         b = [p["b"], p["b2"]][:len(laws)]
         dc = [p["dc"], p["dc2"]][:len(laws)]
         mass = p["mass"] or None
-        key = (p["v_lp"], p["a"], *b, *dc, p["mass"])
+        key = (p["v_lp"], p["a"], *b, *dc, p["mass"], p["damping"])
         if key not in hopf_cache:
             try:
                 hopf_cache[key] = hopf_point(a=p["a"], b=b, dc=dc, state_law=laws, v_lp=p["v_lp"], mass=mass,
-                                             dps=30)
+                                             damping=p["damping"], dps=30)
             except InputError as exc:
                 hopf_cache[key] = exc
             except (ValueError, ZeroDivisionError) as exc:   # mpmath's root finder did not converge
@@ -151,7 +153,7 @@ def _run(model, label, points, *, precision, t_max, max_steps, batch):
         fields["criticality"][i] = CRITICALITY.get(h.criticality, 0)
         k = p["kappa"] * h.k_c
         fields["k"][i] = k
-        spec = SliderSpec(a=p["a"], b=b, dc=dc, state_law=laws, k=k, mass=mass)
+        spec = SliderSpec(a=p["a"], b=b, dc=dc, state_law=laws, k=k, mass=mass, damping=p["damping"])
         # [engine] t_max is in the single block's time unit; here time scales like Dc/V_lp, so the run's
         # bound is MAX_PERIODS linear periods (and max_steps), whatever V_lp is
         f = fate(spec, p["v_lp"], 2 * math.pi / h.omega_c, max_steps=max_steps, t_max=math.inf)
@@ -184,7 +186,7 @@ RATE_STATE = Model(
     runner=_run,
     hooks=Hooks(describe_label="bifurcation.models.rate_state.store_report:describe_label",
                 report="bifurcation.models.rate_state.store_report:blocks",
-                bench="bifurcation.models.rate_state._bench:run_rate_state_bench", bench_needs=("scipy", "numba", "numbalsoda"),
+                bench="bifurcation.models.rate_state._bench:run_suite", bench_needs=("scipy", "numba", "numbalsoda"),
                 commands="bifurcation.cli._rate_state:COMMANDS"),
     units_note="those of the workflow's own V_lp, Dc and M (docs/rate-state.md)",
 )

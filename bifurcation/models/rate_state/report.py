@@ -88,13 +88,14 @@ def write_store(path, spec, results) -> None:
     data["status"] = (("branch", "point"), status,
                       {"long_name": "point status", "flag_values": [0, 1, 2],
                        "flag_meanings": "no_point ok no_convergence"})
-    per = {"k_c": [], "omega_c": [], "lyapunov_coefficient": [], "mass": [], "fold_kappa": []}
+    per = {"k_c": [], "omega_c": [], "lyapunov_coefficient": [], "mass": [], "damping": [], "fold_kappa": []}
     for r in results:
         b = r["branch"]
         per["k_c"].append(b.hopf.k_c)
         per["omega_c"].append(b.hopf.omega_c)
         per["lyapunov_coefficient"].append(b.hopf.lyapunov_coefficient)
         per["mass"].append(b.spec.mass or 0.0)
+        per["damping"].append(b.spec.damping)
         per["fold_kappa"].append(b.points[b.folds[0]].kappa if b.folds else np.nan)
     for k, v in per.items():
         data[k] = (("branch",), np.array(v, dtype=float))

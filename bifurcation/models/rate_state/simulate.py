@@ -15,7 +15,7 @@ import heyoka as hy
 import numpy as np
 
 from ...errors import InputError
-from ._system import compiled
+from ._system import Slots, compiled, parameters
 from .spec import LoadHistory, SliderSpec, load_history
 
 __all__ = ["DEFAULT_MAX_STEPS", "RateStateResult", "rate_state", "run_spec"]
@@ -76,12 +76,12 @@ def _times(t) -> np.ndarray:
     return arr
 
 
-def rate_state(*, a, b, dc, state_law, k, v_lp, t, mass=None, mu0=0.6, v_ref=1.0, v0=None, theta0=None,
-               thresholds=(), precision="double", max_steps=DEFAULT_MAX_STEPS) -> RateStateResult:
+def rate_state(*, a, b, dc, state_law, k, v_lp, t, mass=None, damping=0.0, mu0=0.6, v_ref=1.0, v0=None,
+               theta0=None, thresholds=(), precision="double", max_steps=DEFAULT_MAX_STEPS) -> RateStateResult:
     """Integrate the spring-slider with rate-and-state friction (docs/rate-state.md).
 
     μ = μ0 + a ln(V/V*) + Σ_i b_i ln(V* θ_i/(c_i Dc_i))  (c_i = 2 for PRZ, else 1);
-    quasi-static k(V_lp − V) = dμ/dt (``mass=None``), or inertial M δ̈ = k(δ_lp − δ) − μ.
+    quasi-static k(δ_lp − δ) − ηV = μ (``mass=None``), or inertial M δ̈ = k(δ_lp − δ) − ηV − μ.
 
     Parameters
     ----------
@@ -91,11 +91,13 @@ def rate_state(*, a, b, dc, state_law, k, v_lp, t, mass=None, mu0=0.6, v_ref=1.0
     v_lp : a number, or a ``LoadHistory`` (``load_history([1, 10], at=[10])``).
     t : output times (sorted, from the history's start on).
     mass : M > 0 for the inertial slider.
+    damping : radiation damping η ≥ 0 (friction per unit slip rate; QDYN's η/σ), 0 for none.
     v0, theta0 : initial V and θ_i (default: V0 = the first load-point velocity, θ_i at steady state).
     thresholds : slip velocities V_j whose crossings are recorded (slip events).
     precision : ``"double"``, or ``"quad"`` (heyoka real128, tolerance 1.9e-34) for verification.
     """
-    spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=k, mass=mass, mu0=mu0, v_ref=v_ref)
+    spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=k, mass=mass, mu0=mu0, v_ref=v_ref,
+                      damping=damping)
     history = load_history(v_lp)
     return run_spec(spec, history, t, v0=v0, theta0=theta0, thresholds=thresholds,
                     precision=precision, max_steps=max_steps)
@@ -113,7 +115,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
     thresholds = tuple(float(v) for v in np.atleast_1d(np.asarray(thresholds, dtype=float)))
     if any(not (math.isfinite(v) and v > 0) for v in thresholds):
         raise InputError("thresholds", thresholds, "must be finite velocities > 0", "give slip velocities > 0")
-    c = compiled(spec.state_law, spec.inertial, len(thresholds), precision)
+    c = compiled(spec.state_law, spec.inertial, len(thresholds), precision, damped=spec.damped)
     dtype = c.dtype
     ta = c.integrator
     n = spec.n_states
@@ -138,8 +140,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
     state = [ln_v0, *ln_theta0] + ([z0] if spec.inertial else [])
     ta.state[:] = np.array([v if isinstance(v, dtype) else dtype(v) for v in state], dtype=dtype)
     ta.time = dtype(0)
-    pars = [spec.a, spec.k, history.velocities[0], spec.mass or 1.0, *spec.b, *spec.dc,
-            *(math.log(v) for v in thresholds)]
+    pars = parameters(spec, spec.k, history.velocities[0], [math.log(v) for v in thresholds])
     ta.pars[:] = np.array([dtype(v) for v in pars], dtype=dtype)
     c.recorder.reset(dtype(0))
     c.recorder.x0 = float(ln_v0)
@@ -152,7 +153,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
         t_start = history.times[j]
         if t_start > t_last:
             break
-        ta.pars[2] = dtype(v_seg)
+        ta.pars[Slots.V_LP] = dtype(v_seg)
         # Each segment runs in its own local time from 0: the step size and event times are then resolved
         # relative to the segment, not to an absolute t (a reload after a 1e12 hold would otherwise be
         # integrated with the 1e-4 granularity of t = 1e12).
@@ -200,7 +201,10 @@ def _result(spec, history, times, out, c, thresholds, status, message, steps, pr
     ln_theta = out[:, 1:1 + n].T.copy()
     z = out[:, 1 + n] if spec.inertial else np.zeros_like(ln_v)
     mu = spec.mu(ln_v, ln_theta, log=_log_for(c.dtype), num=c.dtype)
-    spring = (mu + z) / c.dtype(spec.k)  # k(δ_lp − δ) = μ + z
+    spring = mu + z   # k(δ_lp − δ) = μ + z + ηV
+    if spec.damped:
+        spring = spring + c.dtype(spec.damping) * np.exp(ln_v)
+    spring = spring / c.dtype(spec.k)
     dlp = np.array([history.displacement(float(s)) for s in times]).astype(c.dtype)
     slip = (dlp - dlp[0]) - (spring - spring[0])
     ext = np.array(c.recorder.extrema, dtype=float).reshape(-1, 3)

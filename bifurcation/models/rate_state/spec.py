@@ -100,8 +100,9 @@ def load_history(velocities, at=(), start: float = 0.0) -> LoadHistory:
 class SliderSpec:
     """A spring-slider with rate-and-state friction (docs/rate-state.md).
 
-    μ = μ0 + a ln(V/V*) + Σ b_i ln(V* θ_i/(c_i Dc_i)); quasi-static k(V_lp − V) = dμ/dt when ``mass``
-    is None, else M δ̈ = k(δ_lp − δ) − μ.
+    μ = μ0 + a ln(V/V*) + Σ b_i ln(V* θ_i/(c_i Dc_i)); quasi-static k(δ_lp − δ) − ηV = μ when ``mass``
+    is None, else M δ̈ = k(δ_lp − δ) − ηV − μ. ``damping`` η ≥ 0 is radiation damping in the slider's
+    units (friction per unit slip rate: η_phys/σ_n, beside k = stiffness/σ_n).
     """
 
     a: float
@@ -112,6 +113,7 @@ class SliderSpec:
     mass: float | None = None
     mu0: float = 0.6
     v_ref: float = 1.0
+    damping: float = 0.0
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -136,6 +138,8 @@ class SliderSpec:
         if self.mass is not None:
             set_(self, "mass", _finite("mass", self.mass, positive=True,
                                        fix="give a mass > 0, or none for the quasi-static slider"))
+        set_(self, "damping", _finite("damping", self.damping, nonnegative=True,
+                                      fix="give a radiation damping η >= 0 (0: none), in friction per unit slip rate"))
         set_(self, "mu0", _finite("mu0", self.mu0))
         set_(self, "v_ref", _finite("v_ref", self.v_ref, positive=True, fix="the reference velocity V* must be > 0"))
 
@@ -146,6 +150,10 @@ class SliderSpec:
     @property
     def inertial(self) -> bool:
         return self.mass is not None
+
+    @property
+    def damped(self) -> bool:
+        return self.damping > 0
 
     @property
     def laws(self) -> tuple[StateLaw, ...]:

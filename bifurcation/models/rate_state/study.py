@@ -27,7 +27,7 @@ from ...errors import InputError
 __all__ = ["BranchSpec", "StudySpec", "load_study", "run_study"]
 
 _SLIDER_KEYS = {"a", "b", "dc", "v_lp"}
-_BRANCH_KEYS = {"label", "state_law", "eta", "points", "max_step", "kappa_min", "kappa_max", "parameter",
+_BRANCH_KEYS = {"label", "state_law", "eta", "damping", "points", "max_step", "kappa_min", "kappa_max", "parameter",
                 "start_point", "v_lp_min", "v_lp_max", *_SLIDER_KEYS}
 _PARAMETERS = ("kappa", "v_lp")
 _HOPF_KEYS = {"b_over_a", "v_lp", "eta", "bautin"}
@@ -52,6 +52,8 @@ class BranchSpec:
     start_point: int = 0
     v_lp_min: float = 1e-6
     v_lp_max: float = 1e6
+    #: radiation damping η ≥ 0 (friction per unit slip rate; not the normalised mass ``eta``)
+    damping: float = 0.0
 
     @property
     def mass(self):
@@ -125,6 +127,8 @@ def load_study(path) -> StudySpec:
             label=str(merged.get("label", f"{law} {i}")), state_law=law, a=a, b=b,
             dc=_num(f"branch[{i}].dc", merged["dc"], 0), v_lp=_num(f"branch[{i}].v_lp", merged["v_lp"], 0),
             eta=_num(f"branch[{i}].eta", merged.get("eta", 0.0), -1e-300) if merged.get("eta", 0.0) else 0.0,
+            damping=_num(f"branch[{i}].damping", merged.get("damping", 0.0), -1e-300)
+            if merged.get("damping", 0.0) else 0.0,
             points=_num(f"branch[{i}].points", merged.get("points", 30), 2, integer=True),
             max_step=_num(f"branch[{i}].max_step", merged.get("max_step", 0.5), 0),
             kappa_min=_num(f"branch[{i}].kappa_min", merged.get("kappa_min", 0.05), 0),
@@ -212,8 +216,12 @@ def _bautin(law: str, a=0.01, b=0.015, dc=0.01, v=1.0):
     return math.nan
 
 
-def run_study(path, out_dir=None, echo=print) -> dict:
-    """Run the workflow at ``path``; write ``<out>/branches.zarr``, ``REPORT.md`` and the figure."""
+def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
+    """Run the workflow at ``path``; write ``<out>/branches.zarr``, ``REPORT.md`` and the figure.
+
+    ``damping`` (``continue --damping``), when given, replaces every branch's radiation damping.
+    """
+    import dataclasses
     import pathlib
 
     from .continuation import continue_cycles, continue_in_v_lp, period_by_simulation
@@ -221,6 +229,9 @@ def run_study(path, out_dir=None, echo=print) -> dict:
     from .spec import SliderSpec
 
     spec = load_study(path)
+    if damping is not None:
+        spec = dataclasses.replace(spec, branches=tuple(dataclasses.replace(b, damping=damping)
+                                                        for b in spec.branches))
     out = pathlib.Path(out_dir or f"results/{spec.name}")
     t_start = time.perf_counter()
     echo(f"study {spec.name}: {len(spec.branches)} branches")
@@ -232,10 +243,10 @@ def run_study(path, out_dir=None, echo=print) -> dict:
         t0 = time.perf_counter()
         if br.parameter == "kappa":
             branch = continue_cycles(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, v_lp=br.v_lp, mass=br.mass,
-                                     points=br.points, max_step=br.max_step, kappa_range=(br.kappa_min, br.kappa_max))
+                                     damping=br.damping, points=br.points, max_step=br.max_step, kappa_range=(br.kappa_min, br.kappa_max))
         else:
             start = continue_cycles(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, v_lp=br.v_lp, mass=br.mass,
-                                    points=max(br.start_point + 1, 2), max_step=br.max_step,
+                                    damping=br.damping, points=max(br.start_point + 1, 2), max_step=br.max_step,
                                     kappa_range=(br.kappa_min, br.kappa_max))
             if br.start_point >= len(start.points):
                 raise InputError(f"{br.label}: start_point", br.start_point,
@@ -249,7 +260,8 @@ def run_study(path, out_dir=None, echo=print) -> dict:
                                            else "quad") / p.period - 1) for i, p in enumerate(branch.points)]
         quad_idx = sorted(set(range(0, len(branch.points), 10)) | set(branch.folds))
         quad = {i: abs(period_by_simulation(branch, i, "quad") / branch.points[i].period - 1) for i in quad_idx}
-        hs = SliderSpec(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, k=branch.hopf.k_c, mass=br.mass)
+        hs = SliderSpec(a=br.a, b=br.b, dc=br.dc, state_law=br.state_law, k=branch.hopf.k_c, mass=br.mass,
+                        damping=br.damping)
         l1_sim = lyapunov_by_simulation(hs, branch.hopf, br.v_lp, 5e-3)
         results.append({"spec": br, "branch": branch, "period_check": checks, "period_check_quad": quad,
                         "l1_simulation": l1_sim, "seconds": time.perf_counter() - t0})
