@@ -33,19 +33,25 @@ def _u0(ctx, param, value):
 @click.option("--seed", type=int, help="Random start: seed of numpy's default_rng.")
 @click.option("--events", required=True, type=int, help="Number of events K ≥ 1.")
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
+@click.option("--sigma", default="0", callback=number("--sigma", "0.01"), show_default=True,
+              help="Friction drop 0 ≤ σ < 1: Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 is the seed's model (docs/chain.md).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (keys = the field names).")
-def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, as_json) -> None:
+def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, sigma, as_json) -> None:
     """The first K events of a chain of N blocks: t_start, hypocentre, n_blocks, potency, duration,
     max_velocity per event, and the final state."""
     from ..models.chain import CATALOG_FIELDS, chain
-    from ..models.chain._validate import check_size
+    from ..models.chain._validate import check_sigma, check_size
 
     check_size(n, ell, ends)   # the chain first (N, ℓ, ends), then its start
+    try:
+        check_sigma(sigma)
+    except InputError as exc:     # name the option as the user typed it
+        raise InputError("--sigma", sigma, exc.problem, exc.fix) from None
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
 
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
-              events=events, precision=precision)
+              events=events, precision=precision, sigma=sigma)
     if as_json:
         echo_json(r.to_json())
     else:

@@ -50,7 +50,7 @@ class ChainLoop:
     def __init__(self, law: FrictionLaw, n: int, ell: float, nu: float, nu_f: float, ends: str,
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
                  t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
-                 compact_above: int = COMPACT_ABOVE, timing: bool = False) -> None:
+                 compact_above: int = COMPACT_ABOVE, timing: bool = False, drop: float = 0.0) -> None:
         from ...engine._integrator import fp_info
 
         _, dtype, _ = fp_info(precision)
@@ -59,6 +59,14 @@ class ChainLoop:
         self.nu, self.nu_f, self.l2 = dtype(nu), dtype(nu_f), dtype(ell) * dtype(ell)
         self.periodic = ends == "periodic"
         self.t_max, self.max_steps = t_max, max_steps
+        #: the friction drop σ (docs/chain.md, "Friction drop"): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)). σ = 0 takes
+        #: the unmodified integrator and code path (bit-identical catalogs); σ > 0 its own integrator
+        self.drop = float(drop)
+        self._drop_on = self.drop > 0
+        self._drop_pars = ()
+        if self._drop_on:
+            c = dtype(1) - dtype(self.drop)
+            self._drop_pars = (dtype(self.drop), c)
         self.u = np.array([dtype(float(x)) for x in u0], dtype=dtype) if dtype is not np.float64 \
             else np.array(u0, dtype=np.float64)
         self.sigma = self._laplacian(self.u) * self.l2 - self.u       # σ_j(0), νt = 0
@@ -91,6 +99,11 @@ class ChainLoop:
         #: block crosses to (``_side``)
         self._g_break = [dtype(float(law.pieces[i + 1].drop_mp(mpmath.mpf(b))))
                          for i, b in enumerate(law.breakpoints)]
+        if self._drop_on:   # g_σ at the breakpoint x = (1 − σ) b: σ + (1 − σ) g(b)
+            with mpmath.workdps(40):
+                s_mp = mpmath.mpf(self.drop)
+                self._g_break = [dtype(float(s_mp + (1 - s_mp) * law.pieces[i + 1].drop_mp(mpmath.mpf(b))))
+                                 for i, b in enumerate(law.breakpoints)]
         self._layouts: dict = {}     # per window (its blocks, sorted): ``_window_layout``
         # the segment's slip, summed exactly rounded in double (math.fsum) and in the dtype otherwise
         self._sum = math.fsum if dtype is np.float64 else sum
@@ -98,6 +111,7 @@ class ChainLoop:
         # operation and round the same), the dtype's own scalars otherwise (real128 in quad)
         self._scalar = float if dtype is np.float64 else (lambda x: x)
         self._zero, self._one, self._pad = (self._scalar(dtype(x)) for x in (0, 1, -1e3))
+        self._drop_pars = tuple(self._scalar(x) for x in self._drop_pars)
 
     # -- chain geometry ---------------------------------------------------------------------------
     def _laplacian(self, a: np.ndarray) -> np.ndarray:
@@ -262,7 +276,7 @@ class ChainLoop:
             wi = self._windows.get(m)
             if wi is None:
                 wi = self._windows[m] = window_integrator(self.law, m, self.precision, self.energy,
-                                                          self.compact_above)
+                                                          self.compact_above, self._drop_on)
             outcome = self._integrate(wi, idx, at, members, bond, selfc)
             if outcome is None:
                 return True, ""
@@ -316,6 +330,8 @@ class ChainLoop:
             for i, pc in enumerate(pieces):
                 onehot[pc * m + i] = 1.0
             values += onehot
+        if self._drop_on:
+            values += self._drop_pars            # σ, 1 − σ: the drop integrator's last parameters
         pars[:] = values
         st = [0.0] * len(state)
         st[m:m + k] = [vd.get(j, 0.0) for j in idx]
@@ -436,6 +452,8 @@ class ChainLoop:
         for i in range(k):
             if i != j and p[i]:
                 x = (nu * v[i]) / nu_f
+                if self._drop_on:                  # the law's argument x/(1 − σ) (its breakpoints)
+                    x = x / self._drop_pars[1]
                 pc = pieces[i]
                 if x < lower[pc] or x > upper[pc]:
                     new = self.law.piece_index(x)

@@ -8,7 +8,7 @@ import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["ENDS", "check_events", "check_initial", "check_size"]
+__all__ = ["ENDS", "check_events", "check_initial", "check_sigma", "check_size"]
 
 ENDS = ("free", "periodic")
 
@@ -35,6 +35,20 @@ def check_size(n, ell, ends) -> tuple[int, float, str]:
     if ends not in ENDS:
         raise InputError("ends", ends, "is not a boundary condition", "use 'free' or 'periodic'")
     return int(n), ell_f, ends
+
+
+def check_sigma(sigma) -> float:
+    """The friction drop σ: finite, 0 ≤ σ < 1 (Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); σ = 1 leaves no friction)."""
+    fix = "give a friction drop 0 ≤ σ < 1, e.g. 0.01 (0: the seed's model)"
+    if isinstance(sigma, bool):
+        raise InputError("sigma", sigma, "is not a number", fix)
+    try:
+        out = float(sigma)
+    except (TypeError, ValueError):
+        raise InputError("sigma", sigma, "is not a number", fix) from None
+    if not math.isfinite(out) or out < 0 or out >= 1:
+        raise InputError("sigma", sigma, "must be finite with 0 ≤ σ < 1", fix)
+    return out
 
 
 def check_events(events) -> int:

@@ -73,6 +73,8 @@ class ChainResult:
     status: ChainStatus
     message: str = ""
     energy: dict | None = None
+    #: friction drop σ of the run (0: the seed's model)
+    sigma: float = 0.0
 
     @property
     def events(self) -> int:
@@ -94,7 +96,7 @@ class ChainResult:
         """A JSON-ready dict: parameters, catalog fields as lists, final state, status."""
         rec = {"law": self.law, "n": self.n, "ell": self.ell, "nu": self.nu, "nu_f": self.nu_f,
                "ends": self.ends, "precision": self.precision, "events": self.events,
-               "status": str(self.status)}
+               "status": str(self.status), "sigma": self.sigma}
         for k, v in self.catalog().items():
             rec[k] = np.asarray(v).tolist()
         rec["t"] = float(self.t)
