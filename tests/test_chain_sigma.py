@@ -187,7 +187,7 @@ def test_a_workflow_axis_sigma_runs_bifurcation_chain_bit_for_bit():
         api = chain("carlson-langer", n=4, ell=1.0, nu=1e-3, nu_f=0.3, amplitude=0.5, seed=2, events=12,
                     ends="periodic", sigma=sigma, t_max=wf.t_max, max_steps=wf.max_steps)
         for name in ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity"):
-            got = out[name][(0,) * 9 + (i,)]
+            got = out[name][(0,) * 9 + (i, 0)]
             assert _hexes(got) == _hexes(api[name]), (sigma, name)
 
 

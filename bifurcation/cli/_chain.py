@@ -35,23 +35,38 @@ def _u0(ctx, param, value):
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
 @click.option("--sigma", default="0", callback=number("--sigma", "0.01"), show_default=True,
               help="Friction drop 0 ≤ σ < 1: Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 is the seed's model (docs/chain.md).")
+@click.option("--v-threshold", "v_threshold", default=None,
+              help="Event membership by slip velocity: count only blocks faster than V_th (in V0), or 'default' "
+                   "for 10·ν (docs/chain.md). Without it: every block that moved, until all are stuck.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (keys = the field names).")
-def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, sigma, as_json) -> None:
+def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, sigma, v_threshold,
+              as_json) -> None:
     """The first K events of a chain of N blocks: t_start, hypocentre, n_blocks, potency, duration,
     max_velocity per event, and the final state."""
     from ..models.chain import CATALOG_FIELDS, chain
-    from ..models.chain._validate import check_sigma, check_size
+    from ..models.chain._validate import check_sigma, check_size, check_v_threshold
 
     check_size(n, ell, ends)   # the chain first (N, ℓ, ends), then its start
     try:
         check_sigma(sigma)
     except InputError as exc:     # name the option as the user typed it
         raise InputError("--sigma", sigma, exc.problem, exc.fix) from None
+    if v_threshold is not None and v_threshold != "default":
+        try:
+            v_threshold = float(v_threshold)
+        except ValueError:
+            raise InputError("--v-threshold", v_threshold, "is not a number",
+                             "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None
+        try:
+            check_v_threshold(v_threshold, 1.0)
+        except InputError as exc:
+            raise InputError("--v-threshold", v_threshold, exc.problem,
+                             "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
 
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
-              events=events, precision=precision, sigma=sigma)
+              events=events, precision=precision, sigma=sigma, v_threshold=v_threshold)
     if as_json:
         echo_json(r.to_json())
     else:
@@ -60,7 +75,8 @@ def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precisio
             cells = [f"{r[k][i]:22d}" if k in ("hypocentre", "n_blocks") else f"{r[k][i]:22.15g}"
                      for k in CATALOG_FIELDS]
             click.echo(f"{i:6d} " + " ".join(cells))
-        click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; {r.message}" if r.message else ""))
+        click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; membership {r.membership}" if r.v_threshold else "")
+                   + (f"; {r.message}" if r.message else ""))
     if r.status != 1:
         raise SystemExit(1)
 

@@ -63,6 +63,9 @@ class VmaxRecorder:
         self.m = m
         self.vmax = 0.0
         self.d_output = None   # the integrator's dense-output view, set once it exists
+        #: per position, its largest velocity so far (only when the loop sets a list here: event
+        #: membership by a velocity threshold; None costs nothing)
+        self.vpos = None
 
     def __deepcopy__(self, memo) -> "VmaxRecorder":
         return self  # heyoka deep-copies callbacks; all of them must record here
@@ -75,6 +78,9 @@ class VmaxRecorder:
             v = self.d_output[m + j]
             if v > self.vmax:
                 self.vmax = v
+            vpos = self.vpos
+            if vpos is not None and v > vpos[j]:
+                vpos[j] = v
 
         on_max.__deepcopy__ = lambda memo: on_max  # type: ignore[attr-defined]
         return on_max

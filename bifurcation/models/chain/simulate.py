@@ -6,7 +6,7 @@ import numpy as np
 
 from ...engine._validate import check_nu, check_nu_f, check_precision, check_work
 from ...laws import resolve_law
-from ._validate import check_events, check_initial, check_sigma, check_size
+from ._validate import check_events, check_initial, check_sigma, check_size, check_v_threshold
 from .result import ChainResult, ChainStatus
 
 __all__ = ["chain"]
@@ -14,7 +14,7 @@ __all__ = ["chain"]
 
 def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free", u0=None,
           amplitude=None, seed=None, events: int, precision: str = "double", energy: bool = False,
-          t_max: float = 1e5, max_steps: int = 1_000_000, sigma: float = 0.0) -> ChainResult:
+          t_max: float = 1e5, max_steps: int = 1_000_000, sigma: float = 0.0, v_threshold=None) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -51,6 +51,11 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     sigma : float
         Friction drop 0 ≤ σ < 1 (docs/chain.md, "Friction drop"); 0 (default) is the seed's model,
         computed by exactly the code of before σ existed.
+    v_threshold : None, float or "default"
+        Event membership (docs/chain.md, "Event membership"). None (default): every block that moved
+        belongs to the event, which runs until all blocks are stuck. V_th > 0 (or "default": 10 ν):
+        ``n_blocks`` and ``potency`` count only the blocks whose velocity exceeded V_th during the
+        event (``n_blocks_all``, ``potency_all`` keep the others); ``membership`` records which.
 
     Returns
     -------
@@ -63,12 +68,13 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     check_precision(precision)
     events = check_events(events)
     sigma = check_sigma(sigma)
+    v_threshold = check_v_threshold(v_threshold, nu)
     check_work(t_max, max_steps)   # one event's bounds: refused (not a no-stop run) when not > 0 or NaN
     u = check_initial(n, ell, ends, u0, amplitude, seed)
     from ._loop import ChainLoop
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
-                     t_max=t_max, max_steps=max_steps, drop=sigma)
+                     t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_threshold or 0.0)
     out = loop.run(events)
     cat = out["catalog"]
     f = lambda k: np.array([float(x) for x in cat[k]], dtype=float)  # noqa: E731
@@ -79,4 +85,7 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
         n_blocks=np.array(cat["n_blocks"], dtype=np.int64), potency=f("potency"), duration=f("duration"),
         max_velocity=f("max_velocity"), steps=np.array(cat["steps"], dtype=np.int64),
         t=float(loop.t), u=np.array([float(x) for x in loop.u]), stress=np.array([float(x) for x in loop.sigma]),
-        status=ChainStatus(out["status"]), message=out["message"], energy=energy_fields, sigma=sigma)
+        status=ChainStatus(out["status"]), message=out["message"], energy=energy_fields, sigma=sigma,
+        v_threshold=v_threshold,
+        n_blocks_all=np.array(cat["n_blocks_all"], dtype=np.int64) if v_threshold else None,
+        potency_all=f("potency_all") if v_threshold else None)
