@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...engine._validate import check_nu, check_nu_f, check_precision, check_work
+from ...errors import InputError
 from ...laws import resolve_law
 from ._validate import check_events, check_initial, check_sigma, check_size, check_v_threshold
 from .result import ChainResult, ChainStatus
@@ -12,9 +13,10 @@ from .result import ChainResult, ChainStatus
 __all__ = ["chain"]
 
 
-def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free", u0=None,
-          amplitude=None, seed=None, events: int, precision: str = "double", energy: bool = False,
-          t_max: float = 1e5, max_steps: int = 1_000_000, sigma: float = 0.0, v_threshold=None) -> ChainResult:
+def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float | None = None,
+          nu_f: float | None = None, ends: str | None = None, u0=None, amplitude=None, seed=None, events: int,
+          precision: str = "double", energy: bool = False, t_max: float = 1e5, max_steps: int = 1_000_000,
+          sigma: float | None = None, v_threshold=None, preset: str | None = None) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -51,6 +53,9 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     sigma : float
         Friction drop 0 ≤ σ < 1 (docs/chain.md, "Friction drop"); 0 (default) is the seed's model,
         computed by exactly the code of before σ existed.
+    preset : str, optional
+        A published parameter set (``bifurcation.models.chain.presets``): fills law, n, ell, nu, nu_f,
+        sigma and ends where they are not given (given values win).
     v_threshold : None, float or "default"
         Event membership (docs/chain.md, "Event membership"). None (default): every block that moved
         belongs to the event, which runs until all blocks are stuck. V_th > 0 (or "default": 10 ν):
@@ -61,6 +66,17 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     -------
     ChainResult
     """
+    given = {"law": law, "n": n, "ell": ell, "nu": nu, "nu_f": nu_f, "sigma": sigma, "ends": ends}
+    if preset is not None:
+        from .presets import get_preset
+
+        given = {k: (v if v is not None else get_preset(preset).parameters()[k]) for k, v in given.items()}
+    defaults = {"sigma": 0.0, "ends": "free"}
+    given = {k: (defaults[k] if v is None and k in defaults else v) for k, v in given.items()}
+    missing = [k for k, v in given.items() if v is None]
+    if missing:
+        raise InputError(missing[0], None, "is missing", "give it, or a preset= such as 'carlson-langer-1991'")
+    law, n, ell, nu, nu_f, sigma, ends = (given[k] for k in ("law", "n", "ell", "nu", "nu_f", "sigma", "ends"))
     law = resolve_law(law)
     n, ell, ends = check_size(n, ell, ends)
     nu = float(check_nu(nu))
