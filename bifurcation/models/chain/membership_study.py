@@ -42,7 +42,7 @@ def _stats(n, p, nb, t_start, bootstrap, seed) -> dict:
 
 
 def compare_membership(law, n, ell, nu, nu_f, sigma, events, *, v_threshold="default", seed=1, amplitude=0.5,
-                       transient=200, bootstrap=20) -> dict:
+                       transient=200, bootstrap=10) -> dict:
     """Both definitions on one catalog (the first ``transient`` events dropped)."""
     from .simulate import chain
 
@@ -71,7 +71,7 @@ def main() -> None:
                   f"spanning excess {st['excess']:.3g} | CSN alpha = {f.alpha:.3f} ± {f.alpha_error:.3f} "
                   f"(block; iid {f.alpha_err:.3f}), x_min = {f.xmin:.3g}, n_tail = {f.n_tail}, p = {f.p_value:.2f}, "
                   f"b_P = {f.b_potency:.3f}, b_M = {f.b_magnitude:.3f}; LR "
-                  + ", ".join(f"{k} R={r:.2f} p={p:.2g}" for k, (r, p) in f.ratios.items()))
+                  + ", ".join(f"{k} R={r:.2f} p={p:.2g}" for k, (r, p) in f.ratios.items()), flush=True)
 
 
 if __name__ == "__main__":
