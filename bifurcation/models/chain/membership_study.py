@@ -24,6 +24,8 @@ __all__ = ["CASES", "compare_membership", "main"]
 CASES = (
     ("carlson-langer", 64, 1.0, 1e-3, 0.45, 0.0, 3000),
     ("carlson-langer", 64, 1.0, 1e-3, 0.45, 0.01, 3000),
+    ("carlson-langer", 16, 1.0, 1e-3, 0.45, 0.0, 3000),
+    ("carlson-langer", 16, 1.0, 1e-3, 0.45, 0.01, 3000),
 )
 
 
@@ -58,8 +60,8 @@ def compare_membership(law, n, ell, nu, nu_f, sigma, events, *, v_threshold="def
             "creep_only": int(np.sum(r.n_blocks[s] == 0))}
 
 
-def main() -> None:
-    for case in CASES:
+def main(cases=CASES) -> None:
+    for case in cases:
         out = compare_membership(*case)
         print(f"{out['case']}: V_th = {out['v_threshold']:g}, {out['status']}, {out['cpu']:.0f} CPU s, "
               f"{out['creep_only']} events without a block above V_th")

@@ -7,7 +7,8 @@ y crosses **half its jump**: level = (y_before + y_after)/2 with y_before, y_aft
 and last ``plateau`` points of the sweep; the crossing is the linear interpolation between the two
 grid points that bracket the level (the first sign change). Its error comes from the errors of y:
 the crossing is recomputed for ``draws`` Gaussian perturbations of every y_i by its σ_i (plateaus and
-bracket included) and the standard deviation is given. A sweep whose plateaus differ by less than 2σ,
+bracket included), and the grid's error is the difference to the same bracket interpolated in ln y;
+the error given is both in quadrature (``statistical``, ``grid`` apart). A sweep whose plateaus differ by less than 2σ,
 or that never crosses its level, has no transition (NaN, ``reason`` says why).
 
 The locations per N are then fitted as ν_f*(N) = ν_f*(∞) + A N^−θ (weighted least squares, linear in
@@ -25,7 +26,7 @@ import numpy as np
 __all__ = ["half_crossing", "scale_transition"]
 
 
-def _crossing(x, y, plateau):
+def _crossing(x, y, plateau, log=False):
     hi, lo = float(np.mean(y[:plateau])), float(np.mean(y[-plateau:]))
     level = 0.5 * (hi + lo)
     d = y - level
@@ -33,7 +34,11 @@ def _crossing(x, y, plateau):
         if d[i] == 0:
             return float(x[i]), level, i
         if d[i] * d[i + 1] < 0:
-            return float(x[i] + (level - y[i]) * (x[i + 1] - x[i]) / (y[i + 1] - y[i])), level, i
+            if log and y[i] > 0 and y[i + 1] > 0:     # the same bracket, interpolated in ln y
+                f = (math.log(level) - math.log(y[i])) / (math.log(y[i + 1]) - math.log(y[i]))
+            else:
+                f = (level - y[i]) / (y[i + 1] - y[i])
+            return float(x[i] + f * (x[i + 1] - x[i])), level, i
     return math.nan, level, -1
 
 
@@ -58,7 +63,11 @@ def half_crossing(nu_f, values, sigmas, *, plateau: int = 2, draws: int = 2000, 
     got = [_crossing(x, y + rng.standard_normal(y.size) * s, plateau)[0] for _ in range(draws)]
     got = np.asarray(got)
     ok = np.isfinite(got)
-    return {"nu_f": xc, "sigma": float(np.std(got[ok], ddof=1)) if ok.sum() > 1 else math.nan,
+    statistical = float(np.std(got[ok], ddof=1)) if ok.sum() > 1 else math.nan
+    # the grid's own error: the same bracket interpolated in ln y instead of y (a curve that falls by a
+    # factor across the bracket is far from linear there); zero only where the two agree
+    grid = abs(_crossing(x, y, plateau, log=True)[0] - xc)
+    return {"nu_f": xc, "sigma": math.hypot(statistical, grid), "statistical": statistical, "grid": grid,
             "level": level, "bracket": (float(x[i]), float(x[i + 1])), "lost": int((~ok).sum()),
             "reason": ""}
 
@@ -72,16 +81,49 @@ def scale_transition(sizes, locations, sigmas, *, thetas=None) -> dict:
         return {"limit": math.nan, "limit_sigma": math.nan, "amplitude": math.nan, "theta": math.nan,
                 "chi2": math.nan, "dof": n.size - 3, "reason": "needs transition points at ≥ 3 sizes"}
     thetas = np.linspace(0.05, 3.0, 296) if thetas is None else np.asarray(thetas, dtype=float)
-    w = 1 / s**2
     best = None
     for th in thetas:
-        a = np.column_stack((np.ones_like(n), n**-th))
-        m = a.T @ (a * w[:, None])
-        coef = np.linalg.solve(m, a.T @ (w * y))
-        chi2 = float(np.sum(w * (y - a @ coef) ** 2))
+        a = np.column_stack((np.ones_like(n), n**-th)) / s[:, None]     # rows weighted by 1/σ
+        coef, *_ = np.linalg.lstsq(a, y / s, rcond=None)
+        chi2 = float(np.sum((y / s - a @ coef) ** 2))
         if best is None or chi2 < best[0]:
-            best = (chi2, th, coef, np.linalg.inv(m))
+            best = (chi2, th, coef, np.linalg.pinv(a.T @ a))
     chi2, th, coef, cov = best
     return {"limit": float(coef[0]), "limit_sigma": float(math.sqrt(cov[0, 0])), "amplitude": float(coef[1]),
             "theta": float(th), "chi2": chi2, "dof": int(n.size - 3),
             "reason": "" if n.size > 3 else "3 sizes for 3 parameters: the fit interpolates (no test of the form)"}
+
+
+#: the small study of docs/chain.md, "A defined transition": (law, ℓ, ν, σ values, N values, ν_f grid, seeds)
+STUDY = ("carlson-langer", 1.0, 1e-3, (0.0, 0.01), (1, 4, 16), tuple(round(0.3 + 0.05 * i, 2) for i in range(11)),
+         (1, 2, 3))
+
+
+def main() -> None:
+    """Per σ and N: D(ν_f) over seeds (sweep up), its half-jump crossing, and the fit over N."""
+    import time
+
+    from .analysis import sweep_nu_f
+
+    law, ell, nu, sigmas, sizes, grid, seeds = STUDY
+    for sigma in sigmas:
+        points = []
+        for n in sizes:
+            t0 = time.process_time()
+            runs = [sweep_nu_f(law, n=n, ell=ell, nu=nu, nu_f_values=grid, cycles_per_step=3.0, seed=s,
+                               amplitude=0.5, sigma=sigma, max_events_per_step=20_000) for s in seeds]
+            d = np.array([r["slip_per_block"] for r in runs])
+            mean, se = d.mean(axis=0), d.std(axis=0, ddof=1) / math.sqrt(len(seeds))
+            se = np.maximum(se, 1e-12)
+            hc = half_crossing(grid, mean, se)
+            points.append((n, hc["nu_f"], hc["sigma"]))
+            print(f"sigma={sigma} N={n}: D = {np.array2string(mean, precision=4)} ± max {se.max():.2g}; "
+                  f"half-jump crossing {hc['nu_f']:.4f} ± {hc['sigma']:.4f} {hc['reason']} "
+                  f"({time.process_time() - t0:.0f} CPU s)", flush=True)
+        fit = scale_transition(*zip(*points))
+        print(f"sigma={sigma}: nu_f*(inf) = {fit['limit']:.4f} ± {fit['limit_sigma']:.4f}, theta = {fit['theta']:.2f}, "
+              f"dof = {fit['dof']} {fit['reason']}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
