@@ -95,7 +95,7 @@ def scale_transition(sizes, locations, sigmas, *, thetas=None) -> dict:
 
 
 #: the small study of docs/chain.md, "A defined transition": (law, ℓ, ν, σ values, N values, ν_f grid, seeds)
-STUDY = ("carlson-langer", 1.0, 1e-3, (0.0, 0.01), (1, 4, 16), tuple(round(0.3 + 0.05 * i, 2) for i in range(11)),
+STUDY = ("carlson-langer", 1.0, 1e-3, (0.0, 0.01), (1, 4, 16, 64), tuple(round(0.3 + 0.05 * i, 2) for i in range(11)),
          (1, 2, 3))
 
 
