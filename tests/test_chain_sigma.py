@@ -240,3 +240,15 @@ def test_a_formula_law_takes_the_drop_like_its_builtin(formula, builtin):
     assert list(a.n_blocks) == list(b.n_blocks) and list(a.hypocentre) == list(b.hypocentre)
     for f in ("t_start", "potency"):
         assert np.max(np.abs(a[f][:10] / b[f][:10] - 1)) <= 1e-13
+
+
+def test_the_crossover_of_docs_physics():
+    # docs/physics.md, "A friction drop σ": the estimate ½√(1 + π²/ln²(1/σ)) and the piecewise-linear
+    # steepest descent of ln Δ0 at σ = 0.01 (0.595 on the 0.01 grid, from python -m
+    # bifurcation.models.chain.drop), recomputed on a local grid
+    from bifurcation.models.chain.drop import crossover_estimate, linear_slip, steepest_descent
+
+    assert [round(crossover_estimate(s), 3) for s in (1e-4, 1e-3, 1e-2, 0.05)] == [0.528, 0.549, 0.605, 0.725]
+    out = steepest_descent("piecewise-linear", 0.01, np.round(np.arange(0.55, 0.6501, 0.01), 4))
+    assert out["nu_f"] == pytest.approx(0.595) and out["slope"] == pytest.approx(-25.2, abs=0.1)
+    assert math.isnan(linear_slip(0.5, 0.01)) and linear_slip(1.0, 0.01) == pytest.approx(0.0713371, rel=1e-6)
