@@ -47,10 +47,25 @@ def run(case) -> dict:
     return out
 
 
+def cpu() -> dict:
+    """The CPU features heyoka's code generation depends on (bit-identity is a same-features property)."""
+    import platform
+
+    flags = set()
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("flags"):
+                flags = set(line.split(":", 1)[1].split())
+                break
+    except OSError:
+        pass
+    return {"machine": platform.machine(), "features": sorted(f for f in ("avx2", "avx512f", "fma") if f in flags)}
+
+
 def main() -> None:
     head = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True).stdout.strip()
     doc = {"generator": "tests/chain_sigma0_golden_gen.py", "engine_commit": head, "fields": FIELDS,
-           "cases": [run(c) for c in CASES]}
+           "cases": [run(c) for c in CASES], "cpu": cpu()}
     out = Path(__file__).parent / "data" / "chain_sigma0_golden.json"
     out.write_text(json.dumps(doc, indent=1) + "\n")
     print("wrote", out, file=sys.stderr)

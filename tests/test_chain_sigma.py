@@ -46,10 +46,35 @@ def test_sigma_zero_is_bit_identical_to_the_engine_before_sigma(case, given):
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, amplitude=amp, seed=seed, events=events,
               precision=precision, **given)
     assert str(r.status) == case["status"] == "complete"
-    for field in SIGMA0["fields"]:
-        assert _hexes(getattr(r, field)) == case[field], field
-    assert float(r.t).hex() == case["t"]
-    assert _hexes(r.u) == case["u"] and _hexes(r.stress) == case["stress"]
+    if _same_cpu():
+        for field in SIGMA0["fields"]:
+            assert _hexes(getattr(r, field)) == case[field], field
+        assert float(r.t).hex() == case["t"]
+        assert _hexes(r.u) == case["u"] and _hexes(r.stress) == case["stress"]
+        return
+    # heyoka compiles for the host CPU (FMA, vector width): on other features the last bits may differ
+    # and the chaotic chains amplify them, so elsewhere: the first 20 events' sizes and hypocentres
+    # identical and the first 10 times and potencies to 1e-12 (as against the reference)
+    k = min(20, len(case["n_blocks"]))
+    assert list(r.n_blocks[:k]) == case["n_blocks"][:k] and list(r.hypocentre[:k]) == case["hypocentre"][:k]
+    for field in ("t_start", "potency"):
+        ref = np.array([float.fromhex(x) for x in case[field][:10]])
+        assert np.max(np.abs(r[field][:10] / ref - 1)) <= 1e-12, field
+
+
+def _same_cpu() -> bool:
+    import platform
+
+    flags = set()
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("flags"):
+                flags = set(line.split(":", 1)[1].split())
+                break
+    except OSError:
+        return False
+    here = {"machine": platform.machine(), "features": sorted(f for f in ("avx2", "avx512f", "fma") if f in flags)}
+    return here == {k: SIGMA0["cpu"][k] for k in ("machine", "features")}
 
 
 def _rel(a, b) -> float:
