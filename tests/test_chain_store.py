@@ -91,7 +91,8 @@ def store(workflow, tmp_path_factory):
 
 def test_the_chain_is_a_registered_model_with_catalog_outputs():
     model = get_model("chain")
-    assert model.dims == ("law", "n", "ell", "nu", "nu_f", "amplitude", "seed", "events", "periodic")
+    assert model.dims == ("law", "n", "ell", "nu", "nu_f", "amplitude", "seed", "events", "periodic", "sigma",
+                          "v_threshold")
     assert [o.name for o in model.catalog_outputs] == list(CATALOG)
     assert model.checkpoint and model.runner is not None and model.axis("n").structural
     assert model.catalog_size == "events" and model.catalog_count == "events_done"
@@ -100,7 +101,7 @@ def test_the_chain_is_a_registered_model_with_catalog_outputs():
 def test_a_run_of_the_model_is_bifurcation_chain_bit_for_bit(serial, workflow):
     # the store's runner against the public API (one ChainLoop.run(K) call, no checkpoints)
     for law_i, law in enumerate(workflow.laws):
-        for index in [(1, 0, 0, 0, 0, 0, 1, 1), (1, 0, 0, 1, 0, 0, 0, 0), (0, 0, 0, 0, 0, 0, 1, 0)]:
+        for index in [(1, 0, 0, 0, 0, 0, 1, 1, 0, 0), (1, 0, 0, 1, 0, 0, 0, 0, 0, 0), (0, 0, 0, 0, 0, 0, 1, 0, 0, 0)]:
             p = {name: values[i] for (name, values), i in zip(workflow.grid, index)}
             ref = bf.chain(law, n=p["n"], ell=p["ell"], nu=p["nu"], nu_f=p["nu_f"], amplitude=p["amplitude"],
                            seed=p["seed"], events=p["events"], ends="periodic" if p["periodic"] else "free",
@@ -131,7 +132,7 @@ def test_the_store_equals_the_serial_engine_bit_for_bit(store, serial, workflow)
             assert np.all(_bits(arrays[name][run * 32 + count:(run + 1) * 32])
                           == _bits(np.full(32 - count, group["catalog"][name].fill_value)))
     # ... and through the query API, a few runs
-    for index in [(0, 1, 0, 0, 1, 0, 0, 1, 1), (1, 0, 0, 0, 0, 0, 0, 0, 0)]:
+    for index in [(0, 1, 0, 0, 1, 0, 0, 1, 1, 0, 0), (1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0)]:
         p = {d: (workflow.laws if d == "law" else workflow.axes[d])[i] for d, i in zip(get_model("chain").dims, index)}
         cat = read_catalog(store, law=p.pop("law"), **p)
         assert cat["run"]["events_done"] == p["events"] and cat["run"]["status"] == "complete"
@@ -154,14 +155,14 @@ def test_one_runs_query_reads_only_its_own_chunks(store, workflow, monkeypatch):
     monkeypatch.setattr(LocalStore, "get", spy)
     cat = read_catalog(store, law="piecewise-linear", n=6, nu_f=0.3, seed=2, events=30, periodic=1)
     monkeypatch.undo()
-    run = int(np.ravel_multi_index((1, 1, 0, 0, 0, 0, 0, 1, 1), workflow.shape))
+    run = int(np.ravel_multi_index((1, 1, 0, 0, 0, 0, 0, 1, 1, 0, 0), workflow.shape))
     capacity, chunk = 32, 8      # ceil(30/8)·8; C = [tiles] catalog
     own = {f"catalog/{name}/c/{run * capacity // chunk + k}" for name in CATALOG for k in range(4)}
     catalog_keys = {k for k in seen if k.startswith("catalog/") and not k.endswith("zarr.json")}
     assert catalog_keys == own and len(cat["potency"]) == 30
     data_keys = {k for k in seen if "/c/" in k and not k.startswith("catalog/")}
     # per-run outputs: one chunk (its tile) per variable, plus the coordinates
-    assert all(k.split("/")[0] in get_model("chain").dims or k.endswith("/c/1/1/0/0/0/0/0/1/1")
+    assert all(k.split("/")[0] in get_model("chain").dims or k.endswith("/c/1/1/0/0/0/0/0/1/1/0/0")
                for k in data_keys), data_keys
     read = sum((store / k).stat().st_size for k in own)
     total = sum(p.stat().st_size for p in (store / "catalog").rglob("*") if p.is_file())
@@ -243,7 +244,7 @@ def test_a_run_killed_between_checkpoints_resumes_bit_identical(workflow, serial
 
     path = tmp_path / "ck.zarr"
     run_id = create_store(path, workflow)["run_id"]
-    tile = next(t for t in iter_tiles(workflow) if t.index == (0, 1, 0, 0, 0, 0, 0, 1, 0))
+    tile = next(t for t in iter_tiles(workflow) if t.index == (0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0))
     calls = []
     original = Checkpoints.save
 
@@ -267,7 +268,7 @@ def test_a_run_killed_between_checkpoints_resumes_bit_identical(workflow, serial
             assert_same(got, serial[name][region].ravel()[k], name)
     assert not list((path / "checkpoints").glob("*.npz"))   # dropped once the tile is done
     cat = read_catalog(path, law="carlson-langer", n=6, nu_f=0.3, seed=2, events=30, periodic=0)
-    assert_same(cat["potency"], serial["potency"][0, 1, 0, 0, 0, 0, 0, 1, 0], "potency")
+    assert_same(cat["potency"], serial["potency"][0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0], "potency")
 
 
 # -- a real `dask worker` killed with -9 in the middle of a run ------------------------------------------
@@ -376,7 +377,7 @@ def test_submit_of_the_shipped_chain_workflow_end_to_end(tmp_path):
     out = runner.invoke(cli, ["query", "--store", str(store), "--n", "16", "--nu-f", "0.2", "--catalog", "--json"])
     assert out.exit_code == 0, out.output
     got = json.loads(out.stdout)
-    index = (0, 1, 0, 0, 0, 0, 0, 0, 0)
+    index = (0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0)
     assert got["run"]["n"] == 16 and len(got["potency"]) == 200
     for name in CATALOG:   # JSON floats are repr: exact
         assert_same(np.asarray(got[name], dtype=reference[name][index].dtype), reference[name][index], name)
@@ -457,7 +458,7 @@ def test_a_damaged_catalog_chunk_is_named_by_query_and_verify_and_repaired(store
 
     copy = tmp_path / "damaged.zarr"
     shutil.copytree(store, copy)
-    run = int(np.ravel_multi_index((0, 1, 0, 0, 1, 0, 0, 1, 0), workflow.shape))
+    run = int(np.ravel_multi_index((0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 0), workflow.shape))
     chunk = copy / "catalog" / "duration" / "c" / str(run * 32 // 8 + 2)
     data = bytearray(chunk.read_bytes())
     data[len(data) // 2] ^= 0x10
@@ -477,7 +478,7 @@ def test_a_damaged_catalog_chunk_is_named_by_query_and_verify_and_repaired(store
     assert repair.exit_code == 0 and "after repair: sound" in repair.output, repair.output
     cat = read_catalog(copy, law="carlson-langer", n=6, nu_f=0.45, events=30, periodic=0)
     for name in CATALOG:
-        assert_same(cat[name], serial[name][0, 1, 0, 0, 1, 0, 0, 1, 0], name)
+        assert_same(cat[name], serial[name][0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 0], name)
 
 
 def test_a_damaged_or_foreign_checkpoint_is_ignored_and_the_run_starts_over(workflow, serial, tmp_path, monkeypatch):
@@ -487,7 +488,7 @@ def test_a_damaged_or_foreign_checkpoint_is_ignored_and_the_run_starts_over(work
 
     path = tmp_path / "bad-ck.zarr"
     run_id = create_store(path, workflow)["run_id"]
-    tile = next(t for t in iter_tiles(workflow) if t.index == (0, 1, 0, 0, 0, 0, 0, 1, 0))
+    tile = next(t for t in iter_tiles(workflow) if t.index == (0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0))
     original = Checkpoints.save
 
     def dying(self, i, *args, **kwargs):

@@ -21,31 +21,71 @@ def _u0(ctx, param, value):
 
 
 @click.command("chain", epilog=examples(
-    'bifurcation chain --law carlson-langer --n 8 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 10'))
-@click.option("--law", required=True, help="Law name (see `bifurcation laws`) or formula in x.")
-@click.option("--n", "n", required=True, type=int, help="Number of blocks N ≥ 1.")
-@click.option("--ell", required=True, callback=number("--ell", "1"), help="Coupling ℓ ≥ 0.")
-@click.option("--nu", required=True, callback=number("--nu", "1e-6"), help="Pulling speed ν > 0.")
-@click.option("--nu-f", "nu_f", required=True, callback=number("--nu-f", "0.3"), help="Friction velocity ν_f > 0.")
-@click.option("--ends", default="free", show_default=True, help="Boundary condition: free or periodic.")
+    'bifurcation chain --law carlson-langer --n 8 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 10',
+    'bifurcation chain --preset carlson-langer-1991 --n 16 --amplitude 0.5 --seed 1 --events 20'))
+@click.option("--preset", help="A published parameter set (carlson-langer-1991, mori-kawamura-2006, vasconcelos-1996; "
+                               "docs/chain.md): fills --law, --n, --ell, --nu, --nu-f, --sigma, --ends where not given.")
+@click.option("--law", help="Law name (see `bifurcation laws`) or formula in x.")
+@click.option("--n", "n", type=int, help="Number of blocks N ≥ 1.")
+@click.option("--ell", callback=number("--ell", "1"), help="Coupling ℓ ≥ 0.")
+@click.option("--nu", callback=number("--nu", "1e-6"), help="Pulling speed ν > 0.")
+@click.option("--nu-f", "nu_f", callback=number("--nu-f", "0.3"), help="Friction velocity ν_f > 0.")
+@click.option("--ends", help="Boundary condition: free (default) or periodic.")
 @click.option("--u0", callback=_u0, help="Initial displacements u_1,...,u_N (comma-separated).")
 @click.option("--amplitude", callback=number("--amplitude", "0.1"), help="Random start: amplitude A ≥ 0.")
 @click.option("--seed", type=int, help="Random start: seed of numpy's default_rng.")
 @click.option("--events", required=True, type=int, help="Number of events K ≥ 1.")
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
+@click.option("--sigma", callback=number("--sigma", "0.01"),
+              help="Friction drop 0 ≤ σ < 1: Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 (default) is the seed's model (docs/chain.md).")
+@click.option("--v-threshold", "v_threshold", default=None,
+              help="Event membership by slip velocity: count only blocks faster than V_th (in V0), or 'default' "
+                   "for 10·ν (docs/chain.md). Without it: every block that moved, until all are stuck.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (keys = the field names).")
-def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, as_json) -> None:
+def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, sigma, v_threshold,
+              as_json) -> None:
     """The first K events of a chain of N blocks: t_start, hypocentre, n_blocks, potency, duration,
     max_velocity per event, and the final state."""
     from ..models.chain import CATALOG_FIELDS, chain
-    from ..models.chain._validate import check_size
+    from ..models.chain._validate import check_sigma, check_size, check_v_threshold
 
+    if preset is not None:
+        from ..models.chain.presets import get_preset
+
+        try:
+            p = get_preset(preset).parameters()
+        except InputError as exc:
+            raise InputError("--preset", preset, exc.problem, exc.fix) from None
+        law, n, ell, nu, nu_f = (x if x is not None else p[k] for x, k in
+                                 ((law, "law"), (n, "n"), (ell, "ell"), (nu, "nu"), (nu_f, "nu_f")))
+        sigma = sigma if sigma is not None else p["sigma"]
+        ends = ends if ends is not None else p["ends"]
+    for name, value in (("--law", law), ("--n", n), ("--ell", ell), ("--nu", nu), ("--nu-f", nu_f)):
+        if value is None:
+            raise InputError(name, None, "is missing", f"give {name}, or --preset NAME (e.g. carlson-langer-1991)")
+    sigma = 0.0 if sigma is None else sigma
+    ends = "free" if ends is None else ends
     check_size(n, ell, ends)   # the chain first (N, ℓ, ends), then its start
+    try:
+        check_sigma(sigma)
+    except InputError as exc:     # name the option as the user typed it
+        raise InputError("--sigma", sigma, exc.problem, exc.fix) from None
+    if v_threshold is not None and v_threshold != "default":
+        try:
+            v_threshold = float(v_threshold)
+        except ValueError:
+            raise InputError("--v-threshold", v_threshold, "is not a number",
+                             "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None
+        try:
+            check_v_threshold(v_threshold, 1.0)
+        except InputError as exc:
+            raise InputError("--v-threshold", v_threshold, exc.problem,
+                             "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
 
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
-              events=events, precision=precision)
+              events=events, precision=precision, sigma=sigma, v_threshold=v_threshold)
     if as_json:
         echo_json(r.to_json())
     else:
@@ -54,7 +94,8 @@ def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precisio
             cells = [f"{r[k][i]:22d}" if k in ("hypocentre", "n_blocks") else f"{r[k][i]:22.15g}"
                      for k in CATALOG_FIELDS]
             click.echo(f"{i:6d} " + " ".join(cells))
-        click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; {r.message}" if r.message else ""))
+        click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; membership {r.membership}" if r.v_threshold else "")
+                   + (f"; {r.message}" if r.message else ""))
     if r.status != 1:
         raise SystemExit(1)
 

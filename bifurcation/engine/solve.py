@@ -17,7 +17,8 @@ def solve(model, label: str, points: dict, *, precision: str = "double", t_max: 
           max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1, checkpoints=None) -> dict:
     """Run ``model`` (a ``bifurcation.models.Model``: the engine never looks one up) for ``label`` at every point.
 
-    ``points`` maps each axis of the model to an array of values (all of one shape). Returns a dict
+    ``points`` maps each axis of the model to an array of values (all of one shape; an axis with a
+    default may be left out). Returns a dict
     of the model's outputs (arrays of that shape) and ``messages`` (flat index → text).
     ``checkpoints`` (a runner model that checkpoints, ``bifurcation.store.catalog.Checkpoints``) is
     handed to the runner; per-event outputs are object arrays of per-point arrays.
@@ -26,6 +27,8 @@ def solve(model, label: str, points: dict, *, precision: str = "double", t_max: 
     from .cycle import run_model
 
     spec = _declared(model)
+    # an axis with a default (as in a workflow without its [grid] table) takes it
+    points = {**{a.name: a.default for a in spec.axes if a.default is not None and a.name not in points}, **points}
     missing = [a.name for a in spec.axes if a.name not in points]
     if missing:
         raise KeyError(f"solve({spec.name}): no values for the axes {missing}")

@@ -352,30 +352,35 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
     root = Table(data, "", ("study", "model", "engine", "grid", "tiles"))
     check_declared_size(data)   # before any point is made
     study = root.table("study", ("name", "description"))
-    model_table = root.table("model", ("name",), required=False)
+    model_table = root.table("model", ("name", "preset"), required=False)
     model_name = model_table.string("name", DEFAULT_MODEL) if model_table is not None else DEFAULT_MODEL
     try:
         spec = get_model(model_name)
     except InputError as exc:
         raise InputError("model.name", model_name, exc.problem, exc.fix) from None
+    preset_points, preset_laws = _preset(model_table, spec.name)
     key = spec.labels.workflow_key
     axis_names = tuple(a.name for a in spec.axes)
-    engine = root.table("engine", (key, *_ENGINE_KEYS))
+    engine = root.table("engine", (key, *_ENGINE_KEYS), required=not preset_laws)
     grid = root.table("grid", axis_names)
     tile_keys = (*axis_names, "catalog") if spec.catalog_outputs else axis_names
     tiles = root.table("tiles", tile_keys, required=False)
 
-    laws = engine.array(key, fix=f"write {key} = [\"{spec.labels.example}\"]")
+    laws = engine.array(key, *preset_laws, fix=f"write {key} = [\"{spec.labels.example}\"]") \
+        if engine is not None else preset_laws[0]
     # Workflow checks the engine options and tiles (with the same dotted keys) on construction
-    options = {name: engine.raw(name) for name in _ENGINE_KEYS if engine.has(name)}
+    options = {name: engine.raw(name) for name in _ENGINE_KEYS if engine is not None and engine.has(name)}
     if tiles is not None:
         options["tiles"] = {name: tiles.raw(name) for name in axis_names if tiles.has(name)}
         if tiles.has("catalog"):
             options["catalog_chunk"] = tiles.raw("catalog")
     # an axis with a default may be left out (Workflow takes its one default point)
-    tables = {axis: grid.table(axis.name, ("values", "ranges", "log"), required=axis.default is None)
+    tables = {axis: grid.table(axis.name, ("values", "ranges", "log"),
+                               required=axis.default is None and axis.name not in preset_points)
               for axis in spec.axes}
     axes = {axis.name: _axis_points(table, axis) for axis, table in tables.items() if table is not None}
+    for name, value in preset_points.items():     # a preset fills the axes the grid leaves out
+        axes.setdefault(name, (value,))
     return Workflow(
         name=study.string("name", fix="add name = \"my-study\" to [study]"),
         description=study.string("description", ""),
@@ -385,6 +390,25 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
         source=text,
         **options,
     )
+
+
+def _preset(model_table, model_name: str) -> tuple[dict, tuple]:
+    """``[model] preset = "NAME"``: the preset's axis values and law (docs/chain.md, "Presets")."""
+    if model_table is None or not model_table.has("preset"):
+        return {}, ()
+    name = model_table.string("preset")
+    if model_name != "chain":
+        raise InputError("model.preset", name, f"is not available for the model {model_name!r}",
+                         "presets are published chain parameter sets: use [model] name = \"chain\"")
+    from ..models.chain.presets import get_preset
+
+    try:
+        p = get_preset(name)
+    except InputError as exc:
+        raise InputError("model.preset", name, exc.problem, exc.fix) from None
+    points = {"n": p.n, "ell": p.ell, "nu": p.nu, "nu_f": p.nu_f, "sigma": p.sigma,
+              "periodic": int(p.ends == "periodic")}
+    return points, ([p.law],)
 
 
 def load_workflow(path) -> Workflow:

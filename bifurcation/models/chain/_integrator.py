@@ -28,6 +28,11 @@ Non-terminal events record each velocity maximum (dx_i/dt = 0 from above) at its
 
 Runtime parameters: 0 ν, 1 ν_f, 2 ℓ², then per position p (M), d (M), q (M), b (M), s (M) and, for
 laws with K > 1 pieces, one-hot piece selectors (K × M, piece-major).
+
+Friction drop σ > 0 (docs/chain.md, "Friction drop"): a separate integrator (``drop=True``) with two
+more runtime parameters at the end, σ and c = 1 − σ, and the law Φ_σ(x) = c·Φ(x/c): g_σ(x) = σ + c·g(y),
+y = x/c, breakpoints and rungs at y = b. σ = 0 never builds it: the σ = 0 integrator is the unmodified
+one, expression for expression, so its catalogs stay bit-identical (tests/test_chain_sigma.py).
 """
 
 from __future__ import annotations
@@ -58,6 +63,9 @@ class VmaxRecorder:
         self.m = m
         self.vmax = 0.0
         self.d_output = None   # the integrator's dense-output view, set once it exists
+        #: per position, its largest velocity so far (only when the loop sets a list here: event
+        #: membership by a velocity threshold; None costs nothing)
+        self.vpos = None
 
     def __deepcopy__(self, memo) -> "VmaxRecorder":
         return self  # heyoka deep-copies callbacks; all of them must record here
@@ -70,6 +78,9 @@ class VmaxRecorder:
             v = self.d_output[m + j]
             if v > self.vmax:
                 self.vmax = v
+            vpos = self.vpos
+            if vpos is not None and v > vpos[j]:
+                vpos[j] = v
 
         on_max.__deepcopy__ = lambda memo: on_max  # type: ignore[attr-defined]
         return on_max
@@ -94,7 +105,8 @@ class WindowIntegrator:
     state: np.ndarray
 
 
-def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool) -> WindowIntegrator:
+def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool,
+           drop_on: bool = False) -> WindowIntegrator:
     fp_type, dtype, num = fp_info(precision)
     w = [hy.make_vars(f"w{j}") for j in range(m)]
     v = [hy.make_vars(f"v{j}") for j in range(m)]
@@ -105,6 +117,10 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
     k_pieces = len(pieces)
     sel = [[par[N_GLOBAL + (5 + k) * m + j] for j in range(m)] for k in range(k_pieces)] if k_pieces > 1 else None
     zero, one = num(0), num(1)
+    npars = N_GLOBAL + 5 * m + (k_pieces * m if k_pieces > 1 else 0)
+    if drop_on:   # σ and c = 1 − σ, after every other parameter (the σ = 0 layout is unchanged)
+        s_drop, c_drop = par[npars], par[npars + 1]
+        npars += 2
 
     def drop(j, x):
         if k_pieces == 1:
@@ -131,17 +147,22 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
         coupling = bond[j - 1] * w[j - 1] + bond[j] * w[(j + 1) % m] + (selfc[j] - num(2)) * w[j]
         load = l2 * coupling - w[j] + hy.time          # (σ_j − 1)/ν − d_j/ν
         x = (nu * v[j]) / nu_f
-        g = drop(j, x)
+        if drop_on:
+            y = x / c_drop          # the law's own argument: Φ_σ(x) = c Φ(x/c)
+            g = s_drop + c_drop * drop(j, y)
+        else:
+            y = x
+            g = drop(j, x)
         rhs_w.append(hy.select(p[j], v[j], zero))
         rhs_v.append(hy.select(p[j], d[j] / nu + load + g / nu, zero))
         events.append(hy.t_event(hy.select(p[j], x, -q[j] * (d[j] / nu + load)), direction=neg,
                                  cooldown=cooldown, **fp))
         kinds.append("block"), blocks.append(j), breaks.append(-1)
         for b_index, b in enumerate(law.breakpoints):
-            events.append(hy.t_event(x / num(b) - one, direction=anyd, cooldown=cooldown, **fp))
+            events.append(hy.t_event(y / num(b) - one, direction=anyd, cooldown=cooldown, **fp))
             kinds.append("switch"), blocks.append(j), breaks.append(b_index)
         for r in rungs:
-            events.append(hy.t_event(x / num(r) - one, direction=neg, cooldown=cooldown, **fp))
+            events.append(hy.t_event(y / num(r) - one, direction=neg, cooldown=cooldown, **fp))
             kinds.append("rung"), blocks.append(j), breaks.append(-1)
         # dx/dt·ν_f = σ_j − 1 + g, O(1) for a slipping block: zero from above at a velocity maximum.
         # A stuck position has no maxima and gets −1: heyoka scales its error tolerance with the size of
@@ -161,7 +182,6 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
         # was missed. ENERGY_SCALE/M keeps them of the size of one block's variables.
         c = num(ENERGY_SCALE / m)
         eqs += [(diss, c * hy.sum(diss_terms)), (disp, c * hy.sum(disp_terms))]
-    npars = N_GLOBAL + 5 * m + (k_pieces * m if k_pieces > 1 else 0)
     ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs), dtype=dtype), pars=np.zeros(npars, dtype=dtype),
                             t_events=events, nt_events=nt, compact_mode=compact, **fp)
     recorder.d_output = ta.d_output
@@ -170,14 +190,15 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
 
 
 def window_integrator(law: FrictionLaw, m: int, precision: str = "double", energy: bool = False,
-                      compact_above: int = COMPACT_ABOVE) -> WindowIntegrator:
+                      compact_above: int = COMPACT_ABOVE, drop: bool = False) -> WindowIntegrator:
     """The cached integrator for a window of ``m`` blocks (compiled on first use in this process).
 
     Compact mode above M = ``compact_above`` (and always in quad). The full mode's steps are 2-3×
     faster (measured on the chain, Carlson-Langer, double: 9 against 34 µs per step at M = 16, 55
     against 112 at M = 32), but its compile time explodes with M: 18-22 s at M = 16 and 76 s at M = 32
     for the piecewise-linear and exponential laws, 155 s for Carlson-Langer at M = 64, against
-    0.1-1.5 s in compact mode up to M = 1024. heyoka keeps compiled code in its on-disk cache
+    0.1-1.5 s in compact mode up to M = 1024. ``drop``: the integrator of a friction drop σ > 0 (σ and
+    1 − σ are its last two parameters). heyoka keeps compiled code in its on-disk cache
     (~/.cache/heyoka), so the price is paid once per machine, law and M: worth it for long runs
     (``bifurcation bench --suite chain`` uses 32), not for a test suite that touches many laws.
     """
@@ -185,8 +206,8 @@ def window_integrator(law: FrictionLaw, m: int, precision: str = "double", energ
     # then took 13 s to compile at M = 8 (measured), so such laws use it only up to M = 2
     fading = bool(_fading.ladder(law, precision).rungs)
     compact = m > (min(compact_above, 2) if fading else compact_above) or precision != "double"
-    key = (law.name, law.formula, m, precision, energy, compact)
+    key = (law.name, law.formula, m, precision, energy, compact) + (("drop",) if drop else ())
     hit = _CACHE.get(key)
     if hit is None:
-        hit = _CACHE[key] = _build(law, m, precision, energy, compact)
+        hit = _CACHE[key] = _build(law, m, precision, energy, compact, drop)
     return hit

@@ -50,7 +50,8 @@ class ChainLoop:
     def __init__(self, law: FrictionLaw, n: int, ell: float, nu: float, nu_f: float, ends: str,
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
                  t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
-                 compact_above: int = COMPACT_ABOVE, timing: bool = False) -> None:
+                 compact_above: int = COMPACT_ABOVE, timing: bool = False, drop: float = 0.0,
+                 v_threshold: float = 0.0) -> None:
         from ...engine._integrator import fp_info
 
         _, dtype, _ = fp_info(precision)
@@ -59,6 +60,19 @@ class ChainLoop:
         self.nu, self.nu_f, self.l2 = dtype(nu), dtype(nu_f), dtype(ell) * dtype(ell)
         self.periodic = ends == "periodic"
         self.t_max, self.max_steps = t_max, max_steps
+        #: the friction drop σ (docs/chain.md, "Friction drop"): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)). σ = 0 takes
+        #: the unmodified integrator and code path (bit-identical catalogs); σ > 0 its own integrator
+        self.drop = float(drop)
+        self._drop_on = self.drop > 0
+        self._drop_pars = ()
+        #: event membership (docs/chain.md, "Event membership"): 0 counts every block that moved (the
+        #: event runs until all are stuck); V_th > 0 counts, in n_blocks and potency, only the blocks
+        #: whose velocity exceeded V_th during the event (the dynamics is the same either way)
+        self.v_threshold = float(v_threshold)
+        self._vth = self.v_threshold / float(nu) if self.v_threshold > 0 else None   # in v = V/ν
+        if self._drop_on:
+            c = dtype(1) - dtype(self.drop)
+            self._drop_pars = (dtype(self.drop), c)
         self.u = np.array([dtype(float(x)) for x in u0], dtype=dtype) if dtype is not np.float64 \
             else np.array(u0, dtype=np.float64)
         self.sigma = self._laplacian(self.u) * self.l2 - self.u       # σ_j(0), νt = 0
@@ -91,6 +105,11 @@ class ChainLoop:
         #: block crosses to (``_side``)
         self._g_break = [dtype(float(law.pieces[i + 1].drop_mp(mpmath.mpf(b))))
                          for i, b in enumerate(law.breakpoints)]
+        if self._drop_on:   # g_σ at the breakpoint x = (1 − σ) b: σ + (1 − σ) g(b)
+            with mpmath.workdps(40):
+                s_mp = mpmath.mpf(self.drop)
+                self._g_break = [dtype(float(s_mp + (1 - s_mp) * law.pieces[i + 1].drop_mp(mpmath.mpf(b))))
+                                 for i, b in enumerate(law.breakpoints)]
         self._layouts: dict = {}     # per window (its blocks, sorted): ``_window_layout``
         # the segment's slip, summed exactly rounded in double (math.fsum) and in the dtype otherwise
         self._sum = math.fsum if dtype is np.float64 else sum
@@ -98,6 +117,7 @@ class ChainLoop:
         # operation and round the same), the dtype's own scalars otherwise (real128 in quad)
         self._scalar = float if dtype is np.float64 else (lambda x: x)
         self._zero, self._one, self._pad = (self._scalar(dtype(x)) for x in (0, 1, -1e3))
+        self._drop_pars = tuple(self._scalar(x) for x in self._drop_pars)
 
     # -- chain geometry ---------------------------------------------------------------------------
     def _laplacian(self, a: np.ndarray) -> np.ndarray:
@@ -168,7 +188,8 @@ class ChainLoop:
     # -- the run ------------------------------------------------------------------------------------
     def run(self, k: int) -> dict:
         cat = {f: [] for f in ("t_start", "hypocentre", "n_blocks", "potency", "duration",
-                                "max_velocity", "steps", "driver_work", "dissipation", "elastic_change")}
+                                "max_velocity", "steps", "driver_work", "dissipation", "elastic_change",
+                                "n_blocks_all", "potency_all")}
         status, message = ChainStatus.COMPLETE, ""
         # the blocks the run touches keep their displacement and piece in dicts (read and written per
         # segment); the arrays are written once, when the run returns
@@ -204,6 +225,10 @@ class ChainLoop:
         # unfinished event)
         self._v = {}
         self._touched, self._slip = set(), set()
+        if self._vth is not None:
+            # per touched block: its largest v and its slip, summed from the segments' increments (U
+            # itself grows without bound, so U(end) − U(start) would cancel digits)
+            self._vblock, self._sblock = {}, {}
         self._start(h)
         self._widest = 0
         self._due = None     # after the quiescent jump: scan every block for simultaneous failures
@@ -214,8 +239,16 @@ class ChainLoop:
         ev = self.ev
         cat["t_start"].append(t_start)
         cat["hypocentre"].append(h)
-        cat["n_blocks"].append(len(self._touched))
-        cat["potency"].append(ev["potency"])
+        if self._vth is None:
+            cat["n_blocks"].append(len(self._touched))
+            cat["potency"].append(ev["potency"])
+        else:
+            # only the blocks that exceeded V_th: their own slips, summed exactly rounded
+            members = [j for j in self._touched if self._vblock[j] > self._vth]
+            cat["n_blocks"].append(len(members))
+            cat["potency"].append(self.dtype(self._sum([self._sblock[j] for j in members])))
+            cat["n_blocks_all"].append(len(self._touched))
+            cat["potency_all"].append(ev["potency"])
         cat["duration"].append(ev["duration"])
         cat["max_velocity"].append(self.nu * ev["vmax"])
         cat["steps"].append(ev["steps"])
@@ -262,7 +295,7 @@ class ChainLoop:
             wi = self._windows.get(m)
             if wi is None:
                 wi = self._windows[m] = window_integrator(self.law, m, self.precision, self.energy,
-                                                          self.compact_above)
+                                                          self.compact_above, self._drop_on)
             outcome = self._integrate(wi, idx, at, members, bond, selfc)
             if outcome is None:
                 return True, ""
@@ -275,6 +308,9 @@ class ChainLoop:
             self._start(j)
 
     def _start(self, j: int) -> None:
+        if self._vth is not None and j not in self._touched:
+            self._sblock[j] = self._zero
+            self._vblock[j] = self._zero
         self.sigma[j] = 1   # the start event located σ_j = 1; rounding of the commit is dropped
         self._v[j] = self._zero
         self._pc[j] = 0
@@ -316,6 +352,8 @@ class ChainLoop:
             for i, pc in enumerate(pieces):
                 onehot[pc * m + i] = 1.0
             values += onehot
+        if self._drop_on:
+            values += self._drop_pars            # σ, 1 − σ: the drop integrator's last parameters
         pars[:] = values
         st = [0.0] * len(state)
         st[m:m + k] = [vd.get(j, 0.0) for j in idx]
@@ -323,6 +361,11 @@ class ChainLoop:
         ta.time = self._zero
         ta.reset_cooldowns()
         wi.recorder.vmax = self.ev["vmax"]
+        if self._vth is not None:
+            vb = self._vblock
+            wi.recorder.vpos = [vb.get(j, self._zero) for j in idx] + [self._zero] * (m - k)
+        else:
+            wi.recorder.vpos = None   # the integrator is shared (cached per process)
         # blocks outside S: stuck, σ grows as ντ: the first of them fails at τ = (1 − σ)/ν
         if k == self.n:
             tau_far, far = math.inf, -1
@@ -436,6 +479,8 @@ class ChainLoop:
         for i in range(k):
             if i != j and p[i]:
                 x = (nu * v[i]) / nu_f
+                if self._drop_on:                  # the law's argument x/(1 − σ) (its breakpoints)
+                    x = x / self._drop_pars[1]
                 pc = pieces[i]
                 if x < lower[pc] or x > upper[pc]:
                     new = self.law.piece_index(x)
@@ -494,11 +539,14 @@ class ChainLoop:
         sigma += nu * tau                       # every block: ντ (the window's are overwritten below)
         new = []
         ud, u, f = self._u, self.u, self._scalar
+        sb = self._sblock if self._vth is not None else None
         for i in range(k):
             coupling = bond[i - 1] * w[i - 1] + bond[i] * w[(i + 1) % m] + (selfc[i] - 2) * w[i]
             new.append(sg[i] + nu * ((l2 * coupling - w[i]) + tau))
             j = idx[i]
             ud[j] = (ud[j] if j in ud else f(u[j])) + nu * w[i]
+            if sb is not None and j in sb:
+                sb[j] += nu * w[i]
         sigma[at] = new
         # the blocks that may be at σ ≥ 1 now (``_segments`` starts them): the window's, unless the
         # largest stress outside it reached 1 too (then every block is scanned)
@@ -508,6 +556,11 @@ class ChainLoop:
         self.ev["potency"] += nu * self._sum(w[:k])
         self.ev["duration"] += tau
         self.ev["vmax"] = max(self.ev["vmax"], wi.recorder.vmax)
+        if self._vth is not None:
+            vpos, vb = wi.recorder.vpos, self._vblock
+            for i, j in enumerate(idx):
+                if j in vb and vpos[i] > vb[j]:
+                    vb[j] = vpos[i]
         self.t += tau
 
     def _energy(self, wi, idx, w, tau) -> None:

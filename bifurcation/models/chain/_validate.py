@@ -8,7 +8,7 @@ import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["ENDS", "check_events", "check_initial", "check_size"]
+__all__ = ["DEFAULT_V_THRESHOLD", "ENDS", "check_events", "check_initial", "check_sigma", "check_size", "check_v_threshold"]
 
 ENDS = ("free", "periodic")
 
@@ -35,6 +35,43 @@ def check_size(n, ell, ends) -> tuple[int, float, str]:
     if ends not in ENDS:
         raise InputError("ends", ends, "is not a boundary condition", "use 'free' or 'periodic'")
     return int(n), ell_f, ends
+
+
+def check_sigma(sigma) -> float:
+    """The friction drop σ: finite, 0 ≤ σ < 1 (Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); σ = 1 leaves no friction)."""
+    fix = "give a friction drop 0 ≤ σ < 1, e.g. 0.01 (0: the seed's model)"
+    if isinstance(sigma, bool):
+        raise InputError("sigma", sigma, "is not a number", fix)
+    try:
+        out = float(sigma)
+    except (TypeError, ValueError):
+        raise InputError("sigma", sigma, "is not a number", fix) from None
+    if not math.isfinite(out) or out < 0 or out >= 1:
+        raise InputError("sigma", sigma, "must be finite with 0 ≤ σ < 1", fix)
+    return out
+
+
+#: the documented default of event membership by velocity: V_th = DEFAULT_V_THRESHOLD · ν (docs/chain.md,
+#: "Event membership"): a block that creeps at the loading speed, O(ν), stays out; seismic slip is faster
+DEFAULT_V_THRESHOLD = 10.0
+
+
+def check_v_threshold(v_threshold, nu: float):
+    """None (every block that moved belongs to the event), "default" (10 ν) or a finite V_th > 0."""
+    if v_threshold is None:
+        return None
+    if isinstance(v_threshold, str) and v_threshold == "default":
+        return DEFAULT_V_THRESHOLD * float(nu)
+    fix = f"give a slip velocity V_th > 0 (in V0), e.g. {DEFAULT_V_THRESHOLD:g}·ν, or 'default', or None for 'until all stuck'"
+    if isinstance(v_threshold, bool):
+        raise InputError("v_threshold", v_threshold, "is not a number", fix)
+    try:
+        out = float(v_threshold)
+    except (TypeError, ValueError):
+        raise InputError("v_threshold", v_threshold, "is not a number", fix) from None
+    if not math.isfinite(out) or out <= 0:
+        raise InputError("v_threshold", v_threshold, "must be finite and > 0", fix)
+    return out
 
 
 def check_events(events) -> int:

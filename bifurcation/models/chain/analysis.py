@@ -103,7 +103,7 @@ def recurrence(t_start, mask) -> dict:
 
 def sweep_nu_f(law, *, n: int, ell: float, nu: float, nu_f_values, cycles_per_step: float = 3.0,
                max_events_per_step: int = 200_000, transient_cycles: float | None = None, ends: str = "free",
-               amplitude: float = 0.1, seed: int = 1, spanning_fraction: float = 1.0) -> dict:
+               amplitude: float = 0.1, seed: int = 1, spanning_fraction: float = 1.0, sigma: float = 0.0) -> dict:
     r"""ν_f changed in steps within one run (no restart between steps), each step ``cycles_per_step``
     loading cycles long: events are run until the driver has advanced by ν ΔT ≥ ``cycles_per_step``
     units of slip per block (or ``max_events_per_step`` events; ``cycles`` says what was reached).
@@ -125,14 +125,14 @@ def sweep_nu_f(law, *, n: int, ell: float, nu: float, nu_f_values, cycles_per_st
     * events, cycles = ν ΔT, mean n_blocks, status.
 
     A transient of ``transient_cycles`` (default: one step) at the first ν_f is run first and
-    discarded (the random start).
+    discarded (the random start). ``sigma``: the friction drop (docs/chain.md, "Friction drop").
     """
     from ...laws import resolve_law
     from ._loop import ChainLoop
     from ._validate import check_initial
 
     u0 = check_initial(n, ell, ends, None, amplitude, seed)
-    loop = ChainLoop(resolve_law(law), n, ell, nu, float(nu_f_values[0]), ends, u0)
+    loop = ChainLoop(resolve_law(law), n, ell, nu, float(nu_f_values[0]), ends, u0, drop=sigma)
     threshold = math.ceil(spanning_fraction * n)
     keys = ("psi", "slip_per_block", "closure", "slip_fraction", "longest_event", "events", "cycles", "mean_n_blocks",
             "status")

@@ -5,7 +5,9 @@ are friction laws (the single block's ``LAW``), the axes are the chain's paramet
 of the grid is one run of ``ChainLoop`` — the first ``events`` events of the chain started from the
 seeded random state of ``bifurcation.chain(..., amplitude=A, seed=S)``:
 
-    σ_j = ℓ²(U_{j+1} − 2U_j + U_{j−1}) − U_j + νt,   V̇_j = σ_j − Φ(V_j/ν_f) while V_j > 0.
+    σ_j = ℓ²(U_{j+1} − 2U_j + U_{j−1}) − U_j + νt,   V̇_j = σ_j − Φ(V_j/ν_f) while V_j > 0,
+
+with Φ replaced by Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)) on the axis ``sigma`` (default 0, the seed's model).
 
 Per run the store keeps ``status``, ``events_done``, ``t_end``, ``steps`` and ``resumed``; per event
 (a ragged catalog, ``bifurcation.store.catalog``) ``t_start``, ``hypocentre``, ``n_blocks``,
@@ -43,6 +45,14 @@ AXES = (
          dtype="int64"),
     Axis("periodic", "ends", "chain ends: 0 free (U_0 ≡ U_1), 1 periodic (U_0 ≡ U_N)", bounds=(0, 1), example=0,
          default_tile=1, dtype="int64"),
+    # last, with a default: workflows written before σ existed keep their meaning (σ = 0, the seed's
+    # model, computed by the unmodified code). Closed bounds: σ = 1 leaves no dynamic friction at all
+    Axis("sigma", "σ", "friction drop σ: Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)), static threshold 1", bounds=(0.0, 0.99),
+         example=0.01, default_tile=1, default=0.0),
+    # event membership (docs/chain.md, "Event membership"): 0 (default) every block that moved, until all
+    # are stuck; V_th > 0 only the blocks faster than V_th count in n_blocks and potency
+    Axis("v_threshold", "V_th", "slip-velocity threshold of event membership (0: every block that moved)",
+         bounds=(0.0, 1e3), units="V0", example=0.01, default_tile=1, default=0.0),
 )
 
 _PER_EVENT_DTYPES = {"hypocentre": "int64", "n_blocks": "int64"}
@@ -91,8 +101,10 @@ def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps
         ell = float(points["ell"][i])
         ends = "periodic" if int(points["periodic"][i]) else "free"
         u = check_initial(n, ell, ends, None, float(points["amplitude"][i]), seed)
+        sigma = float(points["sigma"][i]) if "sigma" in points else 0.0
+        v_th = float(points["v_threshold"][i]) if "v_threshold" in points else 0.0
         loop = ChainLoop(law, n, ell, float(points["nu"][i]), float(points["nu_f"][i]), ends, u,
-                         precision=precision, t_max=t_max, max_steps=max_steps)
+                         precision=precision, t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_th)
         cat = {name: [] for name in (*catalogs, "steps")}
         status, message, resumed = ChainStatus.COMPLETE, "", 0
         saved = checkpoints.load(i) if checkpoints is not None else None

@@ -13,6 +13,11 @@ change on a grid of sub-steps refined by bisection of the step polynomial to the
 Velocity maxima are roots of the acceleration polynomial. Quiescent phases are jumped as
 t + (1 − max σ)/ν.
 
+Friction drop ``sigma`` = σ > 0 (docs/chain.md, "Friction drop"): a slipping block feels
+Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)), so the series of g_σ = σ + (1 − σ) g(y) is built from the series of
+y = x/(1 − σ) (exact in mpmath), and a breakpoint b of the law is crossed at V = (1 − σ) b ν_f. The
+static threshold stays 1; a block at rest never moves backwards.
+
 Slow (about a second per event for N = 8): tests use it live on small cases, and
 ``tests/chain_golden_gen.py`` uses it to write the golden catalogs of ``tests/data/``.
 """
@@ -92,12 +97,13 @@ def _first_root(c: list, h, want, subdivisions: int, bits: int):
 
 
 def reference_chain(law: str, *, n: int, ell, nu, nu_f, u0, ends: str = "free", events: int,
-                    dps: int = 36, order: int = 36, t_max: float = 1e4) -> dict:
+                    dps: int = 36, order: int = 36, t_max: float = 1e4, sigma=0) -> dict:
     """The first ``events`` events of the chain (docs/chain.md) in mpmath at ``dps`` digits.
 
     Returns a dict of lists: ``t_start``, ``hypocentre``, ``n_blocks``, ``potency``, ``duration``,
     ``max_velocity`` (mpmath numbers / ints) and the final ``u`` and ``t``. ``nu``, ``nu_f``, ``ell``
-    and ``u0`` are taken as the exact binary numbers the engine sees when they are floats.
+    and ``u0`` are taken as the exact binary numbers the engine sees when they are floats; so is the
+    friction drop ``sigma`` (0 ≤ σ < 1).
     """
     if law not in LAWS:
         raise ValueError(f"reference_chain has no series for law {law!r}; use one of {sorted(LAWS)}")
@@ -105,7 +111,12 @@ def reference_chain(law: str, *, n: int, ell, nu, nu_f, u0, ends: str = "free", 
         mpf = mpmath.mpf
         nu, nu_f, ell = mpf(nu), mpf(nu_f), mpf(ell)
         l2 = ell * ell
-        breaks = [mpf(b) for b in LAWS[law]]
+        drop = mpf(sigma)
+        if not 0 <= drop < 1:
+            raise ValueError(f"reference_chain needs 0 <= sigma < 1, got {sigma!r}")
+        c_drop = 1 - drop
+        # breakpoints in x = V/ν_f: the law's b at y = x/(1 − σ) = b
+        breaks = [mpf(b) * c_drop for b in LAWS[law]]
         tol = mpf(10) ** (-(dps - 4))
         bits = int(dps * 3.33) + 8
         U = [mpf(x) for x in u0]
@@ -145,9 +156,10 @@ def reference_chain(law: str, *, n: int, ell, nu, nu_f, u0, ends: str = "free", 
                         a, b = nbrs(j)
                         sk = l2 * (cu[a][k] - 2 * cu[j][k] + cu[b][k]) - cu[j][k]
                         sk += nu * t if k == 0 else (nu if k == 1 else 0)
-                        x = [cv[j][i] / nu_f for i in range(k + 1)]
+                        x = [cv[j][i] / (nu_f * c_drop) for i in range(k + 1)]   # y = x/(1 − σ)
                         _drop_series(law, piece[j], x, k, cg[j], aux[j])
-                        f = sk - (1 if k == 0 else 0) + cg[j][k]
+                        gk = c_drop * cg[j][k] + (drop if k == 0 else 0)          # g_σ = σ + (1 − σ) g(y)
+                        f = sk - (1 if k == 0 else 0) + gk
                         cf[j].append(f)
                     for j in range(n):
                         if slipping[j]:

@@ -73,6 +73,18 @@ class ChainResult:
     status: ChainStatus
     message: str = ""
     energy: dict | None = None
+    #: friction drop σ of the run (0: the seed's model)
+    sigma: float = 0.0
+    #: event membership: None, every block that moved (the event runs until all are stuck); V_th > 0,
+    #: ``n_blocks`` and ``potency`` count the blocks faster than V_th, ``*_all`` every block that moved
+    v_threshold: float | None = None
+    n_blocks_all: np.ndarray | None = None
+    potency_all: np.ndarray | None = None
+
+    @property
+    def membership(self) -> str:
+        """Which event definition ``n_blocks`` and ``potency`` follow: "all-stuck" or "v-threshold=<V_th>"."""
+        return "all-stuck" if self.v_threshold is None else f"v-threshold={float(self.v_threshold)!r}"
 
     @property
     def events(self) -> int:
@@ -94,9 +106,13 @@ class ChainResult:
         """A JSON-ready dict: parameters, catalog fields as lists, final state, status."""
         rec = {"law": self.law, "n": self.n, "ell": self.ell, "nu": self.nu, "nu_f": self.nu_f,
                "ends": self.ends, "precision": self.precision, "events": self.events,
-               "status": str(self.status)}
+               "status": str(self.status), "sigma": self.sigma, "membership": self.membership}
         for k, v in self.catalog().items():
             rec[k] = np.asarray(v).tolist()
+        if self.v_threshold is not None:
+            rec["v_threshold"] = self.v_threshold
+            rec["n_blocks_all"] = np.asarray(self.n_blocks_all).tolist()
+            rec["potency_all"] = np.asarray(self.potency_all).tolist()
         rec["t"] = float(self.t)
         rec["u"] = np.asarray(self.u, dtype=float).tolist()
         rec["stress"] = np.asarray(self.stress, dtype=float).tolist()

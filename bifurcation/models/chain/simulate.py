@@ -5,16 +5,18 @@ from __future__ import annotations
 import numpy as np
 
 from ...engine._validate import check_nu, check_nu_f, check_precision, check_work
+from ...errors import InputError
 from ...laws import resolve_law
-from ._validate import check_events, check_initial, check_size
+from ._validate import check_events, check_initial, check_sigma, check_size, check_v_threshold
 from .result import ChainResult, ChainStatus
 
 __all__ = ["chain"]
 
 
-def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free", u0=None,
-          amplitude=None, seed=None, events: int, precision: str = "double", energy: bool = False,
-          t_max: float = 1e5, max_steps: int = 1_000_000) -> ChainResult:
+def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float | None = None,
+          nu_f: float | None = None, ends: str | None = None, u0=None, amplitude=None, seed=None, events: int,
+          precision: str = "double", energy: bool = False, t_max: float = 1e5, max_steps: int = 1_000_000,
+          sigma: float | None = None, v_threshold=None, preset: str | None = None) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -24,6 +26,8 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     with free ends (U_0 ≡ U_1, U_{N+1} ≡ U_N) or periodic ones (U_0 ≡ U_N, U_{N+1} ≡ U_1). A slipping
     block obeys U̇_j = V_j, V̇_j = σ_j − Φ(V_j/ν_f); a stuck one starts when σ_j reaches 1 and a
     slipping one sticks when V_j returns to 0 (no back-slip). Quiescent phases are jumped exactly.
+    With a friction drop σ > 0 a slipping block feels Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)) (static threshold 1,
+    dynamic friction 1 − σ at V → 0⁺: Carlson, Langer, Shaw and Tang, PRA 44, 884 (1991)).
 
     Parameters
     ----------
@@ -46,23 +50,47 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     t_max, max_steps : float, int
         Bounds on the duration and the Taylor steps of one event; beyond them the run stops with
         status ``no-stop`` and the catalog holds the completed events.
+    sigma : float
+        Friction drop 0 ≤ σ < 1 (docs/chain.md, "Friction drop"); 0 (default) is the seed's model,
+        computed by exactly the code of before σ existed.
+    preset : str, optional
+        A published parameter set (``bifurcation.models.chain.presets``): fills law, n, ell, nu, nu_f,
+        sigma and ends where they are not given (given values win).
+    v_threshold : None, float or "default"
+        Event membership (docs/chain.md, "Event membership"). None (default): every block that moved
+        belongs to the event, which runs until all blocks are stuck. V_th > 0 (or "default": 10 ν):
+        ``n_blocks`` and ``potency`` count only the blocks whose velocity exceeded V_th during the
+        event (``n_blocks_all``, ``potency_all`` keep the others); ``membership`` records which.
 
     Returns
     -------
     ChainResult
     """
+    given = {"law": law, "n": n, "ell": ell, "nu": nu, "nu_f": nu_f, "sigma": sigma, "ends": ends}
+    if preset is not None:
+        from .presets import get_preset
+
+        given = {k: (v if v is not None else get_preset(preset).parameters()[k]) for k, v in given.items()}
+    defaults = {"sigma": 0.0, "ends": "free"}
+    given = {k: (defaults[k] if v is None and k in defaults else v) for k, v in given.items()}
+    missing = [k for k, v in given.items() if v is None]
+    if missing:
+        raise InputError(missing[0], None, "is missing", "give it, or a preset= such as 'carlson-langer-1991'")
+    law, n, ell, nu, nu_f, sigma, ends = (given[k] for k in ("law", "n", "ell", "nu", "nu_f", "sigma", "ends"))
     law = resolve_law(law)
     n, ell, ends = check_size(n, ell, ends)
     nu = float(check_nu(nu))
     nu_f = float(check_nu_f(nu_f))
     check_precision(precision)
     events = check_events(events)
+    sigma = check_sigma(sigma)
+    v_threshold = check_v_threshold(v_threshold, nu)
     check_work(t_max, max_steps)   # one event's bounds: refused (not a no-stop run) when not > 0 or NaN
     u = check_initial(n, ell, ends, u0, amplitude, seed)
     from ._loop import ChainLoop
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
-                     t_max=t_max, max_steps=max_steps)
+                     t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_threshold or 0.0)
     out = loop.run(events)
     cat = out["catalog"]
     f = lambda k: np.array([float(x) for x in cat[k]], dtype=float)  # noqa: E731
@@ -73,4 +101,7 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
         n_blocks=np.array(cat["n_blocks"], dtype=np.int64), potency=f("potency"), duration=f("duration"),
         max_velocity=f("max_velocity"), steps=np.array(cat["steps"], dtype=np.int64),
         t=float(loop.t), u=np.array([float(x) for x in loop.u]), stress=np.array([float(x) for x in loop.sigma]),
-        status=ChainStatus(out["status"]), message=out["message"], energy=energy_fields)
+        status=ChainStatus(out["status"]), message=out["message"], energy=energy_fields, sigma=sigma,
+        v_threshold=v_threshold,
+        n_blocks_all=np.array(cat["n_blocks_all"], dtype=np.int64) if v_threshold else None,
+        potency_all=f("potency_all") if v_threshold else None)

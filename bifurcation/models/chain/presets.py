@@ -1,0 +1,112 @@
+"""Published parameter sets of Burridge–Knopoff chains as named presets (issue 17, item 3).
+
+`bifurcation chain --preset NAME`, ``bifurcation.chain(..., preset=NAME)`` and a workflow's
+``[model] preset = "NAME"`` fill every chain parameter the user does not give. Each number says where
+it was read (``Preset.provenance``); a number that could not be read in a source says so, and the
+preset is then marked ``verified = False``: a reproduction built on it is a reproduction of the
+parameters as stated here, not of the paper.
+
+Mapping onto this project's variables (docs/chain.md, "Presets"): σ_j = ℓ²(U_{j+1} − 2U_j + U_{j−1}) − U_j
++ νt and friction Φ(V/ν_f). Carlson and Langer write the velocity-weakening friction with a parameter α
+as φ(2αV) with slope −2α at V → 0⁺ (with the drop σ, φ_σ(V) = (1 − σ)/(1 + 2αV/(1 − σ)), the form this
+project implements as Φ_σ, docs/chain.md "Friction drop"), so x = V/ν_f = 2αV and **ν_f = 1/(2α)**; ℓ,
+ν and σ are the same dimensionless numbers in both. (The correspondence of the variables is the one
+docs/chain.md states for the model; it was not re-derived here from CLST's own text, which could not
+be read, see below.)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ...errors import InputError
+
+__all__ = ["PRESETS", "Preset", "get_preset", "preset_names"]
+
+#: sources that were read for these presets (the `search` tool; what could not be read is named)
+XIA = "J. Xia, 'Results for 1D BK model', physics.clarku.edu/~jcxia/EQProject/BK1D.html (2005)"
+SEED = "Vasconcelos, PRL 76, 4865 (1996)"
+
+
+@dataclass(frozen=True)
+class Preset:
+    name: str
+    title: str
+    law: str
+    n: int
+    ell: float
+    nu: float
+    nu_f: float
+    sigma: float
+    ends: str
+    #: per parameter: where its value was read, or why it could not be
+    provenance: dict = field(default_factory=dict)
+    #: every number read in a source (False: some are not, see provenance)
+    verified: bool = False
+    note: str = ""
+
+    def parameters(self) -> dict:
+        return {"law": self.law, "n": self.n, "ell": self.ell, "nu": self.nu, "nu_f": self.nu_f,
+                "sigma": self.sigma, "ends": self.ends}
+
+
+PRESETS = {p.name: p for p in (
+    Preset(
+        name="vasconcelos-1996",
+        title="The seed's own model: one block, Carlson–Langer friction, no drop, slow driving",
+        law="carlson-langer", n=1, ell=0.0, nu=1e-9, nu_f=0.5, sigma=0.0, ends="free",
+        provenance={
+            "law": f"{SEED}, Eq. (19): Φ(x) = 1/(1 + x) (the Carlson–Langer law of Fig. 3)",
+            "n": f"{SEED}: the paper's model is a single block (Eqs. (1)-(5)); chains are discussed, not run",
+            "ell": "not in the paper (one block: ℓ plays no part)",
+            "nu": f"{SEED}, text of Fig. 3: 'Δ was computed numerically for ν = 10^-9'",
+            "nu_f": f"{SEED}: the transition at ν_f = 1/2 (text after Eq. (18) and Fig. 2)",
+            "sigma": f"{SEED}, Eqs. (2)-(3): Φ(0) = 1, Φ'(0) = −1, no static-to-dynamic drop",
+        },
+        verified=True,
+        note="N = 1 is exactly the paper's block; ν_f = 1/2 is the point of its transition, so sweep ν_f "
+             "around it (docs/physics.md)"),
+    Preset(
+        name="carlson-langer-1991",
+        title="Carlson–Langer chain with a friction drop (Carlson, Langer, Shaw, Tang, PRA 44, 884 (1991))",
+        law="carlson-langer", n=1000, ell=10.0, nu=0.01, nu_f=0.2, sigma=0.01, ends="free",
+        provenance={
+            "law": f"{SEED}, Eq. (19) names Φ = 1/(1 + x) the Carlson–Langer law; CL's own formula and the "
+                   "meaning of α (x = 2αV) were NOT READ in CL/CLST (only CL 1989's abstract was found)",
+            "ell": f"{XIA}: 'default values ... 10, 2.5, and 0.01' for ℓ, α, ν, following CL; not read in CLST",
+            "nu": f"{XIA} (as ell); not read in CLST",
+            "nu_f": f"α = 2.5 from {XIA}; ν_f = 1/(2α) = 0.2 by the mapping of the module text (not read in CLST)",
+            "sigma": "NOT READ: CLST's full text could not be found; Xia states a drop σ 'as they did (1991 PRA)' "
+                     "without its value; 0.01 is the value the issue (17) quotes",
+            "n": f"NOT READ for CLST; {XIA} tabulates N = 1000 and 5000 (for a long-range variant); 1000 taken",
+            "ends": "NOT READ: free ends assumed",
+        },
+        note="CLST also study the ν → 0 limit (Xia: 'moving only in one direction at the zero-loading velocity "
+             "limit'); this engine runs at the finite ν given"),
+    Preset(
+        name="mori-kawamura-2006",
+        title="Mori & Kawamura's one-dimensional chain (PRL 94, 058501 (2005); JGR 111, B07302 (2006))",
+        law="carlson-langer", n=800, ell=3.0, nu=0.01, nu_f=0.25, sigma=0.01, ends="periodic",
+        provenance={
+            "law": "NOT READ in MK (full texts not found); the Carlson–Langer form with a drop, as the issue (17) states",
+            "n": "NOT READ: N = 800 periodic is the issue's (17) summary of MK",
+            "ends": "NOT READ: periodic, the issue's (17) summary",
+            "ell": "NOT READ: ℓ = 3, the issue's (17) summary",
+            "nu": "NOT READ: ν ≈ 0.01, the issue's (17) summary",
+            "sigma": "NOT READ: σ = 0.01, the issue's (17) summary",
+            "nu_f": "NOT READ: α = 1 … 3 in the issue's summary (ν_f = 1/2 … 1/6); α = 2 (ν_f = 0.25) taken, the "
+                    "characteristic-peak side of MK's claim as the issue states it",
+        },
+        note="every number unverified: a reproduction of MK needs their text"),
+)}
+
+
+def preset_names() -> list[str]:
+    return sorted(PRESETS)
+
+
+def get_preset(name) -> Preset:
+    """The preset ``name``; a one-line error naming the known ones otherwise."""
+    if not isinstance(name, str) or name not in PRESETS:
+        raise InputError("preset", name, "is not a known preset", f"use one of {', '.join(preset_names())}")
+    return PRESETS[name]
