@@ -248,6 +248,8 @@ class Hooks:
       handed those of the CLI's options (``points``, ``subset``, ``pipeline_points``) its signature
       names. ``bench_needs``: modules its baselines import (checked before any work starts).
     - ``commands``: a list of click commands the CLI adds (``bifurcation <command>``).
+    - ``presets(name)`` → (axis values, (label,)): a workflow's ``[model] preset = "NAME"`` (published
+      parameter sets); raises ``InputError`` for an unknown name.
     """
 
     describe_label: str = ""
@@ -255,9 +257,10 @@ class Hooks:
     bench: str = ""
     bench_needs: tuple[str, ...] = ()
     commands: str = ""
+    presets: str = ""
 
     def __post_init__(self) -> None:
-        for name in ("describe_label", "report", "bench", "commands"):
+        for name in ("describe_label", "report", "bench", "commands", "presets"):
             value = getattr(self, name)
             module, _, attribute = value.partition(":")
             if value and not (module and attribute.isidentifier()

@@ -358,7 +358,7 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
         spec = get_model(model_name)
     except InputError as exc:
         raise InputError("model.name", model_name, exc.problem, exc.fix) from None
-    preset_points, preset_laws = _preset(model_table, spec.name)
+    preset_points, preset_laws = _preset(model_table, spec)
     key = spec.labels.workflow_key
     axis_names = tuple(a.name for a in spec.axes)
     engine = root.table("engine", (key, *_ENGINE_KEYS), required=not preset_laws)
@@ -392,23 +392,20 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
     )
 
 
-def _preset(model_table, model_name: str) -> tuple[dict, tuple]:
-    """``[model] preset = "NAME"``: the preset's axis values and law (docs/chain.md, "Presets")."""
+def _preset(model_table, spec) -> tuple[dict, tuple]:
+    """``[model] preset = "NAME"``: the preset's axis values and label, from the model's ``presets`` hook."""
     if model_table is None or not model_table.has("preset"):
         return {}, ()
     name = model_table.string("preset")
-    if model_name != "chain":
-        raise InputError("model.preset", name, f"is not available for the model {model_name!r}",
-                         "presets are published chain parameter sets: use [model] name = \"chain\"")
-    from ..models.chain.presets import get_preset
-
+    lookup = spec.hook("presets")
+    if lookup is None:
+        raise InputError("model.preset", name, f"is not available for the model {spec.name!r}",
+                         "presets are published parameter sets of the models that declare them "
+                         "(bifurcation chain --help lists the chain's): use [model] name = \"chain\"")
     try:
-        p = get_preset(name)
+        return lookup(name)
     except InputError as exc:
         raise InputError("model.preset", name, exc.problem, exc.fix) from None
-    points = {"n": p.n, "ell": p.ell, "nu": p.nu, "nu_f": p.nu_f, "sigma": p.sigma,
-              "periodic": int(p.ends == "periodic")}
-    return points, ([p.law],)
 
 
 def load_workflow(path) -> Workflow:

@@ -170,6 +170,7 @@ CHAIN = Model(
     hooks=Hooks(describe_label="bifurcation.laws:resolve_law",
                 report="bifurcation.models.chain.store_report:chain_store_blocks",
                 bench="bifurcation.models.chain._bench:run_chain_bench",
-                commands="bifurcation.cli._chain:COMMANDS"),
+                commands="bifurcation.cli._chain:COMMANDS",
+                presets="bifurcation.models.chain.presets:workflow_preset"),
     units_note=BLOCK_UNITS,
 )

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 from ...errors import InputError
 
-__all__ = ["PRESETS", "Preset", "get_preset", "preset_names"]
+__all__ = ["PRESETS", "Preset", "get_preset", "preset_names", "workflow_preset"]
 
 #: sources that were read for these presets (the `search` tool; what could not be read is named)
 XIA = "J. Xia, 'Results for 1D BK model', physics.clarku.edu/~jcxia/EQProject/BK1D.html (2005)"
@@ -110,3 +110,11 @@ def get_preset(name) -> Preset:
     if not isinstance(name, str) or name not in PRESETS:
         raise InputError("preset", name, "is not a known preset", f"use one of {', '.join(preset_names())}")
     return PRESETS[name]
+
+
+def workflow_preset(name) -> tuple[dict, tuple]:
+    """The chain's ``presets`` hook: a workflow's ``[model] preset`` as (axis values, (label,))."""
+    p = get_preset(name)
+    points = {"n": p.n, "ell": p.ell, "nu": p.nu, "nu_f": p.nu_f, "sigma": p.sigma,
+              "periodic": int(p.ends == "periodic")}
+    return points, ([p.law],)
