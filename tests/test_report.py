@@ -198,10 +198,10 @@ def test_reproduce_writes_stores_and_report(reproduced):
     assert result.exit_code == 0, result.output
     for name in ("tiny-fig2", "tiny-fig3", "tiny-critical"):
         assert (root / "results" / f"{name}.zarr").is_dir()
-    out = root / "results" / "paper"
+    out = root / "results" / "local" / "paper"   # not the committed results/paper (.gitignore)
     assert (out / "REPORT.md").is_file() and (out / "report.html").is_file()
     assert len(list(out.glob("*.png"))) == 5
-    assert "wrote results/paper/REPORT.md" in result.output
+    assert "wrote results/local/paper/REPORT.md" in result.output
 
 
 def test_cli_extrapolate_json(reproduced):

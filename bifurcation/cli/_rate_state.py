@@ -90,7 +90,9 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, preci
 @click.command("continue", epilog=examples(
     'bifurcation continue workflows/rate-state-quick.toml --out rate-state-quick'))
 @click.argument("workflow")
-@click.option("--out", default=None, help="Output directory (default results/<study name>/).")
+@click.option("--out", default=None,
+              help="Output directory (default results/local/<study name>/; the committed reference of "
+                   "workflows/rate-state.toml is results/rate-state: `--out results/rate-state` rewrites it).")
 def continue_cmd(workflow: str, out) -> None:
     """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
     from ..models.rate_state.study import load_study, run_study

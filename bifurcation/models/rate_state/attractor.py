@@ -66,7 +66,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
     """Integrate the perturbed steady slide of ``spec`` at load-point velocity ``v_lp`` (module docstring)."""
     import heyoka as hy
 
-    from ._system import compiled
+    from ._system import TAYLOR_BLOWUP, compiled
 
     c = compiled(spec.state_law, spec.inertial, 1, "double")
     ta = c.integrator
@@ -93,7 +93,8 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
 
     def below_blowup(integrator) -> bool:
         last_x[0] = float(integrator.state[0])
-        return last_x[0] - x_star <= BLOWUP
+        # the second test stops a finite-time blow-up before its next step overflows (_system.py)
+        return last_x[0] - x_star <= BLOWUP and abs(integrator.tc[0, -1]) < TAYLOR_BLOWUP
 
     while True:
         target = min(float(ta.time) + chunk, t_end)
@@ -106,7 +107,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
         top = max([e[1] for e in rec.extrema[seen:]] + [x])
         seen = len(rec.extrema)
         if top - x_star > BLOWUP or (outcome != hy.taylor_outcome.time_limit and x - x_star > 10
-                                     and steps < max_steps):
+                                     and steps < max_steps) or (outcome == hy.taylor_outcome.cb_stop):
             return Fate("unbounded", f"V grows without bound: {where}", steps=steps)
         if outcome == hy.taylor_outcome.err_nf_state:
             if last_x[0] - x_star > 20:   # the step from V > 5e8 V_lp overflowed: V blows up in finite time

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._system import compiled, rhs_expressions
+from ._system import blowup_guard, compiled, rhs_expressions
 from .hopf import HopfPoint, hopf_point, steady_state
 from .spec import SliderSpec
 
@@ -80,7 +80,8 @@ class ReturnMap:
         c.recorder.x0 = self.x0
         steps = 0
         while True:
-            outcome, _, _, n, *_ = ta.propagate_until(self.t_max, max_steps=self.max_steps - steps)
+            outcome, _, _, n, *_ = ta.propagate_until(self.t_max, max_steps=self.max_steps - steps,
+                                                      callback=blowup_guard(np.float64))
             steps += n
             if int(outcome) == -1 and ta.time == 0.0:
                 continue  # the start itself is on Σ: the event's cooldown now lets the run leave it

@@ -15,7 +15,7 @@ import heyoka as hy
 import numpy as np
 
 from ...errors import InputError
-from ._system import compiled
+from ._system import blowup_guard, compiled
 from .spec import LoadHistory, SliderSpec, load_history
 
 __all__ = ["DEFAULT_MAX_STEPS", "RateStateResult", "rate_state", "run_spec"]
@@ -32,8 +32,9 @@ class RateStateResult:
     ``ln_v``, ``ln_theta`` (one row per state variable), ``mu`` and ``slip`` (δ − δ(t0)) are arrays in
     the run's precision (float64, or heyoka real128 for ``precision="quad"``). ``extrema`` rows are
     (t, ln V, +1 for a maximum / −1 for a minimum); ``crossings`` rows are (t, threshold index,
-    +1 upward / −1 downward). ``status`` is ``ok``, ``max-steps``, ``stalled`` (the time step fell
-    below the resolution of t: V blows up in finite time, e.g. quasi-static below k_c) or
+    +1 upward / −1 downward). ``status`` is ``ok``, ``max-steps``, ``unbounded`` (V blows up in
+    finite time, e.g. quasi-static below k_c: the Taylor coefficients of ln V are about to overflow,
+    ``_system.TAYLOR_BLOWUP``), ``stalled`` (the time step fell below the resolution of t first) or
     ``nonfinite``; on anything but
     ``ok`` the series hold NaN from the first time the run could not reach.
     """
@@ -166,12 +167,15 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
             # outputs), landing exactly on the segment's end. (c_output=True costs ~12 ms per call.)
             inner = times[sel & (times > t_start)]
             grid = np.unique(np.concatenate([[t_start], inner, [stop]]))
-            res = ta.propagate_grid((grid - t_start).astype(dtype), max_steps=max(max_steps - steps, 1))
+            res = ta.propagate_grid((grid - t_start).astype(dtype), max_steps=max(max_steps - steps, 1),
+                                    callback=blowup_guard(dtype))
             outcome, steps_j, values = res[0], res[3], np.asarray(res[-1])
             steps += steps_j
             rows = {float(g): values[i] for i, g in enumerate(grid) if i < values.shape[0]}
             if outcome != hy.taylor_outcome.time_limit:
-                if outcome == hy.taylor_outcome.err_nf_state:
+                if outcome == hy.taylor_outcome.cb_stop:
+                    status = "unbounded"
+                elif outcome == hy.taylor_outcome.err_nf_state:
                     status = "nonfinite"
                 elif steps < max_steps:
                     # The step fell below the resolution of t: V blowing up in finite time (the
@@ -182,6 +186,8 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
                 reached = float(ta.time) + t_start
                 message = (f"{status} at t = {reached:.17g} after {steps} steps "
                            f"(segment {j}, V_lp = {v_seg:g})")
+                if status == "unbounded":
+                    message += f": V blows up in finite time (ln V = {float(ta.state[0]):.4g} and rising)"
                 for i in np.flatnonzero(sel):
                     if times[i] < reached and float(times[i]) in rows:
                         out[i] = rows[float(times[i])]

@@ -4,6 +4,7 @@
 every key) is validated into frozen specs before anything is computed or written; a bad key or value
 is one ``InputError`` line naming it.
 
+Output directory ``<out>``: ``--out``, default ``results/local/<study name>`` (ignored by git).
 Store (``<out>/branches.zarr``, Zarr v3 through xarray, written once at the end so an interrupted run
 leaves no half store): dimensions ``branch`` (labels in the attribute ``branch_labels``) × ``point`` (padded with NaN,
 ``status`` 0 = no point),
@@ -221,7 +222,8 @@ def run_study(path, out_dir=None, echo=print) -> dict:
     from .spec import SliderSpec
 
     spec = load_study(path)
-    out = pathlib.Path(out_dir or f"results/{spec.name}")
+    # Not the committed reference (results/<name>): a user's run must leave the checkout clean.
+    out = pathlib.Path(out_dir or f"results/local/{spec.name}")
     t_start = time.perf_counter()
     echo(f"study {spec.name}: {len(spec.branches)} branches")
     sweep = _closed_form_sweep(spec, echo)
