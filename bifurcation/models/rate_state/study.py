@@ -263,7 +263,7 @@ def run_study(path, out_dir=None, echo=print) -> dict:
     from .report import write_report, write_store
 
     write_store(out / "branches.zarr", spec, results)
-    write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start)
+    write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start, workflow=str(path))
     echo(f"wrote {out}/branches.zarr, {out}/REPORT.md in {time.perf_counter() - t_start:.0f} s")
     return {"sweep": sweep, "bautin": bautin, "branches": results, "fates": fates}
 
