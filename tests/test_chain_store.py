@@ -299,6 +299,7 @@ KILL = textwrap.dedent("""
     """)
 
 
+@pytest.mark.slow   # 4-5 s: kills and resumes real runs; the checkpoint's bit-identical resume is tested fast in process
 @pytest.mark.distributed
 def test_a_dask_worker_killed_mid_run_resumes_from_its_checkpoint_bit_identical(tmp_path):
     """`dask scheduler` + one `dask worker` (its nanny restarts it) on loopback; `bifurcation submit` of one
@@ -517,6 +518,7 @@ def test_a_damaged_or_foreign_checkpoint_is_ignored_and_the_run_starts_over(work
         assert_same(got, serial["potency"][tile.region].ravel()[k], "potency")
 
 
+@pytest.mark.slow   # 4-5 s: kills and resumes real runs; the checkpoint's bit-identical resume is tested fast in process
 @pytest.mark.distributed
 def test_a_killed_submit_is_resumed_by_the_next_from_the_checkpoint(tmp_path):
     """`bifurcation submit` on its embedded cluster killed (-9, the whole process group: submitter and its

@@ -108,6 +108,7 @@ def test_report_extrapolates_where_the_grid_allows_it(tmp_path):
     assert figures == ["store0_law0_critical.png", "store0_law0_delta.png", "store0_law0_period.png"]
 
 
+@pytest.mark.slow   # 8 s; the claims table itself is tested fast in test_report.py
 def test_report_of_a_store_with_the_paper_laws_has_the_claims(tmp_path):
     text = USER.replace('["exp(-x)", "1/(1+x/2)^2"]', '["piecewise-linear", "carlson-langer"]').replace(
         'name = "user-laws"', 'name = "paper-laws"').replace("num = 13", "num = 4").replace("nu = 13", "nu = 4")
