@@ -55,6 +55,7 @@ def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precisio
                      for k in CATALOG_FIELDS]
             click.echo(f"{i:6d} " + " ".join(cells))
         click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; {r.message}" if r.message else ""))
+        click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
     if r.status != 1:
         raise SystemExit(1)
 

@@ -201,7 +201,8 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
             rows.append([law, "(cannot be read by this version)", str(exc)])
     b.append(("table", ["law", "equation", "source"], rows))
     b.append(("table", ["axis", "symbol", "from", "to", "points", "units", "spacing"],
-              [[ax.name, ax.symbol, _fmt_value(_labels(ds, ax.name)[0]), _fmt_value(_labels(ds, ax.name)[-1]),
+              [[ax.name, ax.symbol, _fmt_value(ax.shown(_labels(ds, ax.name)[0])),
+                _fmt_value(ax.shown(_labels(ds, ax.name)[-1])),
                 str(ds.sizes[ax.name]), ax.units, ax.scale] for ax in model.axes]))
     status = np.asarray(ds["status"].values)
     statuses = (Status.NOT_COMPUTED, *(s for s in model.statuses if int(s) != int(Status.NOT_COMPUTED)))

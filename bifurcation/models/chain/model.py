@@ -42,7 +42,7 @@ AXES = (
     Axis("events", "K", "events computed per run", bounds=(1, 10**9), example=1000, default_tile=1,
          dtype="int64"),
     Axis("periodic", "ends", "chain ends: 0 free (U_0 ≡ U_1), 1 periodic (U_0 ≡ U_N)", bounds=(0, 1), example=0,
-         default_tile=1, dtype="int64"),
+         default_tile=1, dtype="int64", names=("free", "periodic")),
 )
 
 _PER_EVENT_DTYPES = {"hypocentre": "int64", "n_blocks": "int64"}

@@ -42,7 +42,8 @@ def chain_store_blocks(ds, model, out=None, figures=None, stem: str = "store") -
             continue
         index = tuple(int(i) for i in index)
         k = int(count[index])
-        cells = [str(ds[d].values[i].item() if hasattr(ds[d].values[i], "item") else ds[d].values[i])
+        axes = {a.name: a for a in model.axes}   # a choice axis printed as its word (ends: free/periodic)
+        cells = [str(axes[d].shown(ds[d].values[i].item()) if d in axes else ds[d].values[i].item())
                  for d, i in zip(dims, index) if d in varying]
         mean_p = big = spanning = "-"
         if catalog is not None and k:
