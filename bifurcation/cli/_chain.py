@@ -13,8 +13,10 @@ __all__ = ["COMMANDS"]
 def _u0(ctx, param, value):
     if value is None:
         return None
-    try:
-        return [float(x) for x in value.split(",")]
+    from ..engine._exact import Text
+
+    try:   # each keeps its decimal text: --precision quad reads it in real128
+        return [Text(x) for x in value.split(",")]
     except ValueError:
         raise click.BadParameter(f"{value!r} is not a comma-separated list of numbers; give e.g. 0,-0.1,0.05",
                                  param_hint="--u0") from None

@@ -13,10 +13,12 @@ def _floats(name: str, example: str):
     def convert(ctx, param, value):
         if value is None:
             return None
+        from ..engine._exact import Text
+
         out = []
         for part in str(value).split(","):
-            try:
-                out.append(float(part))
+            try:   # keeps its decimal text: --precision quad reads it in real128
+                out.append(Text(part))
             except ValueError:
                 raise click.BadParameter(f"{part!r} is not a number; give e.g. {example}",
                                          param_hint=name) from None

@@ -50,16 +50,20 @@ class ChainLoop:
     def __init__(self, law: FrictionLaw, n: int, ell: float, nu: float, nu_f: float, ends: str,
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
                  t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
-                 compact_above: int = COMPACT_ABOVE, timing: bool = False) -> None:
+                 compact_above: int = COMPACT_ABOVE, timing: bool = False, exact: dict | None = None) -> None:
+        from ...engine._exact import at_precision
         from ...engine._integrator import fp_info
 
         _, dtype, _ = fp_info(precision)
         self.dtype = dtype
         self.law, self.n, self.ends, self.precision, self.energy = law, n, ends, precision, energy
-        self.nu, self.nu_f, self.l2 = dtype(nu), dtype(nu_f), dtype(ell) * dtype(ell)
+        # ``exact``: the inputs as given (decimal text), read at the run's precision (engine._exact)
+        given = {"nu": nu, "nu_f": nu_f, "ell": ell, "u0": u0, **(exact or {})}
+        ell_p = at_precision(given["ell"], dtype)
+        self.nu, self.nu_f, self.l2 = at_precision(given["nu"], dtype), at_precision(given["nu_f"], dtype), ell_p * ell_p
         self.periodic = ends == "periodic"
         self.t_max, self.max_steps = t_max, max_steps
-        self.u = np.array([dtype(float(x)) for x in u0], dtype=dtype) if dtype is not np.float64 \
+        self.u = np.array([at_precision(x, dtype) for x in given["u0"]], dtype=dtype) if dtype is not np.float64 \
             else np.array(u0, dtype=np.float64)
         self.sigma = self._laplacian(self.u) * self.l2 - self.u       # σ_j(0), νt = 0
         self.t = dtype(0)

@@ -39,14 +39,17 @@ __all__ = ["TAYLOR_BLOWUP", "Compiled", "Recorder", "blowup_guard", "compiled", 
 TAYLOR_BLOWUP = 1e300
 
 
+#: The same for real128 (largest finite ~1.19e4932): its order-38 coefficients grow ~1e3 per step there.
+TAYLOR_BLOWUP_QUAD = "1e4900"
+
+
 def blowup_guard(dtype):
     """A step callback for ``propagate_*``: False (stop) once the last step's top Taylor coefficient of
-    ln V passes ``TAYLOR_BLOWUP`` (double only: real128's range is not reached before t's resolution)."""
-    if dtype is not np.float64:
-        return None
+    ln V passes ``TAYLOR_BLOWUP`` (``TAYLOR_BLOWUP_QUAD`` in real128)."""
+    bound = TAYLOR_BLOWUP if dtype is np.float64 else dtype(TAYLOR_BLOWUP_QUAD)
 
     def below(ta) -> bool:
-        return abs(ta.tc[0, -1]) < TAYLOR_BLOWUP
+        return abs(ta.tc[0, -1]) < bound
     return below
 
 _CACHE: dict = {}

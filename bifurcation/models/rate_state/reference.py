@@ -26,14 +26,22 @@ from .spec import LoadHistory, SliderSpec
 __all__ = ["reference_run"]
 
 
+def _mpf(x):
+    """``x`` in mpmath: a decimal given as text (``engine._exact``) from its text, exactly."""
+    from ...engine._exact import decimal_text
+
+    text = decimal_text(x)
+    return mp.mpf(text) if text is not None else mp.mpf(x)
+
+
 def _coefficients(spec: SliderSpec, v_lp, mu, thetas, order: int):
     """Taylor coefficients [μ_n], [[θ_i,n]] at the current point, up to ``order``."""
-    a, k, mu0, vref = mp.mpf(spec.a), mp.mpf(spec.k), mp.mpf(spec.mu0), mp.mpf(spec.v_ref)
+    a, k, mu0, vref = _mpf(spec.a), _mpf(spec.k), _mpf(spec.mu0), _mpf(spec.v_ref)
     laws = [resolve_state_law(n).name for n in spec.state_law]
     n_s = len(laws)
-    b = [mp.mpf(x) for x in spec.b]
-    dc = [mp.mpf(x) for x in spec.dc]
-    scale = [vref / (mp.mpf(resolve_state_law(n).steady_factor) * d) for n, d in zip(laws, dc)]
+    b = [_mpf(x) for x in spec.b]
+    dc = [_mpf(x) for x in spec.dc]
+    scale = [vref / (_mpf(resolve_state_law(n).steady_factor) * d) for n, d in zip(laws, dc)]
     M = [mu]
     TH = [[t] for t in thetas]
     LT = [[] for _ in range(n_s)]          # ln(V* θ_i/(c_i Dc_i))
@@ -96,33 +104,33 @@ def reference_run(spec: SliderSpec, history: LoadHistory, times, *, dps: int = 4
     if spec.inertial:
         raise ValueError("the mpmath reference is for the quasi-static slider")
     with mp.workdps(dps):
-        tol = mp.mpf(10) ** (-tol_digits)
-        v0 = mp.mpf(history.velocities[0])
-        mu = mp.mpf(spec.mu0) + mp.mpf(spec.a) * mp.log(v0 / mp.mpf(spec.v_ref))
-        thetas = [mp.mpf(resolve_state_law(n).steady_factor) * mp.mpf(d) / v0
+        tol = _mpf(10) ** (-tol_digits)
+        v0 = _mpf(history.velocities[0])
+        mu = _mpf(spec.mu0) + _mpf(spec.a) * mp.log(v0 / _mpf(spec.v_ref))
+        thetas = [_mpf(resolve_state_law(n).steady_factor) * _mpf(d) / v0
                   for n, d in zip(spec.state_law, spec.dc)]
-        t = mp.mpf(history.times[0])
-        stops = sorted({mp.mpf(x) for x in times} | {mp.mpf(x) for x in history.times[1:]})
+        t = _mpf(history.times[0])
+        stops = sorted({_mpf(x) for x in times} | {_mpf(x) for x in history.times[1:]})
         stops = [s for s in stops if s >= t]
-        want = {mp.mpf(x) for x in times}
+        want = {_mpf(x) for x in times}
         out = {"mu": [], "theta": [[] for _ in thetas], "v": [], "t": []}
         steps = 0
-        vref, a = mp.mpf(spec.v_ref), mp.mpf(spec.a)
+        vref, a = _mpf(spec.v_ref), _mpf(spec.a)
 
         def record():
-            lt = mp.fsum(mp.mpf(b) * mp.log(vref * th / (resolve_state_law(n).steady_factor * mp.mpf(d)))
+            lt = mp.fsum(_mpf(b) * mp.log(vref * th / (resolve_state_law(n).steady_factor * _mpf(d)))
                          for b, th, n, d in zip(spec.b, thetas, spec.state_law, spec.dc))
             out["t"].append(t)
             out["mu"].append(mu)
-            out["v"].append(vref * mp.exp((mu - mp.mpf(spec.mu0) - lt) / a))
+            out["v"].append(vref * mp.exp((mu - _mpf(spec.mu0) - lt) / a))
             for i, th in enumerate(thetas):
                 out["theta"][i].append(th)
 
         for stop in stops:
-            v_lp = mp.mpf(history.velocity_at(float(t)))
+            v_lp = _mpf(history.velocity_at(float(t)))
             while t < stop:
                 M, TH = _coefficients(spec, v_lp, mu, thetas, order)
-                h = min((tol / abs(c[-1])) ** (mp.mpf(1) / order) if c[-1] != 0 else mp.inf
+                h = min((tol / abs(c[-1])) ** (_mpf(1) / order) if c[-1] != 0 else mp.inf
                         for c in [M, *TH])
                 h = min(safety * h, stop - t)
                 mu = _horner(M, h)

@@ -15,6 +15,7 @@ import heyoka as hy
 import numpy as np
 
 from ...errors import InputError
+from ...engine._exact import at_precision
 from ._system import blowup_guard, compiled
 from .spec import LoadHistory, SliderSpec, load_history
 
@@ -124,16 +125,17 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
         if not (isinstance(v_start, (int, float)) and math.isfinite(v_start) and v_start > 0):
             raise InputError("v0", v_start, "must be a finite velocity > 0",
                              "give v0 > 0 (needed when the history starts with a hold)")
-        # Logs taken in the run's precision: a double ln θ0 would cost real128 runs 1e-16 at the start.
-        ln_v0 = np.log(dtype(v_start))
+        # Logs taken in the run's precision: a double ln θ0 would cost real128 runs 1e-16 at the start,
+        # and a decimal input (v_lp = "0.1") is read at that precision too (engine._exact).
+        ln_v0 = np.log(at_precision(v_start, dtype))
         if theta0 is None and ln_theta0 is None:
-            ln_theta0 = [np.log(dtype(law.steady_factor) * dtype(d) / dtype(v_start))
+            ln_theta0 = [np.log(dtype(law.steady_factor) * at_precision(d, dtype) / at_precision(v_start, dtype))
                          for law, d in zip(spec.laws, spec.dc)]
     if ln_theta0 is None:
         theta0 = list(np.atleast_1d(theta0))
         if len(theta0) != n or not all(math.isfinite(float(v)) and float(v) > 0 for v in theta0):
             raise InputError("theta0", theta0, f"must be {n} finite state value(s) > 0", "give θ0 > 0 per variable")
-        ln_theta0 = [np.log(dtype(float(v))) for v in theta0]
+        ln_theta0 = [np.log(at_precision(v, dtype)) for v in theta0]
 
     # State and parameters, converted to the integrator's type from their decimal/double value once.
     state = [ln_v0, *ln_theta0] + ([z0] if spec.inertial else [])
@@ -141,7 +143,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
     ta.time = dtype(0)
     pars = [spec.a, spec.k, history.velocities[0], spec.mass or 1.0, *spec.b, *spec.dc,
             *(math.log(v) for v in thresholds)]
-    ta.pars[:] = np.array([dtype(v) for v in pars], dtype=dtype)
+    ta.pars[:] = np.array([at_precision(v, dtype) for v in pars], dtype=dtype)
     c.recorder.reset(dtype(0))
     c.recorder.x0 = float(ln_v0)
 
@@ -153,7 +155,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
         t_start = history.times[j]
         if t_start > t_last:
             break
-        ta.pars[2] = dtype(v_seg)
+        ta.pars[2] = at_precision(v_seg, dtype)
         # Each segment runs in its own local time from 0: the step size and event times are then resolved
         # relative to the segment, not to an absolute t (a reload after a 1e12 hold would otherwise be
         # integrated with the 1e-4 granularity of t = 1e12).
