@@ -43,14 +43,34 @@ TAYLOR_BLOWUP = 1e300
 TAYLOR_BLOWUP_QUAD = "1e4900"
 
 
-def blowup_guard(dtype):
+class blowup_guard:
     """A step callback for ``propagate_*``: False (stop) once the last step's top Taylor coefficient of
-    ln V passes ``TAYLOR_BLOWUP`` (``TAYLOR_BLOWUP_QUAD`` in real128)."""
-    bound = TAYLOR_BLOWUP if dtype is np.float64 else dtype(TAYLOR_BLOWUP_QUAD)
+    ln V passes ``TAYLOR_BLOWUP`` (``TAYLOR_BLOWUP_QUAD`` in real128): ``reason`` = "blow-up"; or once
+    ``STALL_STEPS`` steps in a row leave t where it was (their size below the resolution of t):
+    ``reason`` = "stall". Without the second test a stalled run would call this Python callback once
+    per empty step up to ``max_steps`` (2e6: seconds), where heyoka alone spins through them in C++."""
 
-    def below(ta) -> bool:
-        return abs(ta.tc[0, -1]) < bound
-    return below
+    #: Steps in a row that do not move t before the run is called stalled (one or a few such steps
+    #: happen where t still advances on the next: measured on the quasi-static fates, none needs 100).
+    STALL_STEPS = 100
+
+    def __init__(self, dtype) -> None:
+        self.bound = TAYLOR_BLOWUP if dtype is np.float64 else dtype(TAYLOR_BLOWUP_QUAD)
+        self.reason = ""
+        self._last = None
+        self._still = 0
+
+    def __call__(self, ta) -> bool:
+        if not abs(ta.tc[0, -1]) < self.bound:
+            self.reason = "blow-up"
+            return False
+        now = ta.time
+        self._still = self._still + 1 if now == self._last else 0
+        if self._still >= self.STALL_STEPS:
+            self.reason = "stall"
+            return False
+        self._last = now
+        return True
 
 _CACHE: dict = {}
 

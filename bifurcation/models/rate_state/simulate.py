@@ -169,14 +169,15 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
             # outputs), landing exactly on the segment's end. (c_output=True costs ~12 ms per call.)
             inner = times[sel & (times > t_start)]
             grid = np.unique(np.concatenate([[t_start], inner, [stop]]))
+            guard = blowup_guard(dtype)
             res = ta.propagate_grid((grid - t_start).astype(dtype), max_steps=max(max_steps - steps, 1),
-                                    callback=blowup_guard(dtype))
+                                    callback=guard)
             outcome, steps_j, values = res[0], res[3], np.asarray(res[-1])
             steps += steps_j
             rows = {float(g): values[i] for i, g in enumerate(grid) if i < values.shape[0]}
             if outcome != hy.taylor_outcome.time_limit:
                 if outcome == hy.taylor_outcome.cb_stop:
-                    status = "unbounded"
+                    status = "unbounded" if guard.reason == "blow-up" else "stalled"
                 elif outcome == hy.taylor_outcome.err_nf_state:
                     status = "nonfinite"
                 elif steps < max_steps:
