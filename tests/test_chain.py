@@ -65,7 +65,8 @@ def test_uncoupled_blocks_are_independent(ends):
 
 @pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear"])
 @pytest.mark.parametrize("ends", ["free", "periodic"])
-@pytest.mark.parametrize("nu", [1e-2, 1e-6, 1e-10])
+@pytest.mark.parametrize("nu", [pytest.param(1e-2, marks=pytest.mark.slow),   # 2-3 s each: long events
+                                1e-6, 1e-10])
 def test_energy_balance_per_event(law, ends, nu):
     """Driver work − friction dissipation = change of elastic energy, per event, to 1e-12 relative
     (of the dissipation): the budget is integrated along the trajectory, so it fails if the motion does

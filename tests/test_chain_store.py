@@ -300,6 +300,7 @@ KILL = textwrap.dedent("""
     """)
 
 
+@pytest.mark.slow   # 4-5 s: kills and resumes real runs; the checkpoint's bit-identical resume is tested fast in process
 @pytest.mark.distributed
 def test_a_dask_worker_killed_mid_run_resumes_from_its_checkpoint_bit_identical(tmp_path):
     """`dask scheduler` + one `dask worker` (its nanny restarts it) on loopback; `bifurcation submit` of one
@@ -389,6 +390,19 @@ def test_submit_of_the_shipped_chain_workflow_end_to_end(tmp_path):
     assert report.exit_code == 0, report.output
     md = (tmp_path / "report" / "REPORT.md").read_text()
     assert "Chain runs and their catalogs" in md and "| 16 | 0.2 | complete | 200 |" in md
+    assert (tmp_path / "report" / "store0_magnitude_frequency.png").is_file()   # a figure, not 0
+    assert "](store0_magnitude_frequency.png)" in md and "| periodic | ends | free | free |" in md
+    # the axes in the model's (and the workflow's) order; the ends as the CLI names them, not 0/1
+    rows = runner.invoke(cli, ["query", "--store", str(store), "--n", "4", "--nu-f", "0.2", "--format", "csv"])
+    header, row = rows.stdout.splitlines()[:2]
+    assert header.startswith("law,n,ell,nu,nu_f,amplitude,seed,events,periodic,status,"), header
+    assert row.startswith("carlson-langer,4,1.0,0.001,0.2,0.1,1,200,free,complete,"), row
+    by_word = runner.invoke(cli, ["query", "--store", str(store), "--periodic", "free", "--n", "4",
+                                  "--nu-f", "0.2", "--format", "csv"])
+    assert by_word.exit_code == 0 and by_word.stdout == rows.stdout   # the word selects what 0 does
+    refused = runner.invoke(cli, ["export", "--store", str(store), "--out", str(tmp_path / "runs.csv")])
+    assert refused.exit_code == 2 and "per-event catalogs" in refused.output   # not dropped silently
+    assert not (tmp_path / "runs.csv").exists()
     again = runner.invoke(cli, ["submit", str(repo / "workflows" / "chain-study.toml"), "--store", str(store),
                                 "--workers", "1", "--json"])
     assert again.exit_code == 0 and json.loads(again.stdout[again.stdout.index("{"):])["skipped"] == 4
@@ -518,6 +532,7 @@ def test_a_damaged_or_foreign_checkpoint_is_ignored_and_the_run_starts_over(work
         assert_same(got, serial["potency"][tile.region].ravel()[k], "potency")
 
 
+@pytest.mark.slow   # 4-5 s: kills and resumes real runs; the checkpoint's bit-identical resume is tested fast in process
 @pytest.mark.distributed
 def test_a_killed_submit_is_resumed_by_the_next_from_the_checkpoint(tmp_path):
     """`bifurcation submit` on its embedded cluster killed (-9, the whole process group: submitter and its

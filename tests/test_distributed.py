@@ -174,6 +174,7 @@ def test_worker_killed_mid_run_still_completes(dask_cluster, reference, workflow
     assert_store_equals(tmp_path / "kill.zarr", expected)
 
 
+@pytest.mark.slow   # 3-6 s each; real scheduler = serial and a killed worker stay fast
 def test_submitting_process_killed_mid_run_then_resumed(dask_cluster, reference, tmp_path):
     from bifurcation.workflow import load_workflow
 
@@ -245,6 +246,7 @@ def _wait_until(predicate, timeout: float, what: str) -> None:
         time.sleep(0.5)
 
 
+@pytest.mark.slow   # 3-6 s each; real scheduler = serial and a killed worker stay fast
 def test_detached_submit_completes_after_the_client_is_killed(dask_cluster, reference, workflow_file, tmp_path):
     """`submit --detach` to a real scheduler, the client killed (-9) right after it hands the run over:
     the workers finish the study, the finalize task records it and releases the lock, `status` shows it,
@@ -284,6 +286,7 @@ def test_detached_submit_completes_after_the_client_is_killed(dask_cluster, refe
     assert result.exit_code == 0 and result.output.rstrip().endswith("complete"), result.output
 
 
+@pytest.mark.slow   # 3-6 s each; real scheduler = serial and a killed worker stay fast
 def test_a_submit_joins_a_live_detached_run(dask_cluster, reference, workflow_file, tmp_path, capsys):
     """A submit that finds a detached run alive on its store waits for it (joins), then resumes."""
     import json as _json

@@ -107,6 +107,7 @@ nu = 64
 """
 
 
+@pytest.mark.slow   # 7 s: two real submits; the lock's refusal is tested fast above
 @pytest.mark.distributed
 def test_two_real_submits_on_one_store(tmp_path):
     """A second `submit` and a `--new-store` while the first runs: both refused in one line naming it."""

@@ -155,6 +155,7 @@ def test_branch_in_v_lp_with_inertia_moves_kappa_as_k_c_grows_with_v_lp():
     assert v == sorted(v) and kap == sorted(kap, reverse=True) and v[-1] > 3 and kap[-1] < 0.25
 
 
+@pytest.mark.slow   # 5 s; continue's store and report are tested fast above
 def test_continue_writes_a_branch_in_v_lp(tmp_path):
     wf = tmp_path / "v.toml"
     wf.write_text(WORKFLOW.replace('points = 4\nmax_step = 0.5',

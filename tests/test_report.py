@@ -193,19 +193,37 @@ def reproduced(tmp_path_factory):
     return root, result
 
 
+@pytest.fixture(scope="module")
+def tiny_stores(tmp_path_factory):
+    """The tiny critical-point store of `reproduce` above, written in process (no cluster): what the
+    analysis commands read. Returns the directory holding ``results/``."""
+    from bifurcation.run.tiles import compute_tile, iter_tiles
+    from bifurcation.store import create_store, write_tile
+    from bifurcation.workflow import parse_workflow
+
+    root = tmp_path_factory.mktemp("stores")
+    w = parse_workflow(textwrap.dedent(_TINY["tiny-critical.toml"]))
+    path = root / "results" / "tiny-critical.zarr"
+    run_id = create_store(path, w)["run_id"]
+    for tile in iter_tiles(w):
+        write_tile(path, tile, compute_tile(tile), run_id)
+    return root
+
+
+@pytest.mark.slow   # 15 s (a cluster, three workflows, the report); test_cli_examples runs reproduce fast
 def test_reproduce_writes_stores_and_report(reproduced):
     root, result = reproduced
     assert result.exit_code == 0, result.output
     for name in ("tiny-fig2", "tiny-fig3", "tiny-critical"):
         assert (root / "results" / f"{name}.zarr").is_dir()
-    out = root / "results" / "paper"
+    out = root / "results" / "local" / "paper"   # not the committed results/paper (.gitignore)
     assert (out / "REPORT.md").is_file() and (out / "report.html").is_file()
     assert len(list(out.glob("*.png"))) == 5
-    assert "wrote results/paper/REPORT.md" in result.output
+    assert "wrote results/local/paper/REPORT.md" in result.output
 
 
-def test_cli_extrapolate_json(reproduced):
-    root, _ = reproduced
+def test_cli_extrapolate_json(tiny_stores):
+    root = tiny_stores
     store = root / "results" / "tiny-critical.zarr"
     r = CliRunner().invoke(cli, ["extrapolate", "--store", str(store), "--law", "carlson-langer",
                                  "--nu-f", "0.5", "--json"])
@@ -220,8 +238,8 @@ def test_cli_extrapolate_json(reproduced):
     assert r.exit_code == 0 and json.loads(r.output)["paper_value"] is None   # the paper gives none there
 
 
-def test_cli_fit_period_json(reproduced):
-    root, _ = reproduced
+def test_cli_fit_period_json(tiny_stores):
+    root = tiny_stores
     r = CliRunner().invoke(cli, ["fit-period", "--store", str(root / "results"), "--law", "piecewise-linear",
                                  "--nu-f", "0.4", "--json"])
     assert r.exit_code == 0, r.output
@@ -231,8 +249,8 @@ def test_cli_fit_period_json(reproduced):
     assert out["log_coefficient"] == pytest.approx(out["log_coefficient_expected"], rel=0.01)
 
 
-def test_cli_fit_period_text_output(reproduced):
-    root, _ = reproduced
+def test_cli_fit_period_text_output(tiny_stores):
+    root = tiny_stores
     r = CliRunner().invoke(cli, ["fit-period", "--store", str(root / "results" / "tiny-critical.zarr"),
                                  "--law", "carlson-langer", "--nu-f", "0.4"])
     assert r.exit_code == 0, r.output
@@ -247,8 +265,8 @@ def test_cli_fit_period_text_output(reproduced):
     (["extrapolate", "--law", "1/(1+x/2)^2", "--nu-f", "0.3"], "--law='1/(1+x/2)^2': is in no store given"),
     (["extrapolate", "--law", "carlson-langer", "--nu-f", "abc"], "'abc' is not a number"),
 ])
-def test_cli_bad_input_is_one_line_exit_2(reproduced, args, message):
-    root, _ = reproduced
+def test_cli_bad_input_is_one_line_exit_2(tiny_stores, args, message):
+    root = tiny_stores
     store = str(root / "results" / "tiny-critical.zarr")
     r = CliRunner().invoke(cli, [*args, "--store", store])
     assert r.exit_code == 2, r.output

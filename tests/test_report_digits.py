@@ -76,6 +76,7 @@ def _another_cpu(ds, seed: int):
     return out
 
 
+@pytest.mark.slow   # 7 s: three perturbed reruns of every fit
 def test_tables_hold_when_the_data_change_as_on_another_cpu(data, tables):
     for seed in (101, 102):
         moved = _another_cpu(data, seed)

@@ -101,6 +101,7 @@ def test_package_advertises_types_and_submit():
     assert bf.submit is __import__("bifurcation.run", fromlist=["submit"]).submit
 
 
+@pytest.mark.slow   # 9 s: starts a cluster with bokeh and fetches the page
 @pytest.mark.distributed
 def test_dashboard_link_serves_the_page(tmp_path, monkeypatch):
     """`--dashboard`: the embedded cluster serves Dask's bokeh dashboard at the printed link."""

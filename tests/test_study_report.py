@@ -67,13 +67,48 @@ def test_report_finds_the_transition_between_the_labels_either_side(user_report)
     assert "0.5 (stick-slip) → 0.55 (creep)" in md
 
 
-def test_report_extrapolates_where_the_grid_allows_it(user_report):
+def test_report_says_when_the_grid_is_too_short_to_extrapolate(user_report):
     _, out, _ = user_report
     md = (out / "REPORT.md").read_text()
     # 13 points along ν with 7 at ν ≤ 1e-6 is fewer than MIN_SERIES: no extrapolation, and it says so
     assert "No ν → 0 extrapolation" in md
 
 
+LONG = textwrap.dedent("""
+    [study]
+    name = "long-series"
+    [engine]
+    laws = ["carlson-langer"]
+    [grid.nu]
+    log = { start = 1e-6, stop = 1e-15, per_decade = 2 }
+    [grid.nu_f]
+    values = [0.3, 0.48, 0.5]
+    """)
+
+
+def test_report_extrapolates_where_the_grid_allows_it(tmp_path):
+    """19 points along ν at ν ≤ 1e-6 (≥ MIN_SERIES): the extrapolation and the recurrence-time fit are
+    made, with their figures; at ν_f = 0.48 (r = 0.5625 ≥ 1/2) the report says they do not apply."""
+    _, path = _store(tmp_path, LONG)
+    out = tmp_path / "r"
+    result = CliRunner().invoke(cli, ["report", "--store", str(path), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    md = (out / "REPORT.md").read_text()
+    table = md[md.index("| ν_f | regime |"):md.index("Recurrence time T − Δ0/ν")]   # the extrapolations
+    rows = {line.split(" | ")[0].lstrip("| "): line for line in table.splitlines() if line.startswith("| 0.")}
+    # the direct limits these rows are compared with: Carlson–Langer Δ0(0.3) = 1.0884904195 and
+    # Δ0(1/2) = 0.15072944 (README, results/paper/REPORT.md); "yes" = within the stated uncertainty
+    assert "| stick-slip | 19 | 1.08849" in rows["0.3"] and rows["0.3"].endswith("| yes |")
+    assert "| critical | 19 | 0.1507" in rows["0.5"] and rows["0.5"].endswith("| yes |")
+    assert "0.48" not in rows   # no number where the method does not apply ...
+    assert "do not apply at ν_f = 0.48: there r = (α − ω)² ≥ 1/2" in md   # ... a sentence instead
+    fits = md[md.index("Recurrence time T − Δ0/ν"):]
+    assert "| 0.3 | 0.3333" in fits and "| 0.48 |" not in fits   # ln coefficient near α − ω = 1/3
+    figures = sorted(p.name for p in out.glob("*.png"))
+    assert figures == ["store0_law0_critical.png", "store0_law0_delta.png", "store0_law0_period.png"]
+
+
+@pytest.mark.slow   # 8 s; the claims table itself is tested fast in test_report.py
 def test_report_of_a_store_with_the_paper_laws_has_the_claims(tmp_path):
     text = USER.replace('["exp(-x)", "1/(1+x/2)^2"]', '["piecewise-linear", "carlson-langer"]').replace(
         'name = "user-laws"', 'name = "paper-laws"').replace("num = 13", "num = 4").replace("nu = 13", "nu = 4")

@@ -63,6 +63,7 @@ def chunk_files(path) -> dict:
             for p in sorted(path.rglob("*")) if p.is_file()}
 
 
+@pytest.mark.slow   # 10 s; store = serial engine is checked fast in test_distributed, test_models, test_chain_store
 def test_submit_equals_serial_and_resubmit_computes_nothing(scheduler, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     w = workflow()
@@ -220,6 +221,7 @@ def test_cli_submit_and_query(scheduler, tmp_path, monkeypatch):
     assert result.exit_code == 0 and "0 computed, 27 skipped" in result.stdout
 
 
+@pytest.mark.slow   # 11 s: the Dask pipeline benchmark at its smallest; submit itself is covered fast
 def test_bench_pipeline_smoke():
     from bifurcation.bench.pipeline import bench_pipeline
 

@@ -267,6 +267,10 @@ def extrapolate_delta(source, law: str, nu_f: float, *, relative_error: float = 
         if reach is not None:
             naive[f"ν at which Δ(ν) comes down to {pv:g} (fitted model)"] = reach
     elif nu_f < 0.5:
+        from ..theory import alpha, omega
+        from .period_fit import check_applies
+
+        check_applies(nu_f, (float(alpha(nu_f)) - float(omega(nu_f))) ** 2, "stick-slip extrapolation")
         regime, variable = "stick-slip", "ν (powers ν^(j(1−r)+k), ln ν)"
         keep = status == Status.STICK_SLIP
         value, unc, rows = _stick_slip(nu[keep], delta[keep], period[keep], nu_f, relative_error,

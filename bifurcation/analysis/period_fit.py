@@ -39,7 +39,7 @@ from ..errors import InputError
 from ._data import _number, cycles_along_nu, match_nu_f
 from ._lsq import linear_fit
 
-__all__ = ["PeriodFit", "Term", "expansion_terms", "fit_period"]
+__all__ = ["R_MAX", "PeriodFit", "Term", "check_applies", "expansion_terms", "fit_period"]
 
 #: Relative precision of the engine's T (and Δ) in double precision: a few 1e-16 (engine tests).
 DEFAULT_RELATIVE_ERROR = 2.2e-16
@@ -65,6 +65,21 @@ class Term:
         nu = np.asarray(nu, dtype=float)
         out = nu ** self.exponent
         return out * np.log(1 / nu) if self.log else out
+
+
+#: The ladder offers the exponents j(1 − r) + k − 1 > 0 only; for r = (α − ω)² ≥ 1/2 (ν_f ≥ √2/3 ≈
+#: 0.4714) the term K2 ν^{1−2r} grows as ν → 0 too, and more of them as r → 1 (exponents crowding into
+#: (−1, 0)): the model lacks terms the data hold and its numbers mean nothing (fitted ln coefficients of
+#: 1e3–1e7 against α − ω ≈ 0.8, measured on results/critical-point.zarr). The method does not apply there.
+R_MAX = 0.5
+
+
+def check_applies(nu_f: float, r: float, what: str) -> None:
+    """``InputError`` where the expansion's ladder is incomplete (``R_MAX``): say so, never a number."""
+    if r >= R_MAX:
+        raise InputError("nu_f", nu_f, f"is where the {what} does not apply: r = (α − ω)² = {r:.4f} ≥ 1/2, so "
+                         "the term ν^(1−2r) grows as ν → 0 and the expansion's ladder (exponents > 0) cannot "
+                         "hold it", "use ν_f < √2/3 ≈ 0.4714, or `bifurcation extrapolate` at ν_f = 0.5")
 
 
 def _power_label(j: int, k: int) -> str:
@@ -293,6 +308,7 @@ def fit_period(source, law: str, nu_f: float, *, delta0: float | None = None,
     nu_f = match_nu_f(source, law, nu_f, nearest=nearest).label
     if not nu_f < 0.5:
         raise InputError("nu_f", nu_f, "(the nearest label) is not below 1/2", "give a ν_f label below 0.5")
+    check_applies(nu_f, (float(alpha(nu_f)) - float(omega(nu_f))) ** 2, "recurrence-time expansion")
     nu, _, period, status = cycles_along_nu(source, law, nu_f)
     stick = status == Status.STICK_SLIP
     nu, period = nu[stick], period[stick]

@@ -148,8 +148,9 @@ def _workflow_dir() -> Path:
 
 @click.command("reproduce", epilog=examples(
     'bifurcation reproduce --out my-paper-report'))
-@click.option("--out", default="results/paper", show_default=True, metavar="DIR",
-              help="Where the report goes (the stores go to results/<study>.zarr).")
+@click.option("--out", default="results/local/paper", show_default=True, metavar="DIR",
+              help="Where the report goes (the stores go to results/<study>.zarr). The committed "
+                   "reference is results/paper: `--out results/paper` rewrites it.")
 @O.SCHEDULER
 @O.WORKERS
 @click.option("--new-stores", is_flag=True,

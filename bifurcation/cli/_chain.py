@@ -13,8 +13,10 @@ __all__ = ["COMMANDS"]
 def _u0(ctx, param, value):
     if value is None:
         return None
-    try:
-        return [float(x) for x in value.split(",")]
+    from ..engine._exact import Text
+
+    try:   # each keeps its decimal text: --precision quad reads it in real128
+        return [Text(x) for x in value.split(",")]
     except ValueError:
         raise click.BadParameter(f"{value!r} is not a comma-separated list of numbers; give e.g. 0,-0.1,0.05",
                                  param_hint="--u0") from None
@@ -96,6 +98,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
             click.echo(f"{i:6d} " + " ".join(cells))
         click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; membership {r.membership}" if r.v_threshold else "")
                    + (f"; {r.message}" if r.message else ""))
+        click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
     if r.status != 1:
         raise SystemExit(1)
 

@@ -125,8 +125,10 @@ def number(name: str, example: str = "0.5"):
     def convert(ctx, param, value):
         if value is None:
             return None
-        try:
-            return float(value)
+        from ..engine._exact import Text
+
+        try:   # a float that keeps its text: a "quad" run reads the decimal in real128 (engine._exact)
+            return Text(value)
         except ValueError:
             raise click.BadParameter(f"{value!r} is not a number; give e.g. {example}",
                                      param_hint=name) from None

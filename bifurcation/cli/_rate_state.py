@@ -13,10 +13,12 @@ def _floats(name: str, example: str):
     def convert(ctx, param, value):
         if value is None:
             return None
+        from ..engine._exact import Text
+
         out = []
         for part in str(value).split(","):
-            try:
-                out.append(float(part))
+            try:   # keeps its decimal text: --precision quad reads it in real128
+                out.append(Text(part))
             except ValueError:
                 raise click.BadParameter(f"{part!r} is not a number; give e.g. {example}",
                                          param_hint=name) from None
@@ -146,7 +148,9 @@ def _cycle(spec, history, precision, as_json) -> None:
 @click.command("continue", epilog=examples(
     'bifurcation continue workflows/rate-state-quick.toml --out rate-state-quick'))
 @click.argument("workflow")
-@click.option("--out", default=None, help="Output directory (default results/<study name>/).")
+@click.option("--out", default=None,
+              help="Output directory (default results/local/<study name>/; the committed reference of "
+                   "workflows/rate-state.toml is results/rate-state: `--out results/rate-state` rewrites it).")
 @click.option("--damping", default=None, callback=number("--damping", "0.002"),
               help="Radiation damping ETA >= 0 for every branch (replaces the workflow's damping keys).")
 def continue_cmd(workflow: str, out, damping) -> None:

@@ -12,12 +12,14 @@ from ._common import echo_json, examples, fail, number
 __all__ = ["COMMANDS"]
 
 
-def _numbers(name: str):
-    """``_common.number`` for a repeatable option: each value parsed, the same message for a bad one."""
-    one = number(name, "1e-9")
+def _numbers(name: str, words: tuple = ()):
+    """``_common.number`` for a repeatable option: each value parsed, the same message for a bad one;
+    ``words`` (a choice axis's names, e.g. free/periodic) are taken as the index they name."""
+    one = number(name, f"{words[0]} or 0" if words else "1e-9")
 
     def convert(ctx, param, values):
-        return tuple(one(ctx, param, value) for value in values)
+        return tuple(float(words.index(v)) if v in words else one(ctx, param, value)
+                     for value in values for v in [str(value).strip()])
 
     return convert
 
@@ -71,8 +73,9 @@ def _axis_options(command):
         for axis in get_model(name).axes:
             seen.setdefault(axis.name, axis)
     for axis in reversed(list(seen.values())):
-        command = click.option(axis.option, axis.name, multiple=True, callback=_numbers(axis.option),
-                               help=f"{axis.symbol}: a label of the store (repeatable). Default: all.")(command)
+        words = f" or {'/'.join(axis.names)}" if axis.names else ""
+        command = click.option(axis.option, axis.name, multiple=True, callback=_numbers(axis.option, axis.names),
+                               help=f"{axis.symbol}: a label of the store{words} (repeatable). Default: all.")(command)
     return command
 
 
@@ -149,6 +152,8 @@ def _print_catalog(store, law, nearest, fmt, notes, axes) -> None:
         echo_json({"run": run, **{k: v.tolist() for k, v in out.items()}})
         return
     click.echo("run: " + ", ".join(f"{k} = {v}" for k, v in run.items()), err=True)
+    if "hypocentre" in out:
+        click.echo("events and hypocentres count from 0 (hypocentre 0 is block j = 1 of docs/chain.md)", err=True)
     keys = ("event", *out)
     count = len(next(iter(out.values())))
     rows = ({"event": i, **{k: v[i].item() for k, v in out.items()}} for i in range(count))

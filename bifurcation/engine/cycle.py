@@ -130,7 +130,7 @@ def _run(c: Compiled, values, state0, t_max: float, max_steps: int) -> tuple:
     return ta.time, state, found, maxima, crossings, steps, status, message   # state: the live view
 
 
-def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps: int) -> dict:
+def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps: int, exact=None) -> dict:
     """Raw outcomes for flat arrays of runtime values, one scalar integration each.
 
     Besides the final state, the records, ``steps`` and ``status``, each "first" record ``r`` gives
@@ -151,6 +151,14 @@ def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps
     max_out = [(n, out[n]) for n in maxima]
     # one row of slot values per point, in the integrator's precision (float64 → real128 is exact)
     rows = [[dtype(v) for v in row] for row in zip(*(values[name] for name in c.slots.names))]
+    for k, name in enumerate(c.slots.names):   # a decimal given as text, read at the run's precision
+        given = (exact or {}).get(name)
+        if given is not None and dtype is not np.float64:
+            from ._exact import at_precision
+
+            for i in range(size):
+                if float(given[i]) == float(values[name][i]):   # the slot takes the axis value as it is
+                    rows[i][k] = at_precision(given[i], dtype)
     for i in range(size):
         time, state, found, peaks, _, steps, status, message = _run(c, rows[i], None, t_max, max_steps)
         time_out[i] = float(time)
@@ -170,8 +178,11 @@ def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps
 
 
 def run_model(model, law, points: dict, *, precision: str = "double", t_max: float = DEFAULT_T_MAX,
-              max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1) -> tuple[dict, dict]:
+              max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1, exact: dict | None = None) -> tuple[dict, dict]:
     """The model's outputs and messages for flat arrays ``points`` (axis name → values).
+
+    ``exact``: for ``precision="quad"``, the points as given (object arrays: decimal text, Decimal, …)
+    of runtime slots that take an axis value unchanged, read in real128 (``engine._exact``).
 
     The one path of every model: compile (cached), run each point (scalar loop or SIMD batch), then
     the model's ``classify`` turns raw outcomes into its outputs.
@@ -181,7 +192,7 @@ def run_model(model, law, points: dict, *, precision: str = "double", t_max: flo
     values = model.runtime(points)
     structural = [a.name for a in model.structural]
     if not structural:
-        return _run_group(model, law, values, size, {}, precision, t_max, max_steps, batch)
+        return _run_group(model, law, values, size, {}, precision, t_max, max_steps, batch, exact)
     # one compiled system per distinct structure (an N-block chain per N): run each group, scatter back
     keys = np.stack([np.asarray(points[name]).ravel() for name in structural], axis=1)
     groups, inverse = np.unique(keys, axis=0, return_inverse=True)
@@ -199,14 +210,14 @@ def run_model(model, law, points: dict, *, precision: str = "double", t_max: flo
     return fields, messages
 
 
-def _run_group(model, law, values, size, structure, precision, t_max, max_steps, batch):
+def _run_group(model, law, values, size, structure, precision, t_max, max_steps, batch, exact=None):
     c = compiled(law, precision, batch if batch > 1 else 1, model=model, structure=structure)
     if batch > 1:
         from ._batch import run_batch
 
         raw = run_batch(c, values, size, t_max=t_max, max_steps=max_steps)
     else:
-        raw = _scalar_points(c, values, size, t_max, max_steps)
+        raw = _scalar_points(c, values, size, t_max, max_steps, exact)
     return model.classify(raw, values)
 
 
@@ -244,7 +255,8 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
     law : str or FrictionLaw
         A name of ``bifurcation.law_names()`` or a formula in x (see ``bifurcation.laws``).
     nu, nu_f : array_like
-        Pulling speed ν > 0 and friction velocity ν_f > 0 (Eq. 5), broadcast against each other.
+        Pulling speed ν > 0 and friction velocity ν_f > 0 (Eq. 5), broadcast against each other. With
+        ``precision="quad"`` a decimal given as text (``"1e-9"``, a ``Decimal``) is read in real128.
     precision : {"double", "quad"}
         ``"quad"`` integrates in heyoka real128 (verification; results are rounded to float64).
     t_max, max_steps : float, int
@@ -272,8 +284,12 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
     shape = nu_b.shape
     nu_flat = np.ascontiguousarray(nu_b, dtype=float).ravel()
     nu_f_flat = np.ascontiguousarray(nu_f_b, dtype=float).ravel()
+    exact = None
+    if precision == "quad":   # the inputs as given: decimals are read in real128, not via the double
+        given = np.broadcast_arrays(np.asarray(nu, dtype=object), np.asarray(nu_f, dtype=object))
+        exact = {"nu": given[0].ravel(), "nu_f": given[1].ravel()}
     fields, messages = run_model(SINGLE_BLOCK, law, {"nu": nu_flat, "nu_f": nu_f_flat}, precision=precision,
-                                 t_max=t_max, max_steps=max_steps, batch=batch)
+                                 t_max=t_max, max_steps=max_steps, batch=batch, exact=exact)
     return SlipResult(nu=nu_flat.reshape(shape), nu_f=nu_f_flat.reshape(shape),
                       **{k: v.reshape(shape) for k, v in fields.items()},
                       messages=messages, law=law.name, precision=precision)

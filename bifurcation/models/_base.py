@@ -70,6 +70,9 @@ class Axis:
     #: The one point a workflow without a ``[grid.<name>]`` table takes (None: the table is required),
     #: so that a model of many axes keeps simple workflows short.
     default: float | None = None
+    #: Words for the values 0, 1, … of an integer axis that is a choice (a chain's ends: "free",
+    #: "periodic"): printed by query and the reports, accepted by query, the store keeps the integers.
+    names: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.name.isidentifier():
@@ -87,6 +90,18 @@ class Axis:
     def cast(self, value):
         """``value`` as this axis's Python type (int for counts)."""
         return int(value) if self.dtype == "int64" else float(value)
+
+    def shown(self, value):
+        """``value`` as printed: its word for a choice axis (``names``), an int for counts."""
+        if self.names and float(value).is_integer() and 0 <= int(value) < len(self.names):
+            return self.names[int(value)]
+        return self.cast(value) if self.dtype == "int64" and float(value).is_integer() else value
+
+    def parse(self, text):
+        """A query value: a number, or one of ``names`` (its index)."""
+        if self.names and str(text).strip() in self.names:
+            return float(self.names.index(str(text).strip()))
+        return text
 
     @property
     def slot(self) -> str:
@@ -170,6 +185,15 @@ class Output:
     dtype: str = "float64"
     fill: float | int | bool = math.nan
     per_event: bool = False
+    #: Words for the codes 0, 1, … of an integer output that is a category (rate-state's criticality):
+    #: query and the reports print the word ("" for a code that means no value); the store keeps codes.
+    names: tuple[str, ...] = ()
+
+    def shown(self, value):
+        """``value`` as printed: its word where ``names`` has one (None for ""), else the value."""
+        if self.names and isinstance(value, (int, np.integer)) and 0 <= int(value) < len(self.names):
+            return self.names[int(value)] or None
+        return value
 
     def __post_init__(self) -> None:
         if self.dtype not in _DTYPES:

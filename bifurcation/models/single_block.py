@@ -56,13 +56,17 @@ FIELD_ATTRS = {
 
 
 def law_identity(text: str):
-    """What makes two law labels the same law: a named law by its name, a formula by its parsed
-    expression (``1/(1+x/2)**2`` is ``1/(1+x/2)^2``, spaces do not matter)."""
+    """What makes two law labels the same law: its parsed expression (``1/(1+x/2)**2`` is
+    ``1/(1+x/2)^2``, spaces do not matter), a named law by its formula: ``carlson-langer`` is
+    ``1/(1+x)``, the same Φ (the engine evaluates the named law without cancellation, the formula
+    through its own series: equal to rounding), so a query by either finds it."""
     text = str(text).strip()
-    if text in law_names():
-        return ("name", text)
     from ..laws.formula import formula_key
 
+    if text in law_names():
+        from ..laws.builtin import BUILTIN
+
+        return ("formula", formula_key(BUILTIN[text]().formula))
     return ("formula", formula_key(text))
 
 

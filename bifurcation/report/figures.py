@@ -25,6 +25,15 @@ _LAW_TITLE = {"piecewise-linear": "piecewise-linear law, Eq. (12)",
 _NU_F_COLORS = {0.2: "#1b9e77", 0.3: "#d95f02", 0.4: "#7570b3"}
 
 
+def _ordered(paper_order, present) -> list:
+    """The paper's laws in ``paper_order`` first (its figures unchanged), then any other law present."""
+    return [law for law in paper_order if law in present] + sorted(law for law in present if law not in paper_order)
+
+
+def _title(law: str) -> str:
+    return _LAW_TITLE.get(law, f"law {law}")
+
+
 def _figure(width: float, height: float, ncols: int = 1, nrows: int = 1, **kw):
     fig = Figure(figsize=(width, height), dpi=DPI, layout="constrained")
     FigureCanvasAgg(fig)
@@ -134,7 +143,7 @@ def figure_critical(extrapolations: dict) -> Figure:
     """Δ at ν_f = 1/2 against ε = 1/W(1/(2eν)), with the fit, the direct limit and the paper's values."""
     from ..analysis.extrapolate import critical_epsilon
 
-    laws = [law for law in ("carlson-langer", "piecewise-linear") if law in extrapolations]
+    laws = _ordered(("carlson-langer", "piecewise-linear"), extrapolations)
     fig, axes = _figure(4.2 * max(len(laws), 1), 4.0, ncols=max(len(laws), 1))
     for ax, law in zip(axes[0], laws):
         ex = extrapolations[law]
@@ -155,7 +164,7 @@ def figure_critical(extrapolations: dict) -> Figure:
         ax.set_xlim(-0.006, float(eps.max()) * 1.05)
         ax.set_xlabel("ε = 1/W(1/(2eν))  (≈ 1/ln(1/ν))")
         ax.set_ylabel("slip per cycle Δ at ν_f = 1/2  [F0/k]")
-        ax.set_title(_LAW_TITLE[law])
+        ax.set_title(_title(law))
         ax.grid(alpha=0.25, lw=0.5)
         ax.legend(loc="upper left", frameon=False)
         top = ax.twiny()
@@ -169,13 +178,13 @@ def figure_critical(extrapolations: dict) -> Figure:
 
 def figure_period(fits) -> Figure:
     """T − Δ0/ν against ν with the fitted expansion and the naive (α − ω) ln(1/ν), and the residuals."""
-    laws = [law for law in ("piecewise-linear", "carlson-langer") if any(f.law == law for f in fits)]
+    laws = _ordered(("piecewise-linear", "carlson-langer"), {f.law for f in fits})
     fig, axes = _figure(5.0 * max(len(laws), 1), 6.4, ncols=max(len(laws), 1), nrows=2,
                         gridspec_kw={"height_ratios": [2.2, 1]}, sharex="col")
     for col, law in enumerate(laws):
         ax, res = axes[0, col], axes[1, col]
-        for f in sorted((f for f in fits if f.law == law), key=lambda f: f.nu_f):
-            c = _NU_F_COLORS.get(round(f.nu_f, 6), None)
+        for n, f in enumerate(sorted((f for f in fits if f.law == law), key=lambda f: f.nu_f)):
+            c = _NU_F_COLORS.get(round(f.nu_f, 6), f"C{n}")   # one colour per ν_f for its four artists
             pos = f.excess > 0
             ax.loglog(f.nu[pos], f.excess[pos], "o", ms=3.2, color=c,
                       label=f"ν_f = {f.nu_f:g}: fitted ln coeff. {f.log_coefficient:.6f} (α − ω = "
@@ -189,7 +198,7 @@ def figure_period(fits) -> Figure:
         ax.plot([], [], "-", color="0.4", label="fit: (α−ω) ln(1/ν) + C0 + K ν^−r + higher terms")
         ax.plot([], [], "--", color="0.4", label="the paper's correction (α − ω) ln(1/ν) alone")
         ax.set_ylabel("T − Δ0/ν  [√(m/k)]")
-        ax.set_title(_LAW_TITLE[law])
+        ax.set_title(_title(law))
         ax.grid(alpha=0.25, lw=0.5, which="both")
         # Headroom for the legend: the data keep the lower 60 % of the (log) height, the legend's six
         # lines the top, so no legend text lies over the steepest (ν_f = 0.4) series.

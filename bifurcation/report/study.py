@@ -139,9 +139,11 @@ def _single_block_fits(ds, law: str):
     """Extrapolations and recurrence-time fits at every ν_f whose series along ν allows it."""
     from ..analysis import extrapolate_delta, fit_period
     from ..analysis._data import series_along_nu
+    from ..analysis.period_fit import R_MAX
     from ..errors import InputError
+    from ..theory import alpha, omega
 
-    extrapolations, fits, skipped = [], [], []
+    extrapolations, fits, skipped, not_applicable = [], [], [], []
     for nu_f in _labels(ds, "nu_f"):
         try:
             s = series_along_nu(ds, law, nu_f)
@@ -149,6 +151,9 @@ def _single_block_fits(ds, law: str):
             continue
         small = int(np.count_nonzero(s.x <= 1e-6))
         if small < MIN_SERIES:
+            continue
+        if 0 < nu_f < 0.5 and (alpha(nu_f) - omega(nu_f)) ** 2 >= R_MAX:
+            not_applicable.append(nu_f)   # one sentence for all of them, not a column of noise
             continue
         try:
             extrapolations.append(extrapolate_delta(ds, law, nu_f))
@@ -159,7 +164,7 @@ def _single_block_fits(ds, law: str):
                 fits.append(fit_period(ds, law, nu_f))
             except (InputError, ValueError, np.linalg.LinAlgError) as exc:
                 skipped.append(f"recurrence-time fit at ν_f = {nu_f:g}: {exc}")
-    return extrapolations, fits, skipped
+    return extrapolations, fits, skipped, not_applicable
 
 
 def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
@@ -186,7 +191,8 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
             rows.append([law, "(cannot be read by this version)", str(exc)])
     b.append(("table", ["law", "equation", "source"], rows))
     b.append(("table", ["axis", "symbol", "from", "to", "points", "units", "spacing"],
-              [[ax.name, ax.symbol, _fmt_value(_labels(ds, ax.name)[0]), _fmt_value(_labels(ds, ax.name)[-1]),
+              [[ax.name, ax.symbol, _fmt_value(ax.shown(_labels(ds, ax.name)[0])),
+                _fmt_value(ax.shown(_labels(ds, ax.name)[-1])),
                 str(ds.sizes[ax.name]), ax.units, ax.scale] for ax in model.axes]))
     status = np.asarray(ds["status"].values)
     statuses = (Status.NOT_COMPUTED, *(s for s in model.statuses if int(s) != int(Status.NOT_COMPUTED)))
@@ -234,7 +240,7 @@ def _slip_blocks(ds, model, out: Path, figures: list, stem: str, *, fits: bool) 
             b.append(("p", f"The ν → 0 extrapolation and the recurrence-time fit use the single block's theory; "
                            f"they are not made for model {model.name}."))
             continue
-        extrapolations, fitted, skipped = _single_block_fits(ds, law)
+        extrapolations, fitted, skipped, not_applicable = _single_block_fits(ds, law)
         if extrapolations:
             b.append(("p", "Δ(ν → 0) extrapolated from the finite-ν points at every ν_f whose series along ν "
                            f"allows it ({MIN_SERIES}+ points at ν ≤ 1e-6), against the direct limit (the engine's "
@@ -255,9 +261,42 @@ def _slip_blocks(ds, model, out: Path, figures: list, stem: str, *, fits: bool) 
                       [[f"{f.nu_f:g}", f"{f.log_coefficient:.8f} ± {f.log_coefficient_uncertainty:.0e}",
                         f"{f.log_coefficient_expected:.8f}", f"{f.relative_deviation:+.1e}", _fmt(f.C0), _fmt(f.K),
                         str(len(f.model)), f"{f.residual_max:.1e}"] for f in fitted]))
+        if not_applicable:
+            where = (f"ν_f = {not_applicable[0]:g}" if len(not_applicable) == 1 else
+                     f"ν_f = {not_applicable[0]:g} … {not_applicable[-1]:g} ({len(not_applicable)} labels)")
+            b.append(("p", f"The stick-slip extrapolation and the recurrence-time fit do not apply at {where}: "
+                           "there r = (α − ω)² ≥ 1/2 (ν_f ≥ √2/3 ≈ 0.4714), the term ν^(1−2r) grows as ν → 0 "
+                           "and the expansion's terms crowd together as ν_f → 1/2; at ν_f = 1/2 itself the "
+                           "critical expansion in ε applies (the row above, where the store holds it)."))
+        _fit_figures(b, figures, out, f"{stem}_law{i}", law, extrapolations, fitted)
         if skipped:
             b.append(("ul", skipped))
     return b
+
+
+#: Recurrence-time series drawn per law (evenly spread over the fitted ν_f): more is unreadable.
+_MAX_FITS_DRAWN = 4
+
+
+def _fit_figures(b: list, figures: list, out: Path, stem: str, law: str, extrapolations, fits) -> None:
+    """The figures of the fits, as the paper's report draws them: Δ at ν_f = 1/2 against ε with the
+    extrapolation, and T − Δ0/ν against ν with the fitted expansion and its residuals."""
+    critical = [e for e in extrapolations if e.regime == "critical"]
+    if critical:
+        name = f"{stem}_critical.png"
+        F.save(F.figure_critical({law: critical[0]}), out / name)
+        figures.append(out / name)
+        b.append(("figure", name, f"{law} at ν_f = 1/2: Δ against ε = 1/W(1/(2eν)) (≈ 1/ln(1/ν)), the polynomial "
+                                   "fit in ε, its extrapolation to ε = 0 and the direct ν → 0 limit."))
+    if fits:
+        drawn = [fits[i] for i in _pick(len(fits), _MAX_FITS_DRAWN)]
+        name = f"{stem}_period.png"
+        F.save(F.figure_period(drawn), out / name)
+        figures.append(out / name)
+        b.append(("figure", name, f"{law}: T − Δ0/ν against ν at ν_f = "
+                                   f"{', '.join(f'{f.nu_f:g}' for f in drawn)} with the fitted expansion (solid) "
+                                   "and (α − ω) ln(1/ν) alone (dashed); below, the residuals over the data error "
+                                   "(±1 shaded; these move on another CPU: the data error is the rounding)."))
 
 
 def _holds_paper_laws(stores) -> bool:

@@ -103,6 +103,10 @@ def connect(target, workers: int | None = None, timeout: float | None = None, *,
         n = workers or os.cpu_count() or 1
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                dashboard_address=":8787" if dashboard else None,
+                               # without a dashboard the scheduler still serves its HTTP routes (health,
+                               # metrics), by default on 8787: on a free loopback port instead, so a busy
+                               # 8787 is no "Port 8787 is already in use" warning nobody asked about
+                               scheduler_kwargs=None if dashboard else {"dashboard_address": "127.0.0.1:0"},
                                # a failed task (disk full, a bad tile) is reported once in the summary;
                                # the workers' own "Compute Failed" tracebacks would reach the user's stderr
                                silence_logs=logging.CRITICAL)

@@ -260,7 +260,9 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
         progress.note(f"{todo} points to compute ({skipped} already done); connecting to "
                       f"{describe(target)}" + (f" of {workers} workers" if workers and target is None else ""))
         with connect(target, workers, workers_timeout, dashboard=dashboard) as client:
-            if dashboard or target is not None:
+            # asked for, or the user's own scheduler (which serves one); a client handed in by the caller
+            # (reproduce's embedded cluster, started without a dashboard) has none worth a line
+            if dashboard or (target is not None and target[0] != "client"):
                 progress.note(f"dashboard: {client.dashboard_link}")
             if fresh:
                 attrs = create_store(path, workflow, command=command, overwrite=new_store)

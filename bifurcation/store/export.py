@@ -141,6 +141,14 @@ def export(store, out, fmt: str | None = None) -> dict:
         raise InputError("--out", str(out), "is a directory", "give a file path ending in .nc or .csv")
     fmt = _format(out, fmt)
     check_store(path, None)
+    if fmt == "csv":
+        from .catalog import has_catalog
+
+        if has_catalog(path):   # one row per point cannot hold them, and dropping them would be silent
+            raise InputError("--out", str(out), "is a CSV file, and this store's runs have per-event catalogs "
+                             "(a chain store), which one row per run cannot hold",
+                             "export to .nc (catalogs as CF ragged arrays), or print one run's events with "
+                             "`bifurcation query --store S ... --catalog --format csv`")
     if not out.parent.is_dir():
         raise InputError("--out", str(out), "is in a directory that does not exist", "create it first")
     damage, _, _ = scan(path)

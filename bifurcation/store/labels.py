@@ -55,10 +55,13 @@ def nearest_labels(labels, value: float, *, scale: str = "linear", count: int = 
 
 
 def match_value(axis: str, labels, value, *, nearest: bool = False, scale: str = "linear",
-                argument: str | None = None) -> Match:
+                argument: str | None = None, show=None) -> Match:
     """The label of ``labels`` equal to ``value`` within ``RTOL`` (relative), else the nearest one if
-    ``nearest``, else ``InputError`` naming ``argument`` (default ``axis``) and the nearest labels."""
+    ``nearest``, else ``InputError`` naming ``argument`` (default ``axis``) and the nearest labels.
+    ``show``: how a label is printed (``Axis.shown``: ``16`` not ``16.0`` for a count, ``free`` for
+    the chain's ends 0); the ``Match`` holds the printed forms."""
     argument = argument or axis
+    shown = show or (lambda v: v)
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -71,15 +74,15 @@ def match_value(axis: str, labels, value, *, nearest: bool = False, scale: str =
     hit = np.flatnonzero(np.abs(labels - x) <= RTOL * max(abs(x), np.finfo(float).tiny))
     if hit.size:
         i = int(hit[np.argmin(np.abs(labels[hit] - x))])
-        return Match(axis, x, i, float(labels[i]), True)
+        return Match(axis, shown(x), i, shown(float(labels[i])), True)
     near = nearest_labels(labels, x, scale=scale)
     if not nearest:
-        shown = ", ".join(repr(v) for v in near)
-        span = f"{float(labels.min())!r} … {float(labels.max())!r}, {labels.size} labels"
-        raise InputError(argument, x, f"is not a label of this store (nearest: {shown}; {span})",
+        listed = ", ".join(repr(shown(v)) for v in near)
+        span = f"{shown(float(labels.min()))!r} … {shown(float(labels.max()))!r}, {labels.size} labels"
+        raise InputError(argument, shown(x), f"is not a label of this store (nearest: {listed}; {span})",
                          "give one of its labels, or pass --nearest to take the nearest")
     i = int(np.flatnonzero(labels == near[0])[0])
-    return Match(axis, x, i, near[0], False)
+    return Match(axis, shown(x), i, shown(near[0]), False)
 
 
 def match_label(axis: str, labels, value, identity, *, argument: str | None = None) -> Match:

@@ -30,14 +30,14 @@ _STATUS_NAMES = {int(s): str(s) for s in Status}
 
 
 def columns(model=None) -> tuple[str, ...]:
-    """Keys of a record, in order: the label, the axes (fastest first), status, the float outputs,
-    the other outputs."""
+    """Keys of a record, in order: the label, the axes (in the model's order, that of the store's
+    dimensions and of the workflow), status, the float outputs, the other outputs."""
     from ..models import get_model
 
     spec = get_model(model)
     rest = [o.name for o in spec.outputs
             if o.name != "status" and o.name not in spec.float_outputs and not o.per_event]
-    return (spec.labels.name, *(a.name for a in reversed(spec.axes)), "status", *spec.float_outputs, *rest)
+    return (spec.labels.name, *(a.name for a in spec.axes), "status", *spec.float_outputs, *rest)
 
 
 #: The single block's record keys.
@@ -72,7 +72,9 @@ def _selection(model, labels: dict, law, axes: dict, nearest: bool, notes) -> di
             continue
         chosen = set()
         for value in values:   # one value at a time: an error shows that value
-            m = match_value(axis.name, axis_labels, value, nearest=nearest, scale=axis.scale)
+            value = axis.parse(value)
+            m = match_value(axis.name, axis_labels, value, nearest=nearest, scale=axis.scale,
+                            show=axis.shown)
             chosen.add(m.index)
             if not m.exact and notes is not None:
                 notes.append(m.note())
@@ -85,23 +87,25 @@ class _Records:
 
     def __init__(self, model) -> None:
         self.label = model.labels.name
-        self.axes = [a.name for a in reversed(model.axes)]
+        self.axes = [a.name for a in model.axes]
+        self.shown = {a.name: a.shown for a in model.axes if a.names}   # words for choice axes
         self.floats = model.float_outputs
         self.others = [o.name for o in model.outputs if o.name != "status" and o.name not in self.floats]
+        self.words = {o.name: o.shown for o in model.outputs if o.names}   # criticality: its word, not a code
         # a model may declare its own status codes (rate-state's RateStateStatus)
         self.status_names = {**_STATUS_NAMES, **{int(s): str(s) for s in model.statuses}}
 
     def make(self, label: str, coords: dict, status: int, values: dict) -> dict:
         record = {self.label: label}
         for name in self.axes:
-            record[name] = coords[name]
+            record[name] = self.shown[name](coords[name]) if name in self.shown else coords[name]
         record["status"] = self.status_names[status]
         for name in self.floats:
             x = values[name]
             record[name] = x if math.isfinite(x) else None
         for name in self.others:
             if name in values:   # a per-event output (a catalog) is no value of the point
-                record[name] = values[name]
+                record[name] = self.words[name](values[name]) if name in self.words else values[name]
         return record
 
 

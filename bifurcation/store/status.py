@@ -76,7 +76,8 @@ class StudyStatus:
             eta = "" if self.eta is None else f", ETA {format_eta(self.eta)}"
             lines.append(f"being written by {self.writer['describe']}: {rate}{eta}")
         elif self.complete:
-            lines.append("complete")
+            lines.append(f"complete: all {self.points} points computed and no submit is writing it; read it "
+                         f"with `bifurcation query --store {self.store}` or `bifurcation report`")
         else:
             lines.append(f"no submit is writing it: submit the same workflow again to compute the "
                          f"{self.points - self.done} remaining points")

@@ -97,6 +97,12 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
         raise InputError(argument, str(path), "no such store",
                          "give the path of a store written by `bifurcation submit`")
     if kind == "other":
+        if _is_branch_store(path):
+            raise InputError(argument, str(path),
+                             "is the branch store of `bifurcation continue` (cycles of the rate-state slider), "
+                             "not a study store of `bifurcation submit`",
+                             "read it with xarray.open_zarr(PATH, consolidated=False) (layout: docs/rate-state.md; its report is "
+                             "REPORT.md beside it), or give a store written by `bifurcation submit`")
         raise InputError(argument, str(path), "is not a bifurcation store (or of another format)",
                          "give the path of a store written by `bifurcation submit`, or another path")
     if workflow is not None and attrs.get("workflow_fingerprint") != workflow.fingerprint:
@@ -105,6 +111,15 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
                          f"{str(attrs.get('workflow_fingerprint'))[:12]} ≠ {workflow.fingerprint[:12]})",
                          "pass --new-store to replace it, or choose another --store path")
     return attrs
+
+
+def _is_branch_store(path) -> bool:
+    """Whether ``path`` is the ``branches.zarr`` that ``bifurcation continue`` writes (rate_state.report)."""
+    try:
+        attrs = read_attrs(path)
+    except Exception:
+        return False
+    return attrs.get("model") == "rate-state" and "branch_labels" in attrs
 
 
 def create_store(path, workflow, *, command: str | None = None, overwrite: bool = False) -> dict:

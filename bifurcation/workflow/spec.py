@@ -274,7 +274,9 @@ def _check_labels(spec, laws) -> tuple[str, ...]:
         except InputError as exc:
             raise InputError(item, law, exc.problem, exc.fix) from None
         if identity in seen:
-            raise InputError(item, law, f"repeats {key}[{seen[identity]}]", "list each one once")
+            first = laws[seen[identity]]
+            same = "" if first.strip() == law.strip() else f" ({first!r} is the same law Φ)"
+            raise InputError(item, law, f"repeats {key}[{seen[identity]}]{same}", "list each one once")
         seen[identity] = i
         out.append(law.strip())
     return tuple(out)

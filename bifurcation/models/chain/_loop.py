@@ -51,13 +51,17 @@ class ChainLoop:
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
                  t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
                  compact_above: int = COMPACT_ABOVE, timing: bool = False, drop: float = 0.0,
-                 v_threshold: float = 0.0) -> None:
+                 v_threshold: float = 0.0, exact: dict | None = None) -> None:
+        from ...engine._exact import at_precision
         from ...engine._integrator import fp_info
 
         _, dtype, _ = fp_info(precision)
         self.dtype = dtype
         self.law, self.n, self.ends, self.precision, self.energy = law, n, ends, precision, energy
-        self.nu, self.nu_f, self.l2 = dtype(nu), dtype(nu_f), dtype(ell) * dtype(ell)
+        # ``exact``: the inputs as given (decimal text), read at the run's precision (engine._exact)
+        given = {"nu": nu, "nu_f": nu_f, "ell": ell, "u0": u0, "sigma": drop, **(exact or {})}
+        ell_p = at_precision(given["ell"], dtype)
+        self.nu, self.nu_f, self.l2 = at_precision(given["nu"], dtype), at_precision(given["nu_f"], dtype), ell_p * ell_p
         self.periodic = ends == "periodic"
         self.t_max, self.max_steps = t_max, max_steps
         #: the friction drop σ (docs/chain.md, "Friction drop"): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)). σ = 0 takes
@@ -71,9 +75,9 @@ class ChainLoop:
         self.v_threshold = float(v_threshold)
         self._vth = self.v_threshold / float(nu) if self.v_threshold > 0 else None   # in v = V/ν
         if self._drop_on:
-            c = dtype(1) - dtype(self.drop)
-            self._drop_pars = (dtype(self.drop), c)
-        self.u = np.array([dtype(float(x)) for x in u0], dtype=dtype) if dtype is not np.float64 \
+            drop_p = at_precision(given["sigma"], dtype)
+            self._drop_pars = (drop_p, dtype(1) - drop_p)
+        self.u = np.array([at_precision(x, dtype) for x in given["u0"]], dtype=dtype) if dtype is not np.float64 \
             else np.array(u0, dtype=np.float64)
         self.sigma = self._laplacian(self.u) * self.l2 - self.u       # σ_j(0), νt = 0
         self.t = dtype(0)

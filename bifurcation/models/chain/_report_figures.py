@@ -10,6 +10,9 @@ import numpy as np
 
 __all__ = ["figures"]
 
+#: No "Software" tag (the matplotlib version): the same data give the same bytes across versions of it.
+_NO_SOFTWARE = {"Software": None}
+
 
 def figures(out: Path, data: dict) -> None:
     import matplotlib
@@ -36,7 +39,7 @@ def figures(out: Path, data: dict) -> None:
     ax[1].set(ylabel="Ψ = spanning slip / (N ν ΔT)")
     ax[0].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "fig_order.png", dpi=110)
+    fig.savefig(out / "fig_order.png", dpi=110, metadata=_NO_SOFTWARE)
     plt.close(fig)
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
@@ -56,7 +59,7 @@ def figures(out: Path, data: dict) -> None:
         a.set(xscale="log", yscale="log", xlabel="N", title=f"finite-size scaling of {title}")
         a.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "fig_fss.png", dpi=110)
+    fig.savefig(out / "fig_fss.png", dpi=110, metadata=_NO_SOFTWARE)
     plt.close(fig)
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
@@ -64,19 +67,21 @@ def figures(out: Path, data: dict) -> None:
         e, c = np.array(s["mfd"]["edges"]), np.array(s["mfd"]["counts"])
         mid = (e[1:] + e[:-1]) / 2
         lab = f"N = {s['n']}, ν_f = {s['nu_f']}"
-        line, = ax[0].semilogy(mid[c > 0], c[c > 0], "o-", ms=3, label=f"{lab}, b = {s['fit']['b']:.2f}")
         f = s["fit"]
+        # no b where no decreasing exponential fits the magnitudes (analysis.b_value gives NaN): say so
+        b = f"b = {f['b']:.2f}" if math.isfinite(f["b"]) else "no b-value (not decreasing)"
+        line, = ax[0].semilogy(mid[c > 0], c[c > 0], "o-", ms=3, lw=0.8, label=f"{lab}, {b}")
         if math.isfinite(f["b"]):
             mm = np.linspace(f["m_min"], f["m_max"], 20)
             n0 = f["n"] * (1 - 10 ** (-f["b"] * 0.1)) / (1 - 10 ** (-f["b"] * (f["m_max"] - f["m_min"])))
-            ax[0].plot(mm, n0 * 10 ** (-f["b"] * (mm - f["m_min"])), color=line.get_color(), lw=2, alpha=0.4)
+            ax[0].plot(mm, n0 * 10 ** (-f["b"] * (mm - f["m_min"])), "--", color=line.get_color(), lw=1.6)
         pot = np.array(s["mfd"]["potency"])
         ax[1].semilogy(mid[pot > 0], pot[pot > 0], "o-", ms=3, label=lab)
-    ax[0].set(xlabel="m = log10 P", ylabel="events per 0.1 in m", title="magnitude–frequency (fit: thick)")
+    ax[0].set(xlabel="m = log10 P", ylabel="events per 0.1 in m", title="magnitude–frequency (dashed: the truncated-exponential fit)")
     ax[1].set(xlabel="m = log10 P", ylabel="potency per 0.1 in m")
     ax[0].legend(fontsize=7), ax[1].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "fig_mfd.png", dpi=110)
+    fig.savefig(out / "fig_mfd.png", dpi=110, metadata=_NO_SOFTWARE)
     plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -88,7 +93,7 @@ def figures(out: Path, data: dict) -> None:
            title=f"lone block among stuck neighbours, ν = {data['threshold'][0]['scan_nu']:g}")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "fig_threshold.png", dpi=110)
+    fig.savefig(out / "fig_threshold.png", dpi=110, metadata=_NO_SOFTWARE)
     plt.close(fig)
 
 

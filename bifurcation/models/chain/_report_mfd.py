@@ -183,7 +183,7 @@ def near_half_figure(out, nh) -> None:
     ax.set_xticks([], minor=True)
     ax.legend(fontsize=6)
     fig.tight_layout()
-    fig.savefig(out / "fig_mfd_half.png", dpi=110)
+    fig.savefig(out / "fig_mfd_half.png", dpi=110, metadata={"Software": None})
     plt.close(fig)
 
 

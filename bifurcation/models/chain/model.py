@@ -44,7 +44,7 @@ AXES = (
     Axis("events", "K", "events computed per run", bounds=(1, 10**9), example=1000, default_tile=1,
          dtype="int64"),
     Axis("periodic", "ends", "chain ends: 0 free (U_0 ≡ U_1), 1 periodic (U_0 ≡ U_N)", bounds=(0, 1), example=0,
-         default_tile=1, dtype="int64"),
+         default_tile=1, dtype="int64", names=("free", "periodic")),
     # last, with a default: workflows written before σ existed keep their meaning (σ = 0, the seed's
     # model, computed by the unmodified code). Closed bounds: σ = 1 leaves no dynamic friction at all
     Axis("sigma", "σ", "friction drop σ: Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)), static threshold 1", bounds=(0.0, 0.99),

@@ -1,11 +1,13 @@
 """The chain report: lone-block threshold, order parameter and hysteresis with finite-size scaling,
 magnitude–frequency statistics, a verdict table.
 
-    PYTHONPATH=. python -m bifurcation.models.chain.report workflows/chain-report.toml
+    PYTHONPATH=. python -m bifurcation.models.chain.report workflows/chain-report.toml [--out DIR] [--from-data]
 
 Runs the workflow's ν_f sweeps (several seeds per N), catalogs and lone-block checks on two
 processes and writes ``REPORT.md``, ``data.json`` and the figures into the workflow's ``out``
-directory. A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
+directory (``results/local/chain``, ignored by git) or ``--out DIR``. ``--from-data`` re-renders them
+from ``DIR/data.json`` without running anything: ``--from-data --out results/chain`` rewrites the
+committed report byte for byte (deterministic figures, no software tag). A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
 carried over unchanged. Sections and verdicts: ``_report_text``.
 """
 
@@ -82,10 +84,20 @@ def _jobs(cfg):
 
 
 def main(argv=None) -> None:
-    argv = sys.argv[1:] if argv is None else argv
+    argv = list(sys.argv[1:] if argv is None else argv)
+    out_arg = None
+    if "--out" in argv:   # another directory than the workflow's `out` (e.g. the committed results/chain)
+        i = argv.index("--out")
+        if i + 1 >= len(argv):
+            sys.exit("bifurcation: error: --out needs a directory, e.g. --out results/chain")
+        out_arg = argv[i + 1]
+        del argv[i:i + 2]
     path = Path(argv[0])
     cfg = tomllib.loads(path.read_text())
-    out = Path(cfg["study"]["out"])
+    out = Path(out_arg or cfg["study"]["out"])
+    if "--from-data" in argv[1:] and not (out / "data.json").is_file():
+        sys.exit(f"bifurcation: error: --from-data: {out / 'data.json'} does not exist; run the report once "
+                 "(without --from-data), or give --out results/chain (the committed data)")
     out.mkdir(parents=True, exist_ok=True)
     if "--from-data" in argv[1:]:     # re-render REPORT.md and figures from data.json, no runs
         data = json.loads((out / "data.json").read_text())

@@ -35,8 +35,10 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         A name of ``bifurcation.law_names()`` or a formula in x.
     n, ell : int, float
         Number of blocks N ≥ 1 and coupling ℓ ≥ 0 (ℓ² = k_c/k_p).
-    nu, nu_f : float
-        Pulling speed ν > 0 and friction velocity ν_f > 0.
+    nu, nu_f : float or str
+        Pulling speed ν > 0 and friction velocity ν_f > 0. With ``precision="quad"`` a decimal given
+        as text (``"1e-3"``, a ``Decimal``, an mpmath number; so are ``ell`` and ``u0``) is read in
+        real128, not through the nearest double (``engine._exact``).
     ends : {"free", "periodic"}
     u0 : array_like, optional
         Initial displacements (all σ_j(0) < 1). Or ``amplitude`` A and ``seed``: u_j = −A r_j,
@@ -78,6 +80,9 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         raise InputError(missing[0], None, "is missing", "give it, or a preset= such as 'carlson-langer-1991'")
     law, n, ell, nu, nu_f, sigma, ends = (given[k] for k in ("law", "n", "ell", "nu", "nu_f", "sigma", "ends"))
     law = resolve_law(law)
+    given = {"nu": nu, "nu_f": nu_f, "ell": ell, "sigma": sigma}   # as given: "quad" reads decimals at its own precision
+    if u0 is not None:
+        given["u0"] = list(np.ravel(np.asarray(u0, dtype=object)))
     n, ell, ends = check_size(n, ell, ends)
     nu = float(check_nu(nu))
     nu_f = float(check_nu_f(nu_f))
@@ -90,7 +95,8 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
     from ._loop import ChainLoop
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
-                     t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_threshold or 0.0)
+                     t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_threshold or 0.0,
+                     exact=given if precision == "quad" else None)
     out = loop.run(events)
     cat = out["catalog"]
     f = lambda k: np.array([float(x) for x in cat[k]], dtype=float)  # noqa: E731

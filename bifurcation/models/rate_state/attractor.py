@@ -67,7 +67,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
     """Integrate the perturbed steady slide of ``spec`` at load-point velocity ``v_lp`` (module docstring)."""
     import heyoka as hy
 
-    from ._system import compiled, parameters
+    from ._system import TAYLOR_BLOWUP, compiled, parameters
 
     c = compiled(spec.state_law, spec.inertial, 1, "double", damped=spec.damped)
     ta = c.integrator
@@ -94,7 +94,8 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
 
     def below_blowup(integrator) -> bool:
         last_x[0] = float(integrator.state[0])
-        return last_x[0] - x_star <= BLOWUP
+        # the second test stops a finite-time blow-up before its next step overflows (_system.py)
+        return last_x[0] - x_star <= BLOWUP and abs(integrator.tc[0, -1]) < TAYLOR_BLOWUP
 
     while True:
         target = min(float(ta.time) + chunk, t_end)
@@ -107,7 +108,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
         top = max([e[1] for e in rec.extrema[seen:]] + [x])
         seen = len(rec.extrema)
         if top - x_star > BLOWUP or (outcome != hy.taylor_outcome.time_limit and x - x_star > 10
-                                     and steps < max_steps):
+                                     and steps < max_steps) or (outcome == hy.taylor_outcome.cb_stop):
             if spec.damped:
                 # with radiation damping V stays bounded (ηV caps the slip rate): what stopped the run is
                 # the integrator — at slip rates e^x/Dc beyond ~1e15 the Taylor coefficients (rate^order)

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._system import compiled, parameters, rhs_expressions
+from ._system import blowup_guard, compiled, parameters, rhs_expressions
 from .hopf import HopfPoint, hopf_point, steady_state
 from .spec import SliderSpec
 
@@ -79,8 +79,10 @@ class ReturnMap:
         c.recorder.reset(0.0)
         c.recorder.x0 = self.x0
         steps = 0
+        guard = blowup_guard(np.float64)
         while True:
-            outcome, _, _, n, *_ = ta.propagate_until(self.t_max, max_steps=self.max_steps - steps)
+            outcome, _, _, n, *_ = ta.propagate_until(self.t_max, max_steps=self.max_steps - steps,
+                                                      callback=guard)
             steps += n
             if int(outcome) == -1 and ta.time == 0.0:
                 continue  # the start itself is on Σ: the event's cooldown now lets the run leave it
@@ -88,7 +90,8 @@ class ReturnMap:
         if int(outcome) != -1:
             # With inertia the fast mode of ln V relaxes at a rate a/(M V): at low V the explicit Taylor
             # steps shrink to its stability limit and the step bound is hit (stiffness, not a bug).
-            self.last_failure = (f"{outcome.name if hasattr(outcome, 'name') else outcome} at t = {ta.time:.6g}, "
+            what = guard.reason or (outcome.name if hasattr(outcome, "name") else outcome)
+            self.last_failure = (f"{what} at t = {ta.time:.6g}, "
                                  f"ln V = {ta.state[0]:.4g}, after {steps} steps")
             return None
         ext = np.array([e[1] for e in c.recorder.extrema] + [self.x0])

@@ -96,7 +96,7 @@ OUTPUTS = (
     Output("omega_c", "angular frequency ω_c at the Hopf point", "1/time"),
     Output("lyapunov_coefficient", "first Lyapunov coefficient l1 at the Hopf point"),
     Output("criticality", "Hopf point: 1 subcritical, 2 supercritical, 3 degenerate (|l1| at rounding)",
-           dtype="int8", fill=0),
+           dtype="int8", fill=0, names=("", *sorted(CRITICALITY, key=CRITICALITY.get))),
     Output("k", "spring stiffness k = κ k_c", "1/length"),
     Output("period", "period of the attracting cycle", "time"),
     Output("ln_v_max", "max ln V over the cycle (V in the units of V_lp, not scaled)"),

@@ -31,6 +31,14 @@ from .spec import LoadHistory, SliderSpec
 __all__ = ["reference_run"]
 
 
+def _mpf(x):
+    """``x`` in mpmath: a decimal given as text (``engine._exact``) from its text, exactly."""
+    from ...engine._exact import decimal_text
+
+    text = decimal_text(x)
+    return mp.mpf(text) if text is not None else mp.mpf(x)
+
+
 def _velocity(a, eta, vref, r):
     """V with a ln(V/V*) + ηV = r (η ≥ 0)."""
     if eta == 0:
@@ -41,13 +49,13 @@ def _velocity(a, eta, vref, r):
 
 def _coefficients(spec: SliderSpec, v_lp, mu, thetas, order: int):
     """Taylor coefficients [τ_n], [[θ_i,n]] at the current point (τ = ``mu`` + ηV), up to ``order``."""
-    a, k, mu0, vref = mp.mpf(spec.a), mp.mpf(spec.k), mp.mpf(spec.mu0), mp.mpf(spec.v_ref)
-    eta = mp.mpf(spec.damping)
+    a, k, mu0, vref = _mpf(spec.a), _mpf(spec.k), _mpf(spec.mu0), _mpf(spec.v_ref)
+    eta = _mpf(spec.damping)
     laws = [resolve_state_law(n).name for n in spec.state_law]
     n_s = len(laws)
-    b = [mp.mpf(x) for x in spec.b]
-    dc = [mp.mpf(x) for x in spec.dc]
-    scale = [vref / (mp.mpf(resolve_state_law(n).steady_factor) * d) for n, d in zip(laws, dc)]
+    b = [_mpf(x) for x in spec.b]
+    dc = [_mpf(x) for x in spec.dc]
+    scale = [vref / (_mpf(resolve_state_law(n).steady_factor) * d) for n, d in zip(laws, dc)]
     M = [mu]
     TH = [[t] for t in thetas]
     LT = [[] for _ in range(n_s)]          # ln(V* θ_i/(c_i Dc_i))
@@ -113,41 +121,41 @@ def reference_run(spec: SliderSpec, history: LoadHistory, times, *, dps: int = 4
     if spec.inertial:
         raise ValueError("the mpmath reference is for the quasi-static slider")
     with mp.workdps(dps):
-        tol = mp.mpf(10) ** (-tol_digits)
-        v0 = mp.mpf(history.velocities[0] if v0 is None else v0)
+        tol = _mpf(10) ** (-tol_digits)
+        v0 = _mpf(history.velocities[0] if v0 is None else v0)
         if theta0 is None:
-            thetas = [mp.mpf(resolve_state_law(n).steady_factor) * mp.mpf(d) / v0
+            thetas = [_mpf(resolve_state_law(n).steady_factor) * _mpf(d) / v0
                       for n, d in zip(spec.state_law, spec.dc)]
         else:
-            thetas = [mp.mpf(x) for x in theta0]
-        vref = mp.mpf(spec.v_ref)
-        lt0 = mp.fsum(mp.mpf(b) * mp.log(vref * th / (resolve_state_law(n).steady_factor * mp.mpf(d)))
+            thetas = [_mpf(x) for x in theta0]
+        vref = _mpf(spec.v_ref)
+        lt0 = mp.fsum(_mpf(b) * mp.log(vref * th / (resolve_state_law(n).steady_factor * _mpf(d)))
                       for b, th, n, d in zip(spec.b, thetas, spec.state_law, spec.dc))
         # the integrated variable is the spring force τ = μ + ηV
-        mu = mp.mpf(spec.mu0) + mp.mpf(spec.a) * mp.log(v0 / vref) + lt0 + mp.mpf(spec.damping) * v0
-        t = mp.mpf(history.times[0])
-        stops = sorted({mp.mpf(x) for x in times} | {mp.mpf(x) for x in history.times[1:]})
+        mu = _mpf(spec.mu0) + _mpf(spec.a) * mp.log(v0 / vref) + lt0 + _mpf(spec.damping) * v0
+        t = _mpf(history.times[0])
+        stops = sorted({_mpf(x) for x in times} | {_mpf(x) for x in history.times[1:]})
         stops = [s for s in stops if s >= t]
-        want = {mp.mpf(x) for x in times}
+        want = {_mpf(x) for x in times}
         out = {"mu": [], "theta": [[] for _ in thetas], "v": [], "t": []}
         steps = 0
-        a = mp.mpf(spec.a)
+        a = _mpf(spec.a)
 
         def record():
-            lt = mp.fsum(mp.mpf(b) * mp.log(vref * th / (resolve_state_law(n).steady_factor * mp.mpf(d)))
+            lt = mp.fsum(_mpf(b) * mp.log(vref * th / (resolve_state_law(n).steady_factor * _mpf(d)))
                          for b, th, n, d in zip(spec.b, thetas, spec.state_law, spec.dc))
-            v = _velocity(a, mp.mpf(spec.damping), vref, mu - mp.mpf(spec.mu0) - lt)
+            v = _velocity(a, _mpf(spec.damping), vref, mu - _mpf(spec.mu0) - lt)
             out["t"].append(t)
-            out["mu"].append(mu - mp.mpf(spec.damping) * v)
+            out["mu"].append(mu - _mpf(spec.damping) * v)
             out["v"].append(v)
             for i, th in enumerate(thetas):
                 out["theta"][i].append(th)
 
         for stop in stops:
-            v_lp = mp.mpf(history.velocity_at(float(t)))
+            v_lp = _mpf(history.velocity_at(float(t)))
             while t < stop:
                 M, TH = _coefficients(spec, v_lp, mu, thetas, order)
-                h = min((tol / abs(c[-1])) ** (mp.mpf(1) / order) if c[-1] != 0 else mp.inf
+                h = min((tol / abs(c[-1])) ** (_mpf(1) / order) if c[-1] != 0 else mp.inf
                         for c in [M, *TH])
                 h = min(safety * h, stop - t)
                 mu = _horner(M, h)

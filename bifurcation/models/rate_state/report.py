@@ -123,12 +123,15 @@ def _figure(path, results) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    for r in results:
+    drawn = [r for r in results if r["branch"].meta.get("parameter", "kappa") == "kappa"]  # V_lp: own table
+    panels = [(False, "quasi-static"), (True, "inertial (η = M V²/(a Dc))")]
+    panels = [p for p in panels if any(r["branch"].spec.inertial == p[0] for r in drawn)] or panels[:1]
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.2), sharey=True, squeeze=False)
+    axes = axes[0]
+    column = {inertial: i for i, (inertial, _) in enumerate(panels)}
+    for r in drawn:
         b = r["branch"]
-        if b.meta.get("parameter", "kappa") != "kappa":
-            continue   # branches in V_lp have their own table
-        ax = axes[1 if b.spec.inertial else 0]
+        ax = axes[column[b.spec.inertial]]
         k = np.array([p.kappa for p in b.points])
         amp = np.array([_amplitude(p) for p in b.points])
         st = np.array([_stable(p) for p in b.points])
@@ -138,7 +141,7 @@ def _figure(path, results) -> None:
         ax.plot(np.where(~st, k, np.nan), np.where(~st, amp, np.nan), "--", color=line.get_color(), lw=1.5)
         for i in b.folds:
             ax.plot(b.points[i].kappa, _amplitude(b.points[i]), "o", color=line.get_color())
-    for ax, title in zip(axes, ("quasi-static", "inertial (η = M V²/(a Dc))")):
+    for ax, (_, title) in zip(axes, panels):
         ax.axvline(1.0, color="k", lw=0.5)
         ax.set_yscale("log")
         ax.set_xlabel("κ = k / k_c")
@@ -148,16 +151,21 @@ def _figure(path, results) -> None:
     axes[0].set_ylabel("cycle amplitude ln V_max − ln V_min")
     fig.suptitle("Cycles born at the Hopf point (solid: stable, dashed: unstable or neutral, dots: folds)", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, metadata={"Software": None})   # the same bytes for the same drawing
     plt.close(fig)
 
 
-def write_report(out, spec, sweep, bautin, results, fates, seconds) -> None:
+def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="workflows/rate-state.toml") -> None:
     _figure(out / "bifurcation-diagram.png", results)
     lines = [f"# Rate-and-state spring-slider: Hopf bifurcation and cycles ({spec.name})", "",
-             "Produced by `bifurcation continue workflows/rate-state.toml` "
+             f"Produced by `bifurcation continue {workflow}` "
              f"in {seconds:.0f} s on {platform.machine()} (one process). Model and equations: docs/rate-state.md.",
              "Slider a = 0.01, b = 0.015, Dc = 0.01, V_lp = 1 unless stated; η = M V_lp²/(a Dc); κ = k/k_c.", "",
+             "Numbers that change between runs and CPUs (heyoka compiles for the host; the load sets the "
+             "times), and only these changed between two runs of this workflow: the seconds; the simulated "
+             "l1 of the degenerate branches (~1e-12: rounding, not a coefficient); the period checks "
+             "|T_direct/T − 1| (rounding, ≤ 1e-11); Floquet multipliers below ~1e-9 (finite-difference "
+             "noise of the trivial direction). Every other printed digit was the same.", "",
              "## The verdict: is the loss of stick-slip first order?", "",
              "| branch | l1 (normal form) | l1 (direct simulation, ε = 5e-3) | criticality | fold κ | verdict |",
              "|---|---|---|---|---|---|"]
@@ -175,8 +183,9 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds) -> None:
         lines.append(f"| {f['state_law']} | {f['kappa']} | {f['status']} | {f['ln_v_max']:.3g} |")
     bl = ", ".join(f"{law}: {('η = %.6g' % e) if not math.isnan(e) else 'none in [1e-3, 3]'}"
                    for law, e in bautin.items())
-    lines += ["", f"Bautin points (l1 changes sign with inertia; subcritical below, supercritical above): {bl}.",
-              "", "![bifurcation diagram](bifurcation-diagram.png)", "",
+    bl = (f"Bautin points (l1 changes sign with inertia; subcritical below, supercritical above): {bl}."
+          if bautin else "Bautin points: not searched (the workflow sets `[hopf] bautin = false`).")
+    lines += ["", bl, "", "![bifurcation diagram](bifurcation-diagram.png)", "",
               "## Hopf point: numerical vs closed forms", "",
               "k_c found from the eigenvalues alone (mpmath, 30 digits; deviations at that precision, before rounding "
               "to double — as doubles both are the same number) against k_c = (b − a)/Dc·[1 + M V²/(a Dc)] "

@@ -15,7 +15,8 @@ import heyoka as hy
 import numpy as np
 
 from ...errors import InputError
-from ._system import Slots, compiled, parameters
+from ...engine._exact import at_precision
+from ._system import Slots, blowup_guard, compiled, parameters
 from .spec import LoadHistory, SliderSpec, load_history
 
 __all__ = ["DEFAULT_MAX_STEPS", "RateStateResult", "rate_state", "run_spec"]
@@ -32,8 +33,9 @@ class RateStateResult:
     ``ln_v``, ``ln_theta`` (one row per state variable), ``mu`` and ``slip`` (δ − δ(t0)) are arrays in
     the run's precision (float64, or heyoka real128 for ``precision="quad"``). ``extrema`` rows are
     (t, ln V, +1 for a maximum / −1 for a minimum); ``crossings`` rows are (t, threshold index,
-    +1 upward / −1 downward). ``status`` is ``ok``, ``max-steps``, ``stalled`` (the time step fell
-    below the resolution of t: V blows up in finite time, e.g. quasi-static below k_c) or
+    +1 upward / −1 downward). ``status`` is ``ok``, ``max-steps``, ``unbounded`` (V blows up in
+    finite time, e.g. quasi-static below k_c: the Taylor coefficients of ln V are about to overflow,
+    ``_system.TAYLOR_BLOWUP``), ``stalled`` (the time step fell below the resolution of t first) or
     ``nonfinite``; on anything but
     ``ok`` the series hold NaN from the first time the run could not reach.
     """
@@ -125,23 +127,24 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
         if not (isinstance(v_start, (int, float)) and math.isfinite(v_start) and v_start > 0):
             raise InputError("v0", v_start, "must be a finite velocity > 0",
                              "give v0 > 0 (needed when the history starts with a hold)")
-        # Logs taken in the run's precision: a double ln θ0 would cost real128 runs 1e-16 at the start.
-        ln_v0 = np.log(dtype(v_start))
+        # Logs taken in the run's precision: a double ln θ0 would cost real128 runs 1e-16 at the start,
+        # and a decimal input (v_lp = "0.1") is read at that precision too (engine._exact).
+        ln_v0 = np.log(at_precision(v_start, dtype))
         if theta0 is None and ln_theta0 is None:
-            ln_theta0 = [np.log(dtype(law.steady_factor) * dtype(d) / dtype(v_start))
+            ln_theta0 = [np.log(dtype(law.steady_factor) * at_precision(d, dtype) / at_precision(v_start, dtype))
                          for law, d in zip(spec.laws, spec.dc)]
     if ln_theta0 is None:
         theta0 = list(np.atleast_1d(theta0))
         if len(theta0) != n or not all(math.isfinite(float(v)) and float(v) > 0 for v in theta0):
             raise InputError("theta0", theta0, f"must be {n} finite state value(s) > 0", "give θ0 > 0 per variable")
-        ln_theta0 = [np.log(dtype(float(v))) for v in theta0]
+        ln_theta0 = [np.log(at_precision(v, dtype)) for v in theta0]
 
     # State and parameters, converted to the integrator's type from their decimal/double value once.
     state = [ln_v0, *ln_theta0] + ([z0] if spec.inertial else [])
     ta.state[:] = np.array([v if isinstance(v, dtype) else dtype(v) for v in state], dtype=dtype)
     ta.time = dtype(0)
     pars = parameters(spec, spec.k, history.velocities[0], [math.log(v) for v in thresholds])
-    ta.pars[:] = np.array([dtype(v) for v in pars], dtype=dtype)
+    ta.pars[:] = np.array([at_precision(v, dtype) for v in pars], dtype=dtype)
     c.recorder.reset(dtype(0))
     c.recorder.x0 = float(ln_v0)
 
@@ -153,7 +156,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
         t_start = history.times[j]
         if t_start > t_last:
             break
-        ta.pars[Slots.V_LP] = dtype(v_seg)
+        ta.pars[Slots.V_LP] = at_precision(v_seg, dtype)
         # Each segment runs in its own local time from 0: the step size and event times are then resolved
         # relative to the segment, not to an absolute t (a reload after a 1e12 hold would otherwise be
         # integrated with the 1e-4 granularity of t = 1e12).
@@ -167,12 +170,16 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
             # outputs), landing exactly on the segment's end. (c_output=True costs ~12 ms per call.)
             inner = times[sel & (times > t_start)]
             grid = np.unique(np.concatenate([[t_start], inner, [stop]]))
-            res = ta.propagate_grid((grid - t_start).astype(dtype), max_steps=max(max_steps - steps, 1))
+            guard = blowup_guard(dtype)
+            res = ta.propagate_grid((grid - t_start).astype(dtype), max_steps=max(max_steps - steps, 1),
+                                    callback=guard)
             outcome, steps_j, values = res[0], res[3], np.asarray(res[-1])
             steps += steps_j
             rows = {float(g): values[i] for i, g in enumerate(grid) if i < values.shape[0]}
             if outcome != hy.taylor_outcome.time_limit:
-                if outcome == hy.taylor_outcome.err_nf_state:
+                if outcome == hy.taylor_outcome.cb_stop:
+                    status = "unbounded" if guard.reason == "blow-up" else "stalled"
+                elif outcome == hy.taylor_outcome.err_nf_state:
                     status = "nonfinite"
                 elif steps < max_steps:
                     # The step fell below the resolution of t: V blowing up in finite time (the
@@ -183,6 +190,8 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
                 reached = float(ta.time) + t_start
                 message = (f"{status} at t = {reached:.17g} after {steps} steps "
                            f"(segment {j}, V_lp = {v_seg:g})")
+                if status == "unbounded":
+                    message += f": V blows up in finite time (ln V = {float(ta.state[0]):.4g} and rising)"
                 for i in np.flatnonzero(sel):
                     if times[i] < reached and float(times[i]) in rows:
                         out[i] = rows[float(times[i])]

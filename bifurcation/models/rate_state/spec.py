@@ -26,7 +26,10 @@ def _finite(argument: str, value, *, positive=False, nonnegative=False, fix="giv
         raise InputError(argument, value, "must be > 0", fix)
     if nonnegative and not v >= 0:
         raise InputError(argument, value, "must be >= 0", fix)
-    return v
+    from ...engine._exact import Text, decimal_text
+
+    text = decimal_text(value)   # a decimal given as text keeps it: a "quad" run reads it in real128
+    return value if isinstance(value, Text) else (Text(text) if text is not None else v)
 
 
 @dataclass(frozen=True)
@@ -161,6 +164,11 @@ class SliderSpec:
 
     def mu(self, ln_v, ln_theta, log=math.log, num=float):
         """Friction μ from ln V and ln θ_i (numpy arrays, real128 arrays with ``num``, or mpmath numbers)."""
+        if num is not float:   # a decimal input read at the precision of ``num`` (engine._exact)
+            from ...engine._exact import decimal_text
+
+            convert = num
+            num = lambda x: convert(decimal_text(x)) if decimal_text(x) is not None else convert(x)  # noqa: E731
         mu = num(self.mu0) + num(self.a) * (ln_v - log(num(self.v_ref)))
         for law, b, dc, y in zip(self.laws, self.b, self.dc, ln_theta):
             mu = mu + num(b) * (y + log(num(self.v_ref)) - log(num(law.steady_factor) * num(dc)))

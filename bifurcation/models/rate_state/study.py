@@ -4,6 +4,7 @@
 every key) is validated into frozen specs before anything is computed or written; a bad key or value
 is one ``InputError`` line naming it.
 
+Output directory ``<out>``: ``--out``, default ``results/local/<study name>`` (ignored by git).
 Store (``<out>/branches.zarr``, Zarr v3 through xarray, written once at the end so an interrupted run
 leaves no half store): dimensions ``branch`` (labels in the attribute ``branch_labels``) × ``point`` (padded with NaN,
 ``status`` 0 = no point),
@@ -232,7 +233,8 @@ def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
     if damping is not None:
         spec = dataclasses.replace(spec, branches=tuple(dataclasses.replace(b, damping=damping)
                                                         for b in spec.branches))
-    out = pathlib.Path(out_dir or f"results/{spec.name}")
+    # Not the committed reference (results/<name>): a user's run must leave the checkout clean.
+    out = pathlib.Path(out_dir or f"results/local/{spec.name}")
     t_start = time.perf_counter()
     echo(f"study {spec.name}: {len(spec.branches)} branches")
     sweep = _closed_form_sweep(spec, echo)
@@ -273,7 +275,7 @@ def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
     from .report import write_report, write_store
 
     write_store(out / "branches.zarr", spec, results)
-    write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start)
+    write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start, workflow=str(path))
     echo(f"wrote {out}/branches.zarr, {out}/REPORT.md in {time.perf_counter() - t_start:.0f} s")
     return {"sweep": sweep, "bautin": bautin, "branches": results, "fates": fates}
 
