@@ -396,7 +396,7 @@ def test_submit_of_the_shipped_chain_workflow_end_to_end(tmp_path):
     rows = runner.invoke(cli, ["query", "--store", str(store), "--n", "4", "--nu-f", "0.2", "--format", "csv"])
     header, row = rows.stdout.splitlines()[:2]
     assert header.startswith("law,n,ell,nu,nu_f,amplitude,seed,events,periodic,sigma,v_threshold,status,"), header
-    assert row.startswith("carlson-langer,4,1.0,0.001,0.2,0.1,1,200,free,complete,"), row
+    assert row.startswith("carlson-langer,4,1.0,0.001,0.2,0.1,1,200,free,0.0,0.0,complete,"), row
     by_word = runner.invoke(cli, ["query", "--store", str(store), "--periodic", "free", "--n", "4",
                                   "--nu-f", "0.2", "--format", "csv"])
     assert by_word.exit_code == 0 and by_word.stdout == rows.stdout   # the word selects what 0 does
