@@ -7,7 +7,54 @@ import click
 from ..errors import InputError
 from ._common import echo_json, examples, number
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "MAX_EVENTS"]
+
+#: The most events one ``bifurcation chain`` run computes: its catalog is held in memory and printed, and
+#: at ~3000 events/s (N = 2; far fewer for long chains) 10^6 events are minutes. Longer catalogs are
+#: studies: a workflow through ``bifurcation submit`` checkpoints every run and resumes.
+MAX_EVENTS = 10**6
+_STUDY = ("for more, run a study: a workflow with [grid.n] and [grid.events] through `bifurcation submit` "
+          "(checkpointed and resumable; workflows/chain-study.toml, docs/chain.md)")
+
+
+def _check_bounds(n, ell, amplitude, seed, events) -> None:
+    """The chain's values against the bounds its workflows obey (the model's axes), and the CLI's cap on
+    events, before anything is computed."""
+    from ..models import get_model
+
+    axes = {axis.name: axis for axis in get_model("chain").axes}
+    given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events}
+    for name, value in given.items():
+        if value is None or value != value:   # missing, or NaN (refused with its own message later)
+            continue
+        low, high = axes[name].bounds
+        if not low <= value <= high:
+            option = "--" + name
+            if name in ("n", "events", "seed") and value >= low:
+                fix = f"give at most {high:g}; {_STUDY}" if name != "seed" else f"give a seed in [{low:g}, {high:g}]"
+                raise InputError(option, value, f"is more than {high:g}, the bound of the chain's workflows "
+                                 "(bifurcation.models.chain)", fix)
+            raise InputError(option, value, f"is outside [{low:g}, {high:g}], the bounds of the chain's "
+                             "workflows (bifurcation.models.chain)", f"give a value in [{low:g}, {high:g}]")
+    if events is not None and events > MAX_EVENTS:
+        raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
+                         "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
+
+
+def _progress(started: float):
+    """A line on stderr about every 10 s of a long run: events done, the chain's time, the elapsed time."""
+    import time
+
+    last = [started]
+
+    def report(done: int, events: int, t: float) -> None:
+        now = time.perf_counter()
+        if now - last[0] >= 10.0:
+            last[0] = now
+            click.echo(f"bifurcation: chain: {done} of {events} events, t = {t:.6g}, {now - started:.0f} s",
+                       err=True)
+
+    return report
 
 
 def _u0(ctx, param, value):
@@ -40,12 +87,18 @@ def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precisio
     from ..models.chain import CATALOG_FIELDS, chain
     from ..models.chain._validate import check_size
 
+    import time
+
+    _check_bounds(n, ell, amplitude, seed, events)
     check_size(n, ell, ends)   # the chain first (N, ℓ, ends), then its start
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
+    if u0 is None and seed is None:   # a random start names its seed: no silent seed 0
+        raise InputError("--seed", None, "is missing (a random start from --amplitude needs it)",
+                         "give --seed S, e.g. --seed 1 (the start is numpy.random.default_rng(S))")
 
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
-              events=events, precision=precision)
+              events=events, precision=precision, progress=_progress(time.perf_counter()))
     if as_json:
         echo_json(r.to_json())
     else:

@@ -14,7 +14,7 @@ __all__ = ["chain"]
 
 def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free", u0=None,
           amplitude=None, seed=None, events: int, precision: str = "double", energy: bool = False,
-          t_max: float = 1e5, max_steps: int = 1_000_000) -> ChainResult:
+          t_max: float = 1e5, max_steps: int = 1_000_000, progress=None) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -46,6 +46,9 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     t_max, max_steps : float, int
         Bounds on the duration and the Taylor steps of one event; beyond them the run stops with
         status ``no-stop`` and the catalog holds the completed events.
+    progress : callable, optional
+        ``progress(events_done, events, t)``, called about every second of computing (the CLI's line
+        on stderr for a long run); the events are the same with or without it.
 
     Returns
     -------
@@ -63,7 +66,7 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
                      t_max=t_max, max_steps=max_steps)
-    out = loop.run(events)
+    out = loop.run(events) if progress is None else _run_reporting(loop, events, progress)
     cat = out["catalog"]
     f = lambda k: np.array([float(x) for x in cat[k]], dtype=float)  # noqa: E731
     energy_fields = {k: f(k) for k in ("driver_work", "dissipation", "elastic_change")} if energy else None
@@ -74,3 +77,27 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
         max_velocity=f("max_velocity"), steps=np.array(cat["steps"], dtype=np.int64),
         t=float(loop.t), u=np.array([float(x) for x in loop.u]), stress=np.array([float(x) for x in loop.sigma]),
         status=ChainStatus(out["status"]), message=out["message"], energy=energy_fields)
+
+
+def _run_reporting(loop, events: int, progress, every: float = 1.0) -> dict:
+    """``loop.run(events)`` in pieces of about ``every`` seconds, calling ``progress`` after each."""
+    import time
+
+    out = {"catalog": None, "status": ChainStatus.COMPLETE, "message": ""}
+    done, chunk = 0, 1
+    while done < events:
+        started = time.perf_counter()
+        part = loop.run(min(chunk, events - done))
+        if out["catalog"] is None:
+            out["catalog"] = part["catalog"]
+        else:
+            for key, values in part["catalog"].items():
+                out["catalog"][key].extend(values)
+        done = len(out["catalog"]["t_start"])
+        if part["status"] != ChainStatus.COMPLETE:
+            out["status"], out["message"] = part["status"], part["message"]
+            break
+        elapsed = time.perf_counter() - started
+        chunk = max(1, min(chunk * 2, int(chunk * every / elapsed) if elapsed > 0 else chunk * 2))
+        progress(done, events, float(loop.t))
+    return out
