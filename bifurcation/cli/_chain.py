@@ -23,22 +23,18 @@ def _check_bounds(n, ell, amplitude, seed, events) -> None:
     from ..models import get_model
 
     axes = {axis.name: axis for axis in get_model("chain").axes}
+    if events is not None and events > MAX_EVENTS:
+        raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
+                         "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
     given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events}
     for name, value in given.items():
         if value is None or value != value:   # missing, or NaN (refused with its own message later)
             continue
-        low, high = axes[name].bounds
+        low, high = (int(b) if float(b).is_integer() else b for b in axes[name].bounds)
         if not low <= value <= high:
             option = "--" + name
-            if name in ("n", "events", "seed") and value >= low:
-                fix = f"give at most {high:g}; {_STUDY}" if name != "seed" else f"give a seed in [{low:g}, {high:g}]"
-                raise InputError(option, value, f"is more than {high:g}, the bound of the chain's workflows "
-                                 "(bifurcation.models.chain)", fix)
-            raise InputError(option, value, f"is outside [{low:g}, {high:g}], the bounds of the chain's "
-                             "workflows (bifurcation.models.chain)", f"give a value in [{low:g}, {high:g}]")
-    if events is not None and events > MAX_EVENTS:
-        raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
-                         "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
+            raise InputError(option, value, f"is outside [{low}, {high}], the bounds of the chain model (its "
+                             "workflows' too: bifurcation.models.chain)", f"give a value in [{low}, {high}]")
 
 
 def _progress(started: float):

@@ -6,7 +6,30 @@ import click
 
 from ._common import echo_json, examples, number
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "MAX_OUTPUTS"]
+
+#: The most output times of one ``bifurcation rate-state`` run (each a printed line; the arrays are held in
+#: memory). Denser output is the Python API's ``rate_state(t=...)`` over windows of the run.
+MAX_OUTPUTS = 10**6
+
+
+def _check_times(t_end, outputs, at) -> None:
+    """--t-end, --outputs and --at against each other, before anything is computed."""
+    import math
+
+    from ..errors import InputError
+
+    if not math.isfinite(t_end) or t_end <= 0:
+        raise InputError("--t-end", t_end, "must be a finite time > 0 (the run starts at t = 0)",
+                         "give an end time such as 40")
+    if outputs < 2 or outputs > MAX_OUTPUTS:
+        raise InputError("--outputs", outputs, f"must be in [2, {MAX_OUTPUTS}] (the start and the end at least)",
+                         f"give a number of output times such as 41; denser output: the Python API "
+                         f"bifurcation.rate_state(t=...) over windows of the run")
+    for step in at or []:
+        if math.isfinite(step) and step >= t_end:
+            raise InputError("--at", step, f"is not before --t-end {t_end:g}: that velocity step would never "
+                             "be applied", "give step times before the end time, or a later --t-end")
 
 
 def _floats(name: str, example: str):
@@ -71,8 +94,15 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, preci
 
     from ..models.rate_state import load_history, rate_state
 
+    from ..errors import InputError
+
+    _check_times(t_end, outputs, at)
     laws = [s.strip() for s in state_law.split(",")]
-    history = load_history(v_lp, at=at or [])
+    try:
+        history = load_history(v_lp, at=at or [])
+    except InputError as exc:   # the step times are --at here
+        raise InputError("--at" if exc.argument == "v_lp at" else exc.argument, exc.value, exc.problem,
+                         exc.fix) from None
     t = np.linspace(history.times[0], t_end, outputs)
     r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, precision=precision)
     record = {"status": r.status, "message": r.message, "steps": r.steps, "t": r.t.tolist(),
