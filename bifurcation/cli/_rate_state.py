@@ -13,7 +13,7 @@ __all__ = ["COMMANDS", "MAX_OUTPUTS"]
 MAX_OUTPUTS = 10**6
 
 
-def _check_times(t_end, outputs, at) -> None:
+def _check_times(t_end, outputs) -> None:
     """--t-end, --outputs and --at against each other, before anything is computed."""
     import math
 
@@ -26,8 +26,12 @@ def _check_times(t_end, outputs, at) -> None:
         raise InputError("--outputs", outputs, f"must be in [2, {MAX_OUTPUTS}] (the start and the end at least)",
                          f"give a number of output times such as 41; denser output: the Python API "
                          f"bifurcation.rate_state(t=...) over windows of the run")
+
+def _check_steps(t_end, at) -> None:
+    from ..errors import InputError
+
     for step in at or []:
-        if math.isfinite(step) and step >= t_end:
+        if step >= t_end:
             raise InputError("--at", step, f"is not before --t-end {t_end:g}: that velocity step would never "
                              "be applied", "give step times before the end time, or a later --t-end")
 
@@ -43,6 +47,9 @@ def _floats(name: str, example: str):
             except ValueError:
                 raise click.BadParameter(f"{part!r} is not a number; give e.g. {example}",
                                          param_hint=name) from None
+            if out[-1] != out[-1] or abs(out[-1]) == float("inf"):
+                raise click.BadParameter(f"{part!r} is not a finite number; give e.g. {example}",
+                                         param_hint=name)
         return out
     return convert
 
@@ -96,13 +103,14 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, preci
 
     from ..errors import InputError
 
-    _check_times(t_end, outputs, at)
+    _check_times(t_end, outputs)
     laws = [s.strip() for s in state_law.split(",")]
     try:
         history = load_history(v_lp, at=at or [])
     except InputError as exc:   # the step times are --at here
         raise InputError("--at" if exc.argument == "v_lp at" else exc.argument, exc.value, exc.problem,
                          exc.fix) from None
+    _check_steps(t_end, at)
     t = np.linspace(history.times[0], t_end, outputs)
     r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, precision=precision)
     record = {"status": r.status, "message": r.message, "steps": r.steps, "t": r.t.tolist(),
