@@ -15,7 +15,7 @@ import click
 
 from ..errors import InputError
 
-__all__ = ["Group", "as_typed", "check_out_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
+__all__ = ["Group", "as_typed", "check_out_dir", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
 
 def fail(message: str) -> None:
@@ -172,6 +172,30 @@ def check_out_dir(path: str, option: str = "--out") -> Path:
                          "give a directory in a writable place") from None
     if not os.access(out, os.W_OK | os.X_OK):
         raise InputError(option, path, "is not writable", "give a directory you can write to")
+    return out
+
+
+def check_writable_dir(path, option: str = "--out") -> Path:
+    """``path`` as a directory this process can write to or create, checked by making (and removing) an
+    empty directory in it or in its nearest existing parent: a command that computes first must not fail
+    at the end on its output (``/proc``, a read-only mount, a file in the way)."""
+    import tempfile
+
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise InputError(option, str(path), "is a file, not a directory", "give a directory (it is created if missing)")
+    parent = out.absolute()
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(option, str(path), f"cannot be created ({parent} is a file)",
+                         "give a directory in a writable place")
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".bifurcation-probe-", dir=parent))
+    except OSError as exc:
+        what = "is not writable" if parent == out.absolute() else "cannot be created"
+        raise InputError(option, str(path), f"{what} ({exc.strerror or exc} in {parent})",
+                         "give a directory in a writable place") from None
     return out
 
 

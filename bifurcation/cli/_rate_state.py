@@ -135,7 +135,10 @@ def continue_cmd(workflow: str, out) -> None:
     """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
     from ..models.rate_state.study import load_study, run_study
 
+    from ._common import check_writable_dir
+
     load_study(workflow)  # validate before anything is computed or written
+    check_writable_dir(out if out is not None else "results")   # and where it goes
     run_study(workflow, out, echo=click.echo)
 
 
