@@ -70,10 +70,12 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
 
 @click.command("bench", epilog=examples(
     'bifurcation bench --points 200 --subset 2'))
-@click.option("--points", default=2000, show_default=True, help="Grid points for the engine timing.")
-@click.option("--subset", default=12, show_default=True, help="Points for the slow baselines (DOP853).")
-@click.option("--pipeline", "pipeline_points", default=0, show_default=True,
-              help="Also time the Dask pipeline on this many points (0: skip).")
+@click.option("--points", default=2000, show_default=True, type=click.IntRange(1, 20_000),
+              help="Grid points for the engine timing (1 to 20000: a benchmark is seconds, not a study).")
+@click.option("--subset", default=12, show_default=True, type=click.IntRange(1, 1000),
+              help="Points for the slow baselines (DOP853), 1 to 1000.")
+@click.option("--pipeline", "pipeline_points", default=0, show_default=True, type=click.IntRange(0, 20_000),
+              help="Also time the Dask pipeline on this many points (0: skip; at most 20000).")
 @click.option("--suite", type=click.Choice(["engine", "rate-state", "chain"]), default="engine", show_default=True,
               help="engine: the single block vs DOP853; rate-state: rsfmodel's cases vs odeint; "
                    "chain: the exact chain vs fixed-step RK4.")
