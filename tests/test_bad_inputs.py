@@ -456,12 +456,22 @@ def _single_block_store(path: Path, tiles, skip_after=None) -> None:
 
 @pytest.fixture(scope="module")
 def env(tmp_path_factory):
+    d = tmp_path_factory.mktemp("bad-inputs")
+    paths, lock = build_env(d)
+    try:
+        yield d, paths
+    finally:
+        lock.release()
+
+
+def build_env(d: Path):
+    """The fixture files and stores in ``d``: their paths by placeholder name, and the lock held on the
+    store ``locked`` (a submit still running; release it after)."""
     from bifurcation.run.tiles import compute_tile, iter_tiles
     from bifurcation.store import create_store, write_tile
     from bifurcation.store.lock import StoreLock
     from bifurcation.workflow import parse_workflow
 
-    d = tmp_path_factory.mktemp("bad-inputs")
     paths = {"root": str(ROOT), "missing": str(d / "missing.toml")}
     files = d / "files"
     files.mkdir()
@@ -500,10 +510,7 @@ def env(tmp_path_factory):
     for name in ("sb", "locked", "damaged", "chain"):
         paths[name] = str(stores / f"{name}.zarr")
     lock = StoreLock(stores / "locked.zarr").acquire(command="a submit still running (tests/test_bad_inputs.py)")
-    try:
-        yield d, paths
-    finally:
-        lock.release()
+    return paths, lock
 
 
 def _snapshot(root: Path) -> dict:
