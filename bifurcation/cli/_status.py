@@ -45,7 +45,9 @@ def export_cmd(store: str, out: str, fmt, force: bool, partial: bool, as_json: b
     missing = written["points"] - written["computed"]
     click.echo(f"wrote {written['points']} points to {written['out']} ({written['format']})"
                + (f"; {missing} of them not computed yet (empty, status not-computed): `bifurcation submit` "
-                  "the store's workflow to finish it" if missing else ""))
+                  "the store's workflow to finish it" if missing else "")
+               + ("; the per-event catalogs are not in a CSV (one row per run): export to .nc for them, or "
+                  "`bifurcation query --catalog`" if "catalogs" in written else ""))
 
 
 COMMANDS = [status, export_cmd]

@@ -181,7 +181,12 @@ def export(store, out, fmt: str | None = None, *, force: bool = False, partial: 
                          "choose a writable path with free space") from None
     finally:
         tmp.unlink(missing_ok=True)
-    return {"out": str(out), "format": fmt, "points": points, "computed": int(read_done(path).sum())}
+    from .catalog import has_catalog
+
+    written = {"out": str(out), "format": fmt, "points": points, "computed": int(read_done(path).sum())}
+    if fmt == "csv" and has_catalog(path):   # one row per run: the per-event catalogs need netCDF
+        written["catalogs"] = "not in CSV"
+    return written
 
 
 def read_csv(path) -> list[dict]:
