@@ -236,7 +236,10 @@ def load_stores(paths) -> list:
     from ..store import open_store
 
     out = []
+    from ..store import check_store
+
     for p in find_stores(paths):
+        check_store(p, argument="store")   # a Zarr array or another format: one line, not zarr's error
         try:
             ds = open_store(p).load()
         except Exception:   # a chunk that does not decode: name it and the repair, as query and export do

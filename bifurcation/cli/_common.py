@@ -15,7 +15,7 @@ import click
 
 from ..errors import InputError
 
-__all__ = ["Group", "as_typed", "check_out_dir", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
+__all__ = ["Group", "as_typed", "check_out_dir", "check_outside_stores", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
 
 def fail(message: str) -> None:
@@ -175,6 +175,19 @@ def check_out_dir(path: str, option: str = "--out") -> Path:
     return out
 
 
+def check_outside_stores(path, option: str = "--out", *, itself: bool = True) -> None:
+    """Refuse ``path`` inside a bifurcation store (or, with ``itself``, the store itself): a store holds
+    only what ``submit`` writes, and a report, an export or another store in it would be taken for damage
+    or lost with it."""
+    from ..store import store_kind
+
+    here = Path(path).absolute()
+    for place in ((here,) if itself else ()) + tuple(here.parents):
+        if (place / "zarr.json").is_file() and store_kind(place) == "store":
+            where = "is the store" if place == here else f"is inside the store {place}"
+            raise InputError(option, str(path), where, "give a path outside every store, e.g. beside it")
+
+
 def check_writable_dir(path, option: str = "--out") -> Path:
     """``path`` as a directory this process can write to or create, checked by making (and removing) an
     empty directory in it or in its nearest existing parent: a command that computes first must not fail
@@ -184,6 +197,7 @@ def check_writable_dir(path, option: str = "--out") -> Path:
     out = Path(path)
     if out.exists() and not out.is_dir():
         raise InputError(option, str(path), "is a file, not a directory", "give a directory (it is created if missing)")
+    check_outside_stores(out, option)
     parent = out.absolute()
     while not parent.exists():
         parent = parent.parent

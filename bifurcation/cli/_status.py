@@ -37,7 +37,9 @@ def status(store: str, as_json: bool) -> None:
 def export_cmd(store: str, out: str, fmt, force: bool, partial: bool, as_json: bool) -> None:
     """Write a store to a netCDF (CF conventions) or CSV file that reads back to the same numbers."""
     from ..store.export import export
+    from ._common import check_outside_stores
 
+    check_outside_stores(out, itself=False)
     written = export(store, out, fmt, force=force, partial=partial)
     if as_json:
         echo_json(written)
