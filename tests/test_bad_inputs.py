@@ -276,6 +276,9 @@ CASES = [
     "submit /dev/zero ## WORKFLOW",
     "submit /proc/self/status ## WORKFLOW",
     "submit {big} ## WORKFLOW",
+    "submit {fifo} ## WORKFLOW",
+    "submit {loop} ## WORKFLOW",
+    "submit {wf_fig} --store {newstore} --scheduler {fifo} ## --scheduler",
     "submit {wf_rs} ## bifurcation continue",                                        # the other command's file
     "submit {root}/workflows/chain-report.toml ## chain.report",
     *[f"submit {{wf_{name}}} --store {{newstore}} ## {needle}" for name, needle in [
@@ -326,6 +329,8 @@ CASES = [
     "continue /dev/null ## WORKFLOW",
     "continue /dev/zero ## WORKFLOW",
     "continue {big} ## WORKFLOW",
+    "continue {fifo} ## WORKFLOW",
+    "continue {loop} ## WORKFLOW",
     "continue {wf_fig} ## bifurcation submit",
     "continue {wf_chain} ## bifurcation submit",
     "continue {root}/workflows/chain-report.toml ## chain.report",
@@ -495,9 +500,12 @@ def build_env(d: Path):
     with open(files / "big.toml", "wb") as fh:   # sparse: 2 MB of zeros, no disk used
         fh.truncate(2 << 20)
     (files / "sched_noaddr.json").write_text('{"type": "Scheduler", "id": "x"}')
+    os.mkfifo(files / "fifo.toml")                        # opening it to read would wait for a writer forever
+    os.symlink(files / "loop.toml", files / "loop.toml")  # a symlink to itself
     (files / "existing.nc").write_text("a user's file\n")
     (files / "existing.csv").write_text("a,b\n1,2\n")
-    for name in ("text.txt", "binary.toml", "empty.toml", "adir", "big.toml", "sched_noaddr.json"):
+    for name in ("text.txt", "binary.toml", "empty.toml", "adir", "big.toml", "sched_noaddr.json", "fifo.toml",
+                 "loop.toml"):
         paths[name.split(".")[0]] = str(files / name)
     paths["existing_nc"], paths["existing_csv"] = str(files / "existing.nc"), str(files / "existing.csv")
     for name, (template, old, new) in WORKFLOWS.items():
@@ -531,7 +539,7 @@ def _snapshot(root: Path) -> dict:
     for dirpath, _, names in os.walk(root):
         for name in names:
             p = Path(dirpath) / name
-            st = p.stat()
+            st = p.lstat()
             out[str(p)] = (st.st_size, st.st_mtime_ns)
     return out
 
