@@ -14,7 +14,7 @@ MAX_OUTPUTS = 10**6
 
 
 def _check_times(t_end, outputs) -> None:
-    """--t-end, --outputs and --at against each other, before anything is computed."""
+    """--t-end and --outputs, before anything is computed."""
     import math
 
     from ..errors import InputError
@@ -27,7 +27,9 @@ def _check_times(t_end, outputs) -> None:
                          f"give a number of output times such as 41; denser output: the Python API "
                          f"bifurcation.rate_state(t=...) over windows of the run")
 
+
 def _check_steps(t_end, at) -> None:
+    """Every --at step before --t-end (a later one would never be applied)."""
     from ..errors import InputError
 
     for step in at or []:
@@ -98,9 +100,8 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, preci
 
     import numpy as np
 
-    from ..models.rate_state import load_history, rate_state
-
     from ..errors import InputError
+    from ..models.rate_state import load_history, rate_state
 
     _check_times(t_end, outputs)
     for step in at or []:
