@@ -36,7 +36,7 @@ def test_table_output_with_u0():
     assert "hypocentre" in res.output and "status complete" in res.output
 
 
-_DEFAULTS = {"--law": "carlson-langer", "--ell": "1", "--nu": "1e-6", "--nu-f": "0.3", "--n": "3",
+_DEFAULTS = {"--law": "carlson-langer", "--ell": "1", "--nu": "1e-6", "--nu-f": "0.3", "--n": "3", "--seed": "1",
              "--amplitude": "0.1", "--events": "3"}
 
 
@@ -51,7 +51,7 @@ _DEFAULTS = {"--law": "carlson-langer", "--ell": "1", "--nu": "1e-6", "--nu-f": 
     ({"--amplitude": "nan"}, "amplitude"),
     ({"--amplitude": None}, "amplitude"),
     ({"--nu": "nan"}, "nu=nan"),
-    ({"--nu-f": "-1"}, "nu_f=-1"),
+    ({"--nu-f": "-1"}, "--nu-f=-1"),
     ({"--law": "friction"}, "law='friction'"),
     ({"--amplitude": None, "--u0": "a,b,c"}, "--u0"),
     ({"--u0": "0,0,0"}, "u0"),
@@ -59,6 +59,8 @@ _DEFAULTS = {"--law": "carlson-langer", "--ell": "1", "--nu": "1e-6", "--nu-f": 
 ])
 def test_bad_input_is_one_line_exit_2(change, needle):
     opts = {**_DEFAULTS, **change}
+    if opts.get("--amplitude") is None:   # a start from --u0 takes no seed
+        opts.pop("--seed")
     args = ["chain"] + [x for k, v in opts.items() if v is not None for x in (k, v)]
     res = CliRunner().invoke(cli, args)
     assert res.exit_code == 2, res.output
@@ -75,3 +77,26 @@ def test_api_rejects_bad_input_with_the_argument_named():
         bf.chain("carlson-langer", n=2, ell=1.0, nu=1e-6, nu_f=0.3, amplitude=0.1, events=2.5)
     with pytest.raises(bf.InputError, match="u0"):
         bf.chain("carlson-langer", n=2, ell=1.0, nu=1e-6, nu_f=0.3, u0=[0.0, 1.5], events=2)
+
+
+def test_progress_reporting_leaves_the_catalog_bit_identical():
+    # the CLI's progress line runs the events in growing pieces (ChainLoop.run called repeatedly);
+    # the catalog and the final state must be those of one uninterrupted run, bit for bit
+    kwargs = dict(n=6, ell=1.0, nu=1e-3, nu_f=0.3, amplitude=0.5, seed=2, events=40)
+    calls = []
+    whole = bf.chain("carlson-langer", **kwargs)
+    pieces = bf.chain("carlson-langer", **kwargs, progress=lambda done, events, t: calls.append((done, events, t)))
+    for key in (*CATALOG_FIELDS, "u", "stress"):
+        assert np.array_equal(np.asarray(whole[key]).view(np.int64) if np.asarray(whole[key]).dtype.kind == "f"
+                              else whole[key],
+                              np.asarray(pieces[key]).view(np.int64) if np.asarray(pieces[key]).dtype.kind == "f"
+                              else pieces[key]), key
+    assert whole.t == pieces.t and whole.status == pieces.status
+    assert len(calls) > 1 and calls[-1][:2] == (40, 40)   # pieces of 1, 2, 4, ... events: several calls
+    assert [c[0] for c in calls] == sorted(c[0] for c in calls)
+
+
+def test_a_flag_given_twice_is_one_line_without_an_empty_value():
+    res = CliRunner().invoke(cli, BASE + ["--n", "2", "--amplitude", "0.1", "--seed", "1", "--events", "2",
+                                          "--json", "--json"])
+    assert res.exit_code == 2 and res.stderr.strip() == "bifurcation: error: --json is given twice: give it once"

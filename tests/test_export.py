@@ -80,7 +80,7 @@ def test_csv_round_trip(store, tmp_path):
     out = tmp_path / "s.csv"
     result = CliRunner().invoke(cli, ["export", "--store", str(store), "--out", str(out), "--json"])
     assert result.exit_code == 0, result.output
-    assert json.loads(result.output) == {"out": str(out), "format": "csv", "points": 12}
+    assert json.loads(result.output) == {"out": str(out), "format": "csv", "points": 12, "computed": 12}
     rows = read_csv(out)
     assert rows == query(store)   # every float exact (repr), NaN as None, same order
 

@@ -144,8 +144,8 @@ def test_workflows_refused_before_any_work(here, text, needle):
 @pytest.mark.parametrize("args, needle", [
     (["slip", "--law", "carlson-langer", "--nu", "5e-324", "--nu-f", "0.4", "--json"], "nu=5e-324: is outside [1e-20, 1]"),
     (["slip", "--law", "carlson-langer", "--nu", "2", "--nu-f", "0.4"], "nu=2.0: is outside [1e-20, 1]"),
-    (["slip", "--law", "carlson-langer", "--nu", "1e-9", "--nu-f", "20"], "nu_f=20.0: is outside [0.0001, 10]"),
-    (["limit", "--law", "carlson-langer", "--nu-f", "1e-5"], "nu_f=1e-05: is outside [0.0001, 10]"),
+    (["slip", "--law", "carlson-langer", "--nu", "1e-9", "--nu-f", "20"], "--nu-f=20.0: is outside [0.0001, 10]"),
+    (["limit", "--law", "carlson-langer", "--nu-f", "1e-5"], "--nu-f=1e-05: is outside [0.0001, 10]"),
 ])
 def test_engine_commands_share_the_workflow_bounds(args, needle):
     # a real process: nothing on stdout (heyoka's warnings included), one line on stderr

@@ -145,12 +145,12 @@ BAD = [
     (["--dc", "0"], "dc=0.0: must be > 0"),
     (["--k", "0"], "k=0.0: must be > 0"),
     (["--k", "-1"], "k=-1.0: must be > 0"),
-    (["--state-law", "frobnicate"], "state_law='frobnicate': is not a known state law"),
+    (["--state-law", "frobnicate"], "--state-law='frobnicate': is not a known state law"),
     (["--v-lp", "1,10,3", "--at", "10,10"], "are not strictly increasing"),
     (["--v-lp", "1,10,3", "--at", "10,5"], "are not strictly increasing"),
     (["--v-lp", "1,10"], "needs 1 step times for 2 velocities"),
     (["--v-lp", ""], "Invalid value for --v-lp"),
-    (["--v-lp", "-1"], "v_lp=-1.0: must be >= 0"),
+    (["--v-lp", "-1"], "--v-lp=-1.0: must be >= 0"),
     (["--mass", "0"], "mass=0.0: must be > 0"),
 ]
 

@@ -92,8 +92,8 @@ def test_continue_writes_a_store_and_a_report(tmp_path):
 @pytest.mark.parametrize("edit,message", [
     (("points = 4", "pointz = 4"), "branch[0].pointz"),
     (('state_law = "prz"', 'state_law = "frob"'), "branch[0].state_law='frob'"),
-    (("b = 0.015", "b = 0.005"), "branch[0].b=0.005: must be > 0.01"),
-    (("dc = 0.01", "dc = -1"), "branch[0].dc=-1"),
+    (("b = 0.015", "b = 0.005"), "slider.b=0.005: must be > 0.01"),
+    (("dc = 0.01", "dc = -1"), "slider.dc=-1"),
     (("bautin = false", "bautin = 3"), "hopf.bautin=3"),
     (("points = 4", 'points = 4\nparameter = "k"'), "branch[0].parameter='k'"),
     (("points = 4", "points = 4\nstart_point = 2"), "branch[0].start_point=2: is only for a branch in V_lp"),

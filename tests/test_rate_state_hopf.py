@@ -75,7 +75,7 @@ def test_hopf_cli_json_keys_and_bad_input():
     rec = json.loads(r.output)
     assert {"k_c", "omega_c", "lyapunov_coefficient", "criticality"} <= set(rec)
     assert rec["criticality"] == "subcritical" and rec["k_c"] == pytest.approx(0.5, rel=1e-12)
-    for bad, msg in [(["--dc", "-1"], "dc=-1.0: must be > 0"), (["--v-lp", "0"], "v_lp=0.0: must be > 0"),
+    for bad, msg in [(["--dc", "-1"], "dc=-1.0: must be > 0"), (["--v-lp", "0"], "--v-lp=0.0: must be > 0"),
                      (["--state-law", "nope"], "is not a known state law"), (["--b", "nan"], "b=nan")]:
         args = {"--state-law": "prz", "--a": "0.01", "--b": "0.015", "--dc": "0.01", "--v-lp": "1"}
         args[bad[0]] = bad[1]

@@ -170,7 +170,7 @@ def test_client_writer_and_failed_tiles_are_reported_then_resumed(scheduler, tmp
 
 # -- CLI -------------------------------------------------------------------------------------------
 BAD_INVOCATIONS = [
-    (["submit", "missing.toml"], "workflow="),
+    (["submit", "missing.toml"], "WORKFLOW="),
     (["submit", "bad-syntax.toml"], "is not valid TOML"),
     (["submit", "unknown-key.toml"], "engine.precison="),
     (["submit", "ok.toml", "--workers", "0"], "--workers=0"),

@@ -170,6 +170,15 @@ def match_nu_f(source, law: str, nu_f: float, *, nearest: bool = False):
     ``nearest`` the nearest one. Stores without ``law`` are ignored; no store with it is an error."""
     holding = [ds for ds in _sources(source) if _single_block(ds) and _law_index(ds, law) is not None]
     if not holding:
+        from ..store.layout import store_model
+
+        others = sorted({store_model(ds.attrs) for ds in _sources(source) if not _single_block(ds)})
+        if others and not any(_single_block(ds) for ds in _sources(source)):
+            raise InputError("store", f"model {', '.join(others)}",
+                             "holds no Δ(ν) of the single block to extrapolate or fit (Δ, T and their ν → 0 "
+                             "limit are the single-block model's outputs)",
+                             "give a store of the single block (e.g. results/critical-point.zarr); for a chain "
+                             "store use `bifurcation query --catalog` or `bifurcation report`")
         laws = sorted({l for ds in _sources(source) if _single_block(ds) for l in _laws_of(ds)})
         raise InputError("law", law, f"is in no store given (they hold {', '.join(laws) or 'no law'})",
                          "give a law the store holds (a formula matches by its expression)")
@@ -227,8 +236,19 @@ def load_stores(paths) -> list:
     from ..store import open_store
 
     out = []
+    from ..store import check_store
+
     for p in find_stores(paths):
-        ds = open_store(p).load()
+        check_store(p, argument="store")   # a Zarr array or another format: one line, not zarr's error
+        try:
+            ds = open_store(p).load()
+        except Exception:   # a chunk that does not decode: name it and the repair, as query and export do
+            from ..store.integrity import StoreDamagedError, scan
+
+            damage, _, _ = scan(p)
+            if damage:
+                raise StoreDamagedError(p, damage[0]) from None
+            raise
         ds.attrs.setdefault("store_path", str(p))
         out.append(ds)
     return out

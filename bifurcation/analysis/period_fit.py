@@ -299,6 +299,8 @@ def fit_period(source, law: str, nu_f: float, *, delta0: float | None = None,
         Fit a 1/ν column too (absorbs rounding of Δ0).
     """
     nu_f = _number("nu_f", nu_f)
+    if not nu_f > 0:
+        raise InputError("nu_f", nu_f, "is not > 0", "give a friction velocity 0 < nu_f < 0.5")
     if not (0 < nu_f < 0.5):
         raise InputError("nu_f", nu_f, "is not below 1/2: the expansion of T is for the stick-slip side "
                          "(at 1/2 the exponents merge)", "use 0 < nu_f < 0.5, or `bifurcation extrapolate` "

@@ -120,9 +120,9 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> N
 def report(stores, out: str, as_json: bool) -> None:
     """Report what one or more stores hold (model, laws, axes, transition, fits, figures) into DIR."""
     from ..report import write_store_report
-    from ._common import check_out_dir
+    from ._common import check_writable_dir
 
-    check_out_dir(out)   # before the analysis, not after it
+    check_writable_dir(out)   # before the analysis, not after it (and nothing made if a store is refused)
     sources = _stores(stores)
     with _with_options(_NAMES):
         files = write_store_report(sources, out)
@@ -163,14 +163,16 @@ def reproduce(out: str, scheduler, workers, new_stores: bool, as_json: bool) -> 
     from ..run import submit
     from ..run.cluster import check_scheduler, check_workers, connect
 
-    from ._common import check_out_dir
+    from ._common import check_writable_dir
 
     started = time.perf_counter()
-    check_out_dir(out)
+    target = check_scheduler(scheduler)
+    workers = check_workers(workers, embedded=target is None)
+    check_writable_dir(out)
     workflows = _workflow_dir()
     stores, summaries = [], []
     # One cluster for the three workflows (starting an embedded one costs ~1 s and compiles per worker).
-    with connect(check_scheduler(scheduler), check_workers(workers)) as client:
+    with connect(target, workers) as client:
         for name in PAPER_WORKFLOWS:
             try:
                 summary = submit(workflows / name, scheduler=client, new_store=new_stores)

@@ -7,7 +7,51 @@ import click
 from ..errors import InputError
 from ._common import echo_json, examples, number
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "MAX_EVENTS"]
+
+#: The most events one ``bifurcation chain`` run computes: its catalog is held in memory and printed, and
+#: at ~7000 events/s (N = 2, measured at load 4: 250000 events in 37 s; far fewer for long chains) 10^6
+#: events are minutes, with a progress line every 10 s. Longer catalogs are
+#: studies: a workflow through ``bifurcation submit`` checkpoints every run and resumes.
+MAX_EVENTS = 10**6
+_STUDY = ("for more, run a study: a workflow with [grid.n] and [grid.events] through `bifurcation submit` "
+          "(checkpointed and resumable; workflows/chain-study.toml, docs/chain.md)")
+
+
+def _check_bounds(n, ell, amplitude, seed, events) -> None:
+    """The chain's values against the bounds its workflows obey (the model's axes), and the CLI's cap on
+    events, before anything is computed."""
+    from ..models import get_model
+
+    axes = {axis.name: axis for axis in get_model("chain").axes}
+    if events is not None and events > MAX_EVENTS:
+        raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
+                         "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
+    given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events}
+    for name, value in given.items():
+        if value is None or value != value:   # missing, or NaN (refused with its own message later)
+            continue
+        low, high = (int(b) if float(b).is_integer() else b for b in axes[name].bounds)
+        if not low <= value <= high:
+            option = "--" + name
+            raise InputError(option, value, f"is outside [{low}, {high}], the bounds of the chain model (its "
+                             "workflows' too: bifurcation.models.chain)", f"give a value in [{low}, {high}]")
+
+
+def _progress(started: float):
+    """A line on stderr about every 10 s of a long run: events done, the chain's time, the elapsed time."""
+    import time
+
+    last = [started]
+
+    def report(done: int, events: int, t: float) -> None:
+        now = time.perf_counter()
+        if now - last[0] >= 10.0:
+            last[0] = now
+            click.echo(f"bifurcation: chain: {done} of {events} events, t = {t:.6g}, {now - started:.0f} s",
+                       err=True)
+
+    return report
 
 
 def _u0(ctx, param, value):
@@ -51,6 +95,8 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
     from ..models.chain import CATALOG_FIELDS, chain
     from ..models.chain._validate import check_sigma, check_size, check_v_threshold
 
+    import time
+
     if preset is not None:
         from ..models.chain.presets import get_preset
 
@@ -67,6 +113,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
             raise InputError(name, None, "is missing", f"give {name}, or --preset NAME (e.g. carlson-langer-1991)")
     sigma = 0.0 if sigma is None else sigma
     ends = "free" if ends is None else ends
+    _check_bounds(n, ell, amplitude, seed, events)
     check_size(n, ell, ends)   # the chain first (N, ℓ, ends), then its start
     try:
         check_sigma(sigma)
@@ -85,9 +132,13 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
                              "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
+    if u0 is None and seed is None:   # a random start names its seed: no silent seed 0
+        raise InputError("--seed", None, "is missing (a random start from --amplitude needs it)",
+                         "give --seed S, e.g. --seed 1 (the start is numpy.random.default_rng(S))")
 
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
-              events=events, precision=precision, sigma=sigma, v_threshold=v_threshold)
+              events=events, precision=precision, sigma=sigma, v_threshold=v_threshold,
+              progress=_progress(time.perf_counter()))
     if as_json:
         echo_json(r.to_json())
     else:

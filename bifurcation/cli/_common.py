@@ -15,7 +15,7 @@ import click
 
 from ..errors import InputError
 
-__all__ = ["Group", "check_out_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
+__all__ = ["Group", "as_typed", "check_out_dir", "check_outside_stores", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
 
 def fail(message: str) -> None:
@@ -26,11 +26,12 @@ def fail(message: str) -> None:
 
 def _repeated_option(command: click.Command, args: list[str]) -> str | None:
     """The first option of ``command`` that takes one value but appears twice in ``args``, if any."""
-    single = {}
+    single, flags = {}, {}
     for param in command.params:
         if isinstance(param, click.Option) and not param.multiple and not param.count:
             for opt in param.opts:
                 single[opt] = param.name
+                flags[opt] = param.is_flag
     seen: dict[str, str] = {}
     for i, arg in enumerate(args):
         if arg == "--":
@@ -38,6 +39,11 @@ def _repeated_option(command: click.Command, args: list[str]) -> str | None:
         opt, eq, value = arg.partition("=")
         name = single.get(opt)
         if name is None:
+            continue
+        if flags.get(opt):
+            if name in seen:
+                return f"{opt} is given twice: give it once"
+            seen[name] = opt
             continue
         if not eq:
             value = args[i + 1] if i + 1 < len(args) else ""
@@ -54,8 +60,11 @@ class Group(click.Group):
     Ctrl-C ends with status 130 and says what is kept.
     """
 
+    _command: click.Command | None = None
+
     def resolve_command(self, ctx, args):
         name, command, rest = super().resolve_command(ctx, args)
+        self._command = command
         if command is not None:
             problem = _repeated_option(command, rest)
             if problem:
@@ -75,7 +84,7 @@ class Group(click.Group):
         except click.UsageError as exc:
             fail(" ".join(exc.format_message().split()))
         except InputError as exc:
-            fail(" ".join(str(exc).split()))
+            fail(" ".join(as_typed(exc, self._command).split()))
         except click.ClickException as exc:
             click.echo(f"bifurcation: error: {exc.format_message()}", err=True)
             sys.exit(exc.exit_code)
@@ -85,6 +94,23 @@ class Group(click.Group):
                    "tiles are kept" if exc.errno == errno.ENOSPC else "")
             click.echo(f"bifurcation: error: {exc.strerror or exc}{where}{fix}", err=True)
             sys.exit(1)
+
+
+def as_typed(exc: InputError, command: click.Command | None) -> str:
+    """``exc`` as one line naming the argument as the user typed it: an error about the parameter
+    ``nu_f`` of the command that ran reads ``--nu-f=…``, about its argument ``workflow`` ``WORKFLOW=…``;
+    other names (``grid.nu.values[0]``, a table key of a TOML file) are kept as they are."""
+    argument = exc.argument
+    for param in getattr(command, "params", ()):
+        if argument in (param.name, (param.name or "").replace("_", "-")):
+            if isinstance(param, click.Option):
+                argument = max(param.opts, key=len)
+            elif isinstance(param, click.Argument):
+                argument = param.human_readable_name
+            break
+    if argument == exc.argument:
+        return str(exc)
+    return f"{argument}={exc.value!r}: {exc.problem}; {exc.fix}"
 
 
 def _clean(obj):
@@ -148,6 +174,44 @@ def check_out_dir(path: str, option: str = "--out") -> Path:
                          "give a directory in a writable place") from None
     if not os.access(out, os.W_OK | os.X_OK):
         raise InputError(option, path, "is not writable", "give a directory you can write to")
+    return out
+
+
+def check_outside_stores(path, option: str = "--out", *, itself: bool = True) -> None:
+    """Refuse ``path`` inside a bifurcation store (or, with ``itself``, the store itself): a store holds
+    only what ``submit`` writes, and a report, an export or another store in it would be taken for damage
+    or lost with it."""
+    from ..store import store_kind
+
+    here = Path(path).absolute()
+    for place in ((here,) if itself else ()) + tuple(here.parents):
+        if (place / "zarr.json").is_file() and store_kind(place) == "store":
+            where = "is the store" if place == here else f"is inside the store {place}"
+            raise InputError(option, str(path), where, "give a path outside every store, e.g. beside it")
+
+
+def check_writable_dir(path, option: str = "--out") -> Path:
+    """``path`` as a directory this process can write to or create, checked by making (and removing) an
+    empty directory in it or in its nearest existing parent: a command that computes first must not fail
+    at the end on its output (``/proc``, a read-only mount, a file in the way)."""
+    import tempfile
+
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise InputError(option, str(path), "is a file, not a directory", "give a directory (it is created if missing)")
+    check_outside_stores(out, option)
+    parent = out.absolute()
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(option, str(path), f"cannot be created ({parent} is a file)",
+                         "give a directory in a writable place")
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".bifurcation-probe-", dir=parent))
+    except OSError as exc:
+        what = "is not writable" if parent == out.absolute() else "cannot be created"
+        raise InputError(option, str(path), f"{what} ({exc.strerror or exc} in {parent})",
+                         "give a directory in a writable place") from None
     return out
 
 

@@ -6,7 +6,36 @@ import click
 
 from ._common import echo_json, examples, number
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "MAX_OUTPUTS"]
+
+#: The most output times of one ``bifurcation rate-state`` run (each a printed line; the arrays are held in
+#: memory). Denser output is the Python API's ``rate_state(t=...)`` over windows of the run.
+MAX_OUTPUTS = 10**6
+
+
+def _check_times(t_end, outputs) -> None:
+    """--t-end and --outputs, before anything is computed."""
+    import math
+
+    from ..errors import InputError
+
+    if not math.isfinite(t_end) or t_end <= 0:
+        raise InputError("--t-end", t_end, "must be a finite time > 0 (the run starts at t = 0)",
+                         "give an end time such as 40")
+    if outputs < 2 or outputs > MAX_OUTPUTS:
+        raise InputError("--outputs", outputs, f"must be in [2, {MAX_OUTPUTS}] (the start and the end at least)",
+                         f"give a number of output times such as 41; denser output: the Python API "
+                         f"bifurcation.rate_state(t=...) over windows of the run")
+
+
+def _check_steps(t_end, at) -> None:
+    """Every --at step before --t-end (a later one would never be applied)."""
+    from ..errors import InputError
+
+    for step in at or []:
+        if step >= t_end:
+            raise InputError("--at", step, f"is not before --t-end {t_end:g}: that velocity step would never "
+                             "be applied", "give step times before the end time, or a later --t-end")
 
 
 def _floats(name: str, example: str):
@@ -82,22 +111,34 @@ def hopf_cmd(state_law, a, b, dc, v_lp, mass, damping, as_json) -> None:
 def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, damping, precision, cycle,
                    as_json) -> None:
     """One run of the rate-and-state spring-slider: μ, V, θ at evenly spaced times, and the extrema of V."""
+    import math
+
     import numpy as np
 
     from ..errors import InputError
     from ..models.rate_state import SliderSpec, load_history, rate_state
 
+    if t_end is not None:
+        _check_times(t_end, outputs)
+    for step in at or []:
+        if not math.isfinite(step):
+            raise InputError("--at", step, "is not a finite time", "give step times such as 10 or 10,20")
     laws = [s.strip() for s in state_law.split(",")]
     if len(laws) == 1 and len(b) > 1:
         laws = laws * len(b)
     damping = 0.0 if damping is None else damping
     spec = SliderSpec(a=a, b=b, dc=dc, state_law=laws, k=k, mass=mass, damping=damping)   # checks before work
-    history = load_history(v_lp, at=at or [])
+    try:
+        history = load_history(v_lp, at=at or [])
+    except InputError as exc:   # the step times are --at here
+        raise InputError("--at" if exc.argument == "v_lp at" else exc.argument, exc.value, exc.problem,
+                         exc.fix) from None
     if cycle:
         _cycle(spec, history, precision, as_json)
         return
     if t_end is None:
         raise InputError("--t-end", None, "is missing", "give the end time of the run, e.g. --t-end 40 (or --cycle)")
+    _check_steps(t_end, at)
     t = np.linspace(history.times[0], t_end, outputs)
     r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, damping=damping,
                    precision=precision)
@@ -158,9 +199,12 @@ def continue_cmd(workflow: str, out, damping) -> None:
     from ..models.rate_state.spec import _finite
     from ..models.rate_state.study import load_study, run_study
 
+    from ._common import check_writable_dir
+
     load_study(workflow)  # validate before anything is computed or written
     if damping is not None:
         damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
+    check_writable_dir(out if out is not None else "results")   # and where it goes
     run_study(workflow, out, echo=click.echo, damping=damping)
 
 

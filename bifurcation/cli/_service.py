@@ -51,7 +51,10 @@ def submit_cmd(workflow: str, store, scheduler, workers, workers_timeout, new_st
     (--detach) joins it: waits for it, then computes what is left.
     """
     from ..run import submit
+    from ._common import check_outside_stores
 
+    if store is not None:   # a store inside another store would be lost or taken for damage with it
+        check_outside_stores(store, "--store", itself=False)
     summary = submit(workflow, store=store, scheduler=scheduler, workers=workers, new_store=new_store,
                      writer=writer, workers_timeout=workers_timeout, dashboard=dashboard, detach=detach)
     if as_json:

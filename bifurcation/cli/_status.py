@@ -30,16 +30,26 @@ def status(store: str, as_json: bool) -> None:
 @click.option("--out", metavar="FILE", required=True, help="The file to write: .nc (netCDF, CF) or .csv.")
 @click.option("--format", "fmt", type=click.Choice(["netcdf", "csv"]), default=None,
               help="The file type (default: from the suffix of --out).")
+@click.option("--force", is_flag=True, help="Replace --out if it exists (default: refuse).")
+@click.option("--partial", is_flag=True,
+              help="Export a store that a submit is still writing: the points done so far (default: refuse).")
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
-def export_cmd(store: str, out: str, fmt, as_json: bool) -> None:
+def export_cmd(store: str, out: str, fmt, force: bool, partial: bool, as_json: bool) -> None:
     """Write a store to a netCDF (CF conventions) or CSV file that reads back to the same numbers."""
     from ..store.export import export
+    from ._common import check_outside_stores
 
-    written = export(store, out, fmt)
+    check_outside_stores(out, itself=False)
+    written = export(store, out, fmt, force=force, partial=partial)
     if as_json:
         echo_json(written)
-    else:
-        click.echo(f"wrote {written['points']} points to {written['out']} ({written['format']})")
+        return
+    missing = written["points"] - written["computed"]
+    click.echo(f"wrote {written['points']} points to {written['out']} ({written['format']})"
+               + (f"; {missing} of them not computed yet (empty, status not-computed): `bifurcation submit` "
+                  "the store's workflow to finish it" if missing else "")
+               + ("; the per-event catalogs are not in a CSV (one row per run): export to .nc for them, or "
+                  "`bifurcation query --catalog`" if "catalogs" in written else ""))
 
 
 COMMANDS = [status, export_cmd]

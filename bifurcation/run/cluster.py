@@ -18,7 +18,8 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["WORKERS_TIMEOUT", "check_scheduler", "check_workers", "connect", "describe", "wait_for_workers"]
+__all__ = ["WORKERS_TIMEOUT", "check_scheduler", "check_workers", "check_workers_timeout", "connect", "describe",
+           "max_embedded_workers", "wait_for_workers"]
 
 _CONNECT_TIMEOUT = "10s"
 #: Seconds ``--workers N`` waits for N workers to connect to an existing scheduler before giving up.
@@ -43,6 +44,7 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
         return ("address", text, "--scheduler")
     path = Path(text)
     if path.is_file():
+        _check_scheduler_file(path)
         return ("file", str(path), "--scheduler")
     host, _, port = text.rpartition(":")
     if host and port.isdigit():
@@ -51,13 +53,56 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
                      "give tcp://HOST:PORT or the path written by `dask scheduler --scheduler-file`")
 
 
-def check_workers(workers) -> int | None:
-    """``workers`` if it is None or a positive integer; ``InputError`` otherwise."""
+def _check_scheduler_file(path: Path) -> None:
+    """A scheduler file is the JSON that ``dask scheduler --scheduler-file`` writes, with the scheduler's
+    ``address``; any other file is refused here (distributed would fail an assertion, then time out)."""
+    import json
+
+    fix = "give the file written by `dask scheduler --scheduler-file PATH`, or tcp://HOST:PORT"
+    try:
+        with open(path, "rb") as fh:
+            data = json.loads(fh.read(1 << 20))
+    except OSError as exc:
+        raise InputError("--scheduler", str(path), f"cannot be read ({exc.strerror or exc})", fix) from None
+    except ValueError:   # not JSON, not UTF-8, or cut at 1 MB: not a scheduler file
+        data = None
+    if not isinstance(data, dict) or not isinstance(data.get("address"), str) or "://" not in data["address"]:
+        raise InputError("--scheduler", str(path), "is a file but not a scheduler file (JSON with the "
+                         "scheduler's address)", fix)
+
+
+#: The most worker processes of an embedded cluster: each holds a core and ~200 MB, so more than a few per
+#: core only costs memory (10^5 asked for tried to start them all). More workers: start a `dask scheduler`
+#: and `dask worker`s (on other machines too) and pass --scheduler.
+def max_embedded_workers() -> int:
+    return 4 * (os.cpu_count() or 1)
+
+
+def check_workers(workers, *, embedded: bool = False) -> int | None:
+    """``workers`` if it is None or a positive integer (at most ``max_embedded_workers()`` for an
+    ``embedded`` cluster); ``InputError`` otherwise."""
     if workers is None:
         return None
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise InputError("--workers", workers, "is not a positive number of workers", "give a whole number such as --workers 2")
+    if embedded and workers > max_embedded_workers():
+        raise InputError("--workers", workers, f"is more than {max_embedded_workers()} worker processes, 4 per core "
+                         f"of this machine ({os.cpu_count()} cores) for the embedded cluster",
+                         "give fewer, or start a `dask scheduler` and `dask worker`s and pass --scheduler ADDRESS")
     return workers
+
+
+def check_workers_timeout(timeout) -> float | None:
+    """Seconds to wait for workers: None (the default) or a finite number in (0, 86400]."""
+    import math
+
+    if timeout is None:
+        return None
+    if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or not math.isfinite(timeout) \
+            or not 0 < timeout <= 86400:
+        raise InputError("--workers-timeout", timeout, "is not a time in (0, 86400] seconds",
+                         "give seconds such as 120")
+    return float(timeout)
 
 
 def describe(target) -> str:

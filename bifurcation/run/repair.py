@@ -73,8 +73,17 @@ def verify(store, *, repair: bool = False, scheduler=None, workers=None, progres
     from ..store import check_store
     from ..store.integrity import scan
 
+    from ..errors import InputError
+    from .cluster import check_scheduler, check_workers
+
     path = Path(store)
     check_store(path)
+    target = check_scheduler(scheduler)   # checked with or without damage to repair
+    check_workers(workers, embedded=target is None)
+    if not repair and (scheduler is not None or workers is not None):
+        raise InputError("--scheduler" if scheduler is not None else "--workers",
+                         scheduler if scheduler is not None else workers,
+                         "is only used to recompute damaged tiles", "add --repair, or leave it out")
     _check_free(path)
     damage, n_tiles, n_chunks = scan(path)
     if not repair or not damage:

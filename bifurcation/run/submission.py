@@ -26,7 +26,7 @@ from ..outcome import Status
 from ..errors import InputError
 from .tiles import Tile, compute_tile, iter_tiles
 from ..workflow import Workflow, load_workflow
-from .cluster import check_scheduler, check_workers, connect, describe
+from .cluster import check_scheduler, check_workers, check_workers_timeout, connect, describe
 from .progress import Progress
 
 __all__ = ["WRITERS", "Summary", "submit"]
@@ -169,7 +169,8 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     if not isinstance(workflow, Workflow):
         workflow = load_workflow(workflow)
     target = check_scheduler(scheduler)
-    workers = check_workers(workers)
+    workers = check_workers(workers, embedded=target is None)
+    workers_timeout = check_workers_timeout(workers_timeout)
     if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
         raise InputError("retries", retries, "is not a number of retries", "give an integer >= 0 such as 3")
     if writer not in WRITERS:

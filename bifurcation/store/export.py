@@ -121,20 +121,27 @@ def _is_netcdf_attr(value) -> bool:
 
 
 def _format(out: Path, fmt: str | None) -> str:
+    implied = _SUFFIX.get(out.suffix.lower())
     if fmt is None:
-        fmt = _SUFFIX.get(out.suffix.lower())
+        fmt = implied
         if fmt is None:
             raise InputError("--out", str(out), "has no known file type", "end it in .nc or .csv, or pass --format")
     if fmt not in FORMATS:
         raise InputError("--format", fmt, "is not an export format", f"use one of {', '.join(FORMATS)}")
+    if implied is not None and implied != fmt:   # x.nc holding CSV misleads every reader after
+        raise InputError("--format", fmt, f"contradicts the suffix of --out {out.name} ({implied})",
+                         f"give --out a name ending in .{'csv' if fmt == 'csv' else 'nc'}, or leave --format out")
     return fmt
 
 
-def export(store, out, fmt: str | None = None) -> dict:
+def export(store, out, fmt: str | None = None, *, force: bool = False, partial: bool = False) -> dict:
     """Write the store at ``store`` to ``out`` as netCDF or CSV (``fmt``, or from the suffix); returns
-    ``{"out", "format", "points"}``. ``InputError`` (one line) for a bad path or a damaged store."""
+    ``{"out", "format", "points", "computed"}``. ``InputError`` (one line) for a bad path, a damaged store,
+    an existing ``out`` (unless ``force``) or a store that a submit is still writing (unless ``partial``);
+    points not computed are exported empty (NaN, status not-computed)."""
     from .integrity import StoreDamagedError, scan
-    from .zarr_store import check_store
+    from .lock import holder
+    from .zarr_store import check_store, read_done
 
     path, out = Path(store), Path(out)
     if out.is_dir():
@@ -151,6 +158,13 @@ def export(store, out, fmt: str | None = None) -> dict:
                              "`bifurcation query --store S ... --catalog --format csv`")
     if not out.parent.is_dir():
         raise InputError("--out", str(out), "is in a directory that does not exist", "create it first")
+    if (out.exists() or out.is_symlink()) and not force:
+        raise InputError("--out", str(out), "exists", "pass --force to replace it, or choose another file")
+    writer = holder(path)
+    if writer is not None and not partial:
+        raise InputError("--store", str(path), f"is still being written by {writer.describe()}: an export now "
+                         "would hold only the points finished so far",
+                         "wait for it to end (bifurcation status), or pass --partial to export what is done")
     damage, _, _ = scan(path)
     if damage:
         raise StoreDamagedError(path, damage[0])
@@ -175,7 +189,12 @@ def export(store, out, fmt: str | None = None) -> dict:
                          "choose a writable path with free space") from None
     finally:
         tmp.unlink(missing_ok=True)
-    return {"out": str(out), "format": fmt, "points": points}
+    from .catalog import has_catalog
+
+    written = {"out": str(out), "format": fmt, "points": points, "computed": int(read_done(path).sum())}
+    if fmt == "csv" and has_catalog(path):   # one row per run: the per-event catalogs need netCDF
+        written["catalogs"] = "not in CSV"
+    return written
 
 
 def read_csv(path) -> list[dict]:

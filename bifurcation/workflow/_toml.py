@@ -10,7 +10,68 @@ from numbers import Real
 
 from ..errors import InputError
 
-__all__ = ["Table"]
+__all__ = ["MAX_WORKFLOW_BYTES", "Table", "other_command", "read_workflow_text"]
+
+#: The tables that tell each command's workflow from the others'.
+_KINDS = (
+    ("submit", ("engine", "grid", "tiles", "model"), "a study workflow of `bifurcation submit` ([engine], [grid])",
+     "run it with `bifurcation submit FILE`"),
+    ("continue", ("slider", "branch", "hopf"),
+     "a rate-state continuation workflow of `bifurcation continue` ([slider], [[branch]], [hopf])",
+     "run it with `bifurcation continue FILE`"),
+    ("chain-report", ("chain", "sweep", "catalog", "threshold", "near_half"),
+     "a chain report workflow ([chain], [sweep])",
+     "run it with `python -m bifurcation.models.chain.report FILE`"),
+)
+
+
+def other_command(data, command: str, argument: str, source) -> None:
+    """Refuse a parsed workflow written for another command than ``command``, naming that command (a
+    table of this command's own kind anywhere in it keeps it here, for the schema checks to name)."""
+    if not isinstance(data, dict):
+        return
+    own = next(tables for kind, tables, _, _ in _KINDS if kind == command)
+    if any(key in data for key in own):
+        return
+    for kind, tables, what, fix in _KINDS:
+        if kind != command and any(key in data for key in tables):
+            raise InputError(argument, str(source), f"is {what}, not one for `bifurcation {command}`", fix)
+
+#: A workflow is a page of TOML (the shipped ones are < 3 KB); anything larger is not one, and reading it
+#: whole (``/dev/zero``, a log, a data file) could take all the memory there is.
+MAX_WORKFLOW_BYTES = 1 << 20
+
+
+def read_workflow_text(path, argument: str, example: str) -> str:
+    """The text of the workflow file at ``path``: a regular file of at most ``MAX_WORKFLOW_BYTES`` bytes of
+    UTF-8, else an ``InputError`` naming ``argument`` (checked before it is read whole)."""
+    import stat
+    from pathlib import Path
+
+    path = Path(path)
+    fix = f"give the path of a TOML workflow such as {example}"
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        raise InputError(argument, str(path), "cannot be read (no such file)", fix) from None
+    except OSError as exc:
+        raise InputError(argument, str(path), f"cannot be read ({exc.strerror or exc})", fix) from None
+    if stat.S_ISDIR(mode):
+        raise InputError(argument, str(path), "is a directory, not a file", fix)
+    if not stat.S_ISREG(mode):
+        raise InputError(argument, str(path), "is not a regular file (a device, pipe or socket)", fix)
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_WORKFLOW_BYTES + 1)
+    except OSError as exc:
+        raise InputError(argument, str(path), f"cannot be read ({exc.strerror or exc})", fix) from None
+    if len(data) > MAX_WORKFLOW_BYTES:
+        raise InputError(argument, str(path), f"is larger than {MAX_WORKFLOW_BYTES} bytes: not a workflow", fix)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(argument, str(path), f"cannot be read: not UTF-8 text (byte {data[exc.start]:#04x} at "
+                         f"offset {exc.start})", "give a TOML workflow saved as UTF-8 text") from None
 
 _MISSING = object()
 

@@ -351,6 +351,9 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
     except tomllib.TOMLDecodeError as exc:
         raise InputError("workflow", source if source is not None else _short(text),
                          f"is not valid TOML ({exc})", "fix the syntax; see workflows/*.toml for examples") from None
+    from ._toml import other_command
+
+    other_command(data, "submit", "workflow", source if source is not None else _short(text))
     root = Table(data, "", ("study", "model", "engine", "grid", "tiles"))
     check_declared_size(data)   # before any point is made
     study = root.table("study", ("name", "description"))
@@ -412,15 +415,9 @@ def _preset(model_table, spec) -> tuple[dict, tuple]:
 
 def load_workflow(path) -> Workflow:
     """The ``Workflow`` of the TOML file at ``path``."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("workflow", str(path), "no such file",
-                         "give the path of a TOML workflow such as workflows/paper-fig2.toml") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
-        raise InputError("workflow", str(path), f"cannot be read ({type(exc).__name__})",
-                         "give the path of a readable UTF-8 TOML file") from None
+    from ._toml import read_workflow_text
+
+    text = read_workflow_text(path, "workflow", "workflows/paper-fig2.toml")
     return parse_workflow(text, source=str(path))
 
 

@@ -16,7 +16,8 @@ __all__ = ["chain"]
 def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float | None = None,
           nu_f: float | None = None, ends: str | None = None, u0=None, amplitude=None, seed=None, events: int,
           precision: str = "double", energy: bool = False, t_max: float = 1e5, max_steps: int = 1_000_000,
-          sigma: float | None = None, v_threshold=None, preset: str | None = None) -> ChainResult:
+          sigma: float | None = None, v_threshold=None, preset: str | None = None,
+          progress=None) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -63,6 +64,9 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         belongs to the event, which runs until all blocks are stuck. V_th > 0 (or "default": 10 ν):
         ``n_blocks`` and ``potency`` count only the blocks whose velocity exceeded V_th during the
         event (``n_blocks_all``, ``potency_all`` keep the others); ``membership`` records which.
+    progress : callable, optional
+        ``progress(events_done, events, t)``, called about every second of computing (the CLI's line
+        on stderr for a long run); the events are the same with or without it.
 
     Returns
     -------
@@ -97,7 +101,7 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
                      t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_threshold or 0.0,
                      exact=given if precision == "quad" else None)
-    out = loop.run(events)
+    out = loop.run(events) if progress is None else _run_reporting(loop, events, progress)
     cat = out["catalog"]
     f = lambda k: np.array([float(x) for x in cat[k]], dtype=float)  # noqa: E731
     energy_fields = {k: f(k) for k in ("driver_work", "dissipation", "elastic_change")} if energy else None
@@ -111,3 +115,27 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         v_threshold=v_threshold,
         n_blocks_all=np.array(cat["n_blocks_all"], dtype=np.int64) if v_threshold else None,
         potency_all=f("potency_all") if v_threshold else None)
+
+
+def _run_reporting(loop, events: int, progress, every: float = 1.0) -> dict:
+    """``loop.run(events)`` in pieces of about ``every`` seconds, calling ``progress`` after each."""
+    import time
+
+    out = {"catalog": None, "status": ChainStatus.COMPLETE, "message": ""}
+    done, chunk = 0, 1
+    while done < events:
+        started = time.perf_counter()
+        part = loop.run(min(chunk, events - done))
+        if out["catalog"] is None:
+            out["catalog"] = part["catalog"]
+        else:
+            for key, values in part["catalog"].items():
+                out["catalog"][key].extend(values)
+        done = len(out["catalog"]["t_start"])
+        if part["status"] != ChainStatus.COMPLETE:
+            out["status"], out["message"] = part["status"], part["message"]
+            break
+        elapsed = time.perf_counter() - started
+        chunk = max(1, min(chunk * 2, int(chunk * every / elapsed) if elapsed > 0 else chunk * 2))
+        progress(done, events, float(loop.t))
+    return out

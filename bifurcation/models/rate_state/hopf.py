@@ -144,8 +144,14 @@ def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, damping=0.0, dps: int = 
             raise InputError("b", spec.b, "gives no loss of stability of steady sliding over 16 decades of k",
                              "check a, b, dc (a Hopf point needs b > a)")
         i = idx[-1]
-        k_c = mp.findroot(lambda kk: mp.re(_max_real(spec, kk, v_lp)), (grid[i], grid[i + 1]),
-                          solver="anderson", tol=mp.mpf(10) ** (-dps + 8))
+        try:
+            k_c = mp.findroot(lambda kk: mp.re(_max_real(spec, kk, v_lp)), (grid[i], grid[i + 1]),
+                              solver="anderson", tol=mp.mpf(10) ** (-dps + 8))
+        except ValueError:   # mpmath's "could not find root": parameters far outside any physical scale
+            raise InputError("a, b, dc, v_lp", (spec.a, spec.b, spec.dc, v_lp),
+                             f"give no Hopf point to {dps - 8} digits: the root of Re λ(k) did not converge",
+                             "give values of physical size (e.g. a = 0.01, b = 0.015, dc = 0.01, v_lp = 1; "
+                             "docs/rate-state.md)") from None
         lam = _max_real(spec, k_c, v_lp)
         omega = abs(mp.im(lam))
         k_cf, w_cf = closed_form(spec, v_lp)

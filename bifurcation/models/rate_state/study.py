@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 from ...errors import InputError
 
-__all__ = ["BranchSpec", "StudySpec", "load_study", "run_study"]
+__all__ = ["BranchSpec", "MAX_POINTS", "StudySpec", "load_study", "run_study"]
 
 _SLIDER_KEYS = {"a", "b", "dc", "v_lp"}
 _BRANCH_KEYS = {"label", "state_law", "eta", "damping", "points", "max_step", "kappa_min", "kappa_max", "parameter",
@@ -90,19 +90,56 @@ def _num(key, value, lo=None, integer=False):
     return int(value) if integer else float(value)
 
 
+#: Bounds of a study's size: each branch point is a periodic orbit solved and checked by simulation
+#: (seconds), so 10^3 points on a branch are already an hour; the closed-form check takes every
+#: combination of the [hopf] lists.
+MAX_POINTS = 1000
+MAX_BRANCHES = 100
+MAX_HOPF_VALUES = 100
+MAX_ETA = 1e3
+
+
+def _eta(key, value) -> float:
+    """η = M V_lp²/(a Dc) ≥ 0 (0: quasi-static)."""
+    value = _num(key, value)
+    if not 0 <= value <= MAX_ETA:
+        raise InputError(key, value, f"must be in [0, {MAX_ETA:g}] (η = M V_lp²/(a Dc); 0 is quasi-static)",
+                         "give eta >= 0, e.g. 0.1, or 0 for the quasi-static slider")
+    return value
+
+
+def _damping(key, value) -> float:
+    """Radiation damping ETA ≥ 0, friction per unit slip rate (docs/rate-state.md, "Radiation damping")."""
+    value = _num(key, value)
+    if not 0 <= value <= MAX_ETA:
+        raise InputError(key, value, f"must be in [0, {MAX_ETA:g}] (friction per unit slip rate; 0 is none)",
+                         "give damping >= 0, e.g. 0.002, or 0 for no radiation damping")
+    return value
+
+
+def _points(key, value) -> int:
+    value = _num(key, value, 2, integer=True)
+    if value > MAX_POINTS:
+        raise InputError(key, value, f"is more than {MAX_POINTS} points on one branch",
+                         "give at most 1000 (a branch point is a periodic orbit: seconds each), or a larger "
+                         "max_step to cover the branch with fewer points")
+    return value
+
+
 def load_study(path) -> StudySpec:
     """Read and validate a rate-state workflow (one ``InputError`` line on the first problem)."""
     from .laws import resolve_state_law
 
-    try:
-        text = open(path, encoding="utf-8").read()
-    except OSError as exc:
-        raise InputError("WORKFLOW", str(path), f"cannot be read ({exc.strerror})",
-                         "give the path of a workflow file such as workflows/rate-state.toml") from None
+    from ...workflow._toml import other_command, read_workflow_text
+
+    text = read_workflow_text(path, "WORKFLOW", "workflows/rate-state.toml")
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError("WORKFLOW", str(path), f"is not valid TOML ({exc})", "fix the TOML syntax") from None
+    except RecursionError:   # tables or arrays nested thousands deep
+        raise InputError("WORKFLOW", str(path), "is nested too deeply", "see workflows/rate-state.toml") from None
+    other_command(doc, "continue", "WORKFLOW", path)
     _unknown("workflow", doc, {"study", "slider", "branch", "hopf"})
     study = doc.get("study", {})
     _unknown("study", study, {"name", "description"})
@@ -115,22 +152,30 @@ def load_study(path) -> StudySpec:
     if not isinstance(branches, list) or not branches:
         raise InputError("branch", branches, "is empty", "give at least one [[branch]] table")
     out = []
+    if len(branches) > MAX_BRANCHES:
+        raise InputError("branch", f"{len(branches)} tables", f"is more than {MAX_BRANCHES} branches",
+                         "split the study into several workflows")
     for i, br in enumerate(branches):
+        if not isinstance(br, dict):
+            raise InputError(f"branch[{i}]", br, "is not a table", "write each branch as a [[branch]] table")
         _unknown(f"branch[{i}]", br, _BRANCH_KEYS)
         merged = {**slider, **br}
+
+        def key_of(key, i=i, br=br):   # a value from [slider] is named there, not in the branch
+            return f"branch[{i}].{key}" if key in br else f"slider.{key}"
+
         for key in ("a", "b", "dc", "v_lp"):
             if key not in merged:
                 raise InputError(f"branch[{i}].{key}", None, "is missing", f"set {key} in [slider] or the branch")
         law = resolve_state_law(merged.get("state_law", ""), argument=f"branch[{i}].state_law").name
-        a = _num(f"branch[{i}].a", merged["a"], 0)
-        b = _num(f"branch[{i}].b", merged["b"], a)
+        a = _num(key_of("a"), merged["a"], 0)
+        b = _num(key_of("b"), merged["b"], a)
         out.append(BranchSpec(
             label=str(merged.get("label", f"{law} {i}")), state_law=law, a=a, b=b,
-            dc=_num(f"branch[{i}].dc", merged["dc"], 0), v_lp=_num(f"branch[{i}].v_lp", merged["v_lp"], 0),
-            eta=_num(f"branch[{i}].eta", merged.get("eta", 0.0), -1e-300) if merged.get("eta", 0.0) else 0.0,
-            damping=_num(f"branch[{i}].damping", merged.get("damping", 0.0), -1e-300)
-            if merged.get("damping", 0.0) else 0.0,
-            points=_num(f"branch[{i}].points", merged.get("points", 30), 2, integer=True),
+            dc=_num(key_of("dc"), merged["dc"], 0), v_lp=_num(key_of("v_lp"), merged["v_lp"], 0),
+            eta=_eta(f"branch[{i}].eta", merged.get("eta", 0.0)),
+            damping=_damping(f"branch[{i}].damping", merged.get("damping", 0.0)),
+            points=_points(f"branch[{i}].points", merged.get("points", 30)),
             max_step=_num(f"branch[{i}].max_step", merged.get("max_step", 0.5), 0),
             kappa_min=_num(f"branch[{i}].kappa_min", merged.get("kappa_min", 0.05), 0),
             kappa_max=_num(f"branch[{i}].kappa_max", merged.get("kappa_max", 20.0), 1),
@@ -138,18 +183,27 @@ def load_study(path) -> StudySpec:
     hopf = doc.get("hopf", {})
     _unknown("hopf", hopf, _HOPF_KEYS)
 
-    def lst(key, default, lo):
+    def lst(key, default, lo, hi=None):
         v = hopf.get(key, default)
         if not isinstance(v, list) or not v:
             raise InputError(f"hopf.{key}", v, "is not a non-empty list", "give a list of numbers")
-        return tuple(_num(f"hopf.{key}", x, lo) for x in v)
+        if len(v) > MAX_HOPF_VALUES:
+            raise InputError(f"hopf.{key}", f"{len(v)} values", f"is more than {MAX_HOPF_VALUES} values",
+                             "give fewer values (the closed-form check takes every combination)")
+        if key == "eta":
+            return tuple(_eta(f"hopf.{key}", x) for x in v)
+        out = tuple(_num(f"hopf.{key}", x, lo) for x in v)
+        for x in out:
+            if hi is not None and x > hi:
+                raise InputError(f"hopf.{key}", x, f"is more than {hi:g}", f"give values in ({lo:g}, {hi:g}]")
+        return out
 
     bautin = hopf.get("bautin", True)
     if not isinstance(bautin, bool):
         raise InputError("hopf.bautin", bautin, "is not true or false", "give bautin = true or false")
     return StudySpec(name, str(study.get("description", "")), tuple(out),
-                     lst("b_over_a", [1.1, 2.0, 10.0], 1), lst("v_lp", [1e-3, 1.0, 1e3], 0),
-                     lst("eta", [0.0, 1.0], -1e-300), text, bautin)
+                     lst("b_over_a", [1.1, 2.0, 10.0], 1, 1e3), lst("v_lp", [1e-3, 1.0, 1e3], 0, 1e6),
+                     lst("eta", [0.0, 1.0], None), text, bautin)
 
 
 def _v_lp_keys(i: int, br: dict) -> dict:

@@ -1,0 +1,585 @@
+"""Bad input to every command of ``bifurcation --help``, kept as a table (issue 21).
+
+Each row is one real bad input: an argument list, and the text the one error line must contain (the
+argument as the user typed it, or the TOML key / file at fault). Each is checked the same way, in
+process through click's runner: exit status 2; exactly one line on stderr, ``bifurcation: error: …``;
+nothing on stdout; no traceback; under 60 s; and nothing written — the command runs in an empty
+directory that stays empty, and the fixtures (stores, files) are unchanged afterwards.
+
+The fixtures are small: single-block stores of 4 points, a chain store of one 2-block run, workflow
+files written here. Nothing is computed beyond them (every row is refused before any work starts);
+the whole table takes a few seconds.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+import shutil
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from bifurcation.cli import cli
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# -- fixture files ------------------------------------------------------------------------------------
+
+FIG = textwrap.dedent("""\
+    [study]
+    name = "bad-input"
+    [engine]
+    laws = ["carlson-langer"]
+    precision = "double"
+    [grid.nu]
+    values = [1e-6, 1e-9]
+    [grid.nu_f]
+    values = [0.3, 0.4]
+    [tiles]
+    nu_f = 2
+    nu = 2
+    """)
+
+CHAIN = textwrap.dedent("""\
+    [study]
+    name = "bad-chain"
+    [model]
+    name = "chain"
+    [engine]
+    laws = ["carlson-langer"]
+    [grid.n]
+    values = [4]
+    [grid.ell]
+    values = [1.0]
+    [grid.nu]
+    values = [1e-3]
+    [grid.nu_f]
+    values = [0.2]
+    [grid.amplitude]
+    values = [0.1]
+    [grid.seed]
+    values = [1]
+    [grid.events]
+    values = [20]
+    [grid.periodic]
+    values = [0]
+    [tiles]
+    catalog = 10
+    """)
+
+RS = textwrap.dedent("""\
+    [study]
+    name = "bad-rs"
+    [slider]
+    a = 0.01
+    b = 0.015
+    dc = 0.01
+    v_lp = 1.0
+    [[branch]]
+    label = "prz"
+    state_law = "prz"
+    points = 4
+    max_step = 0.5
+    [hopf]
+    b_over_a = [2.0]
+    v_lp = [1.0]
+    eta = [0.0]
+    bautin = false
+    """)
+
+
+def _edit(text: str, old: str, new: str) -> str:
+    assert old in text, old
+    return text.replace(old, new, 1)
+
+
+#: name -> (template, old, new): a workflow with one bad value (or table)
+WORKFLOWS = {
+    # submit (single block)
+    "fig_nu_nan": (FIG, "values = [1e-6, 1e-9]", "values = [nan, 1e-9]"),
+    "fig_nu_inf": (FIG, "values = [1e-6, 1e-9]", "values = [inf]"),
+    "fig_nu_zero": (FIG, "values = [1e-6, 1e-9]", "values = [0.0]"),
+    "fig_nu_big": (FIG, "values = [1e-6, 1e-9]", "values = [2.0]"),
+    "fig_nu_str": (FIG, "values = [1e-6, 1e-9]", 'values = ["1e-9"]'),
+    "fig_nu_empty": (FIG, "values = [1e-6, 1e-9]", "values = []"),
+    "fig_nu_f_neg": (FIG, "values = [0.3, 0.4]", "values = [-0.3]"),
+    "fig_nu_f_big": (FIG, "values = [0.3, 0.4]", "values = [11.0]"),
+    "fig_num_huge": (FIG, "values = [0.3, 0.4]", "ranges = [{ start = 0.1, stop = 0.9, num = 100000000 }]"),
+    "fig_num_zero": (FIG, "values = [0.3, 0.4]", "ranges = [{ start = 0.1, stop = 0.9, num = 0 }]"),
+    "fig_range_key": (FIG, "values = [0.3, 0.4]", "ranges = [{ start = 0.1, stop = 0.9, count = 5 }]"),
+    "fig_log_decade": (FIG, "values = [1e-6, 1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 0 }"),
+    "fig_log_neg": (FIG, "values = [1e-6, 1e-9]", "log = { start = -1e-3, stop = 1e-15, per_decade = 4 }"),
+    "fig_law_bad": (FIG, 'laws = ["carlson-langer"]', 'laws = ["coulomb"]'),
+    "fig_law_eval": (FIG, 'laws = ["carlson-langer"]', "laws = [\"__import__('os').system('ls')\"]"),
+    "fig_law_empty": (FIG, 'laws = ["carlson-langer"]', "laws = []"),
+    "fig_law_num": (FIG, 'laws = ["carlson-langer"]', "laws = [1]"),
+    "fig_law_dup": (FIG, 'laws = ["carlson-langer"]', 'laws = ["carlson-langer", "carlson-langer"]'),
+    "fig_prec": (FIG, 'precision = "double"', 'precision = "half"'),
+    "fig_maxsteps": (FIG, 'precision = "double"', 'precision = "double"\nmax_steps = 1e18'),
+    "fig_maxsteps_big": (FIG, 'precision = "double"', 'precision = "double"\nmax_steps = 100000000000'),
+    "fig_tmax_nan": (FIG, 'precision = "double"', 'precision = "double"\nt_max = nan'),
+    "fig_tmax_neg": (FIG, 'precision = "double"', 'precision = "double"\nt_max = -1.0'),
+    "fig_engine_key": (FIG, 'precision = "double"', 'precision = "double"\nthreads = 4'),
+    "fig_tiles_zero": (FIG, "nu_f = 2\nnu = 2", "nu_f = 0\nnu = 2"),
+    "fig_tiles_big": (FIG, "nu_f = 2\nnu = 2", "nu_f = 10000000000\nnu = 2"),
+    "fig_tiles_float": (FIG, "nu_f = 2\nnu = 2", "nu_f = 2.5\nnu = 2"),
+    "fig_name_path": (FIG, 'name = "bad-input"', 'name = "../escape"'),
+    "fig_name_missing": (FIG, 'name = "bad-input"', 'description = "no name"'),
+    "fig_model": (FIG, "[engine]", '[model]\nname = "nope"\n[engine]'),
+    "fig_extra_table": (FIG, "[tiles]", "[output]\npath = 'x'\n[tiles]"),
+    "fig_no_engine": (FIG, '[engine]\nlaws = ["carlson-langer"]\nprecision = "double"\n', ""),
+    "fig_grid_axis": (FIG, "[tiles]", "[grid.gamma]\nvalues = [1.0]\n[tiles]"),
+    "fig_syntax": (FIG, 'name = "bad-input"', 'name = "bad-input'),
+    "fig_deep": (FIG, "[tiles]", "x = " + "[" * 5000 + "]" * 5000 + "\n[tiles]"),
+    # submit (chain)
+    "chain_n_big": (CHAIN, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [1000000000]"),
+    "chain_n_zero": (CHAIN, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [0]"),
+    "chain_events_big": (CHAIN, "values = [20]", "values = [100000000000]"),
+    "chain_periodic": (CHAIN, "[grid.periodic]\nvalues = [0]", "[grid.periodic]\nvalues = [2]"),
+    "chain_seed_neg": (CHAIN, "[grid.seed]\nvalues = [1]", "[grid.seed]\nvalues = [-1]"),
+    "chain_amp_huge": (CHAIN, "[grid.amplitude]\nvalues = [0.1]", "[grid.amplitude]\nvalues = [1e300]"),
+    "chain_ell_neg": (CHAIN, "[grid.ell]\nvalues = [1.0]", "[grid.ell]\nvalues = [-1.0]"),
+    "chain_catalog_zero": (CHAIN, "catalog = 10", "catalog = 0"),
+    "chain_axis_missing": (CHAIN, "[grid.seed]\nvalues = [1]\n", ""),
+    # continue (rate-state)
+    "rs_a_nan": (RS, "a = 0.01", "a = nan"),
+    "rs_a_neg": (RS, "a = 0.01", "a = -0.01"),
+    "rs_b_small": (RS, "b = 0.015", "b = 0.005"),
+    "rs_dc_inf": (RS, "dc = 0.01", "dc = inf"),
+    "rs_vlp_zero": (RS, "v_lp = 1.0", "v_lp = 0.0"),
+    "rs_slider_key": (RS, "v_lp = 1.0", "v_lp = 1.0\nmass = 3"),
+    "rs_branch_a_nan": (RS, 'label = "prz"', 'label = "prz"\na = nan'),
+    "rs_eta_neg": (RS, "eta = [0.0]", "eta = [-1.0]"),
+    "rs_eta_huge": (RS, "eta = [0.0]", "eta = [1e9]"),
+    "rs_branch_eta_neg": (RS, "points = 4", "points = 4\neta = -1.0"),
+    "rs_points_huge": (RS, "points = 4", "points = 100000000"),
+    "rs_points_neg": (RS, "points = 4", "points = -4"),
+    "rs_points_str": (RS, "points = 4", 'points = "four"'),
+    "rs_points_float": (RS, "points = 4", "points = 4.5"),
+    "rs_maxstep_zero": (RS, "max_step = 0.5", "max_step = 0"),
+    "rs_state_law": (RS, 'state_law = "prz"', 'state_law = "nope"'),
+    "rs_parameter": (RS, "points = 4", 'points = 4\nparameter = "k"'),
+    "rs_start_point": (RS, "points = 4", "points = 4\nstart_point = 2"),
+    "rs_b_over_a_huge": (RS, "b_over_a = [2.0]", "b_over_a = [1e300]"),
+    "rs_b_over_a_low": (RS, "b_over_a = [2.0]", "b_over_a = [0.5]"),
+    "rs_hopf_vlp_neg": (RS, "v_lp = [1.0]", "v_lp = [-1.0]"),
+    "rs_hopf_list_long": (RS, "v_lp = [1.0]", "v_lp = [" + ", ".join(["1.0"] * 1000) + "]"),
+    "rs_hopf_empty": (RS, "v_lp = [1.0]", "v_lp = []"),
+    "rs_bautin": (RS, "bautin = false", 'bautin = "yes"'),
+    "rs_name": (RS, 'name = "bad-rs"', 'name = "../../etc"'),
+    "rs_no_branch": (RS, '[[branch]]\nlabel = "prz"\nstate_law = "prz"\npoints = 4\nmax_step = 0.5\n', ""),
+    "rs_branches_many": (RS, "[hopf]", '[[branch]]\nstate_law = "aging"\n' * 101 + "[hopf]"),
+    "rs_unknown_table": (RS, "[hopf]", "[output]\ndir = 'x'\n[hopf]"),
+    "rs_syntax": (RS, "a = 0.01", "a = = 0.01"),
+}
+
+# -- the table ----------------------------------------------------------------------------------------
+# "argv ## needle": placeholders in braces are fixture paths; the needle must be in the one error line.
+
+SLIP = "slip --law carlson-langer --nu 1e-9 --nu-f 0.4"
+LIMIT = "limit --law carlson-langer --nu-f 0.4"
+CHAIN_CLI = "chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3"
+RATE = "rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40"
+HOPF = "hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01 --v-lp 1"
+
+
+def _set(base: str, option: str, value: str | None) -> str:
+    """``base`` with ``option`` set to ``value`` (added if absent; removed if None)."""
+    words = shlex.split(base)
+    if option in words:
+        i = words.index(option)
+        del words[i:i + 2]
+    if value is not None:
+        words += [option, value]
+    return shlex.join(words)
+
+
+def _values(base: str, option: str, values, needle: str | None = None) -> list[str]:
+    return [f"{_set(base, option, v)} ## {needle or option}" for v in values]
+
+
+NUMBERS_BAD = ["nan", "inf", "-inf", "abc", "", "1e400x"]
+
+CASES = [
+    # -- global ----------------------------------------------------------------------------------------
+    "nope ## No such command 'nope'",
+    "--nope ## --nope",
+    "slip --law carlson-langer --nu 1e-9 --nu-f 0.4 --nu 1e-6 ## --nu is given twice",
+    "laws --json --json ## --json is given twice",
+    "laws extra ## unexpected extra argument",
+    "laws --json=1 ## --json",
+    # -- slip ------------------------------------------------------------------------------------------
+    *_values(SLIP, "--nu", ["nan", "inf", "-inf", "0", "-1e-9", "2", "1e-21", "fast", "", "1e-9,1e-6"]),
+    *_values(SLIP, "--nu-f", ["nan", "inf", "0", "-0.4", "11", "1e-5", "x", ""]),
+    *_values(SLIP, "--law", ["coulomb", "", "1/(1+x", "__import__('os')", "1/(1+x)^2", "2-x", "exp(1000*x)",
+                             "x**x**x**x", "sqrt(-x)", "1/(1+y)", "(" * 200 + "x" + ")" * 200,
+                             "9999999999999999999999999*x", "lambda: 1", "open('x')", "x.__class__"]),
+    *_values(SLIP, "--precision", ["half", "QUAD", ""]),
+    "slip --nu 1e-9 --nu-f 0.4 ## Missing option '--law'",
+    "slip --law carlson-langer --nu-f 0.4 ## Missing option '--nu'",
+    "slip --law carlson-langer --nu 1e-9 ## Missing option '--nu-f'",
+    # -- limit -----------------------------------------------------------------------------------------
+    *_values(LIMIT, "--nu-f", ["nan", "inf", "-0.5", "0", "11", "abc"]),
+    *_values(LIMIT, "--law", ["coulomb", "1-x^2", "exp(x)"]),
+    *_values(LIMIT, "--precision", ["single"]),
+    "limit --law carlson-langer ## Missing option '--nu-f'",
+    # -- chain -----------------------------------------------------------------------------------------
+    *_values(CHAIN_CLI, "--n", ["0", "-3", "2.5", "1000000000", "x", ""]),
+    *_values(CHAIN_CLI, "--ell", ["nan", "inf", "-1", "1e10", "x"]),
+    *_values(CHAIN_CLI, "--nu", ["nan", "0", "2", "1e-21"]),
+    *_values(CHAIN_CLI, "--nu-f", ["nan", "-1", "100"]),
+    *_values(CHAIN_CLI, "--amplitude", ["nan", "-1", "1e300", "inf", "x"]),
+    *_values(CHAIN_CLI, "--seed", ["-1", "99999999999999999999999", "1.5", "x"]),
+    *_values(CHAIN_CLI, "--events", ["0", "-5", "100000000", "1.5", "x"]),
+    *_values(CHAIN_CLI, "--ends", ["open", "", "FREE"]),
+    *_values(CHAIN_CLI, "--precision", ["half"]),
+    *_values(CHAIN_CLI, "--law", ["nope", "1+x"]),
+    f"{_set(CHAIN_CLI, '--seed', None)} ## --seed",                                   # silent seed 0 before
+    f"{_set(_set(CHAIN_CLI, '--seed', None), '--amplitude', None)} ## --amplitude",
+    f"{_set(CHAIN_CLI, '--u0', '0,0,0,0')} ## --u0",                                   # u0 with amplitude
+    *[f"{_set(_set(_set(CHAIN_CLI, '--amplitude', None), '--seed', None), '--u0', v)} ## --u0"
+      for v in ["0,1", "0", "0,nan,0,0", "a,b,c,d", "", "0,0,0,inf", "1e300,0,0,0", "-2,0,0,0", "0;0;0;0"]],
+    # -- rate-state ------------------------------------------------------------------------------------
+    *_values(RATE, "--outputs", ["100000000", "-1", "0", "1", "abc", "2.5"]),
+    *_values(RATE, "--t-end", ["nan", "inf", "-5", "0", "x"]),
+    *_values(RATE, "--at", ["50", "40", "nan", "-3", "20,10", "x"]),
+    f"{_set(RATE, '--at', None)} ## --at",
+    *_values(RATE, "--v-lp", ["1,-10", "1,nan", "", "1,x"]),
+    f"{_set(RATE, '--v-lp', '1')} ## --at",                                        # 1 velocity, 1 step
+    *_values(RATE, "--state-law", ["foo", ""]),
+    f"{_set(RATE, '--state-law', 'aging,slip,prz')} ## state_law",
+    *_values(RATE, "--a", ["-0.005", "nan", "0", "x"], "--a"),
+    *_values(RATE, "--b", ["-0.01", "0.01,0.02", "nan"], "b"),
+    *_values(RATE, "--dc", ["0", "-1", "inf"], "dc"),
+    *_values(RATE, "--k", ["0", "inf", "-1e-3"], "k="),
+    *_values(RATE, "--mass", ["-1", "0", "nan"], "mass"),
+    *_values(RATE, "--precision", ["double-double"]),
+    # -- hopf ------------------------------------------------------------------------------------------
+    *_values(HOPF, "--mass", ["-1", "0"], "mass"),
+    *_values(HOPF, "--v-lp", ["nan", "0", "-1"], "--v-lp"),
+    f"{_set(HOPF, '--v-lp', '1e300')} ## v_lp",                                   # no root: names all four
+    *_values(HOPF, "--b", ["0.005", ",", "nan", "0.015,0.01"], "b"),
+    *_values(HOPF, "--dc", ["-1", "1e-320", "0"], "dc"),
+    *_values(HOPF, "--a", ["0", "-0.01", "x"], "a"),
+    *_values(HOPF, "--state-law", ["", "nope", "slip,aging,prz"], "state"),
+    # -- submit ----------------------------------------------------------------------------------------
+    "submit {missing} ## WORKFLOW",
+    "submit {text} ## WORKFLOW",
+    "submit {binary} ## WORKFLOW",
+    "submit {adir} ## WORKFLOW",
+    "submit {empty} ## study",
+    "submit /dev/null ## WORKFLOW",
+    "submit /dev/zero ## WORKFLOW",
+    "submit /proc/self/status ## WORKFLOW",
+    "submit {big} ## WORKFLOW",
+    "submit {fifo} ## WORKFLOW",
+    "submit {loop} ## WORKFLOW",
+    "submit {wf_fig} --store {newstore} --scheduler {fifo} ## --scheduler",
+    "submit {wf_rs} ## bifurcation continue",                                        # the other command's file
+    "submit {root}/workflows/chain-report.toml ## chain.report",
+    *[f"submit {{wf_{name}}} --store {{newstore}} ## {needle}" for name, needle in [
+        ("fig_nu_nan", "grid.nu.values[0]"), ("fig_nu_inf", "grid.nu.values[0]"), ("fig_nu_zero", "grid.nu"),
+        ("fig_nu_big", "grid.nu"), ("fig_nu_str", "grid.nu.values[0]"), ("fig_nu_empty", "grid.nu"),
+        ("fig_nu_f_neg", "grid.nu_f"), ("fig_nu_f_big", "grid.nu_f"), ("fig_num_huge", "grid.nu_f"),
+        ("fig_num_zero", "grid.nu_f"), ("fig_range_key", "count"), ("fig_log_decade", "per_decade"),
+        ("fig_log_neg", "grid.nu.log"), ("fig_law_bad", "engine.laws[0]"), ("fig_law_eval", "engine.laws[0]"),
+        ("fig_law_empty", "engine.laws"), ("fig_law_num", "engine.laws"), ("fig_law_dup", "engine.laws"),
+        ("fig_prec", "engine.precision"), ("fig_maxsteps", "engine.max_steps"),
+        ("fig_maxsteps_big", "engine.max_steps"), ("fig_tmax_nan", "engine.t_max"),
+        ("fig_tmax_neg", "engine.t_max"), ("fig_engine_key", "engine.threads"), ("fig_tiles_zero", "tiles.nu_f"),
+        ("fig_tiles_big", "tiles.nu_f"), ("fig_tiles_float", "tiles.nu_f"), ("fig_name_path", "study.name"),
+        ("fig_name_missing", "study.name"), ("fig_model", "model.name"), ("fig_extra_table", "output"),
+        ("fig_no_engine", "engine"), ("fig_grid_axis", "grid.gamma"), ("fig_syntax", "WORKFLOW"),
+        ("fig_deep", "WORKFLOW"), ("chain_n_big", "grid.n"), ("chain_n_zero", "grid.n"),
+        ("chain_events_big", "grid.events"), ("chain_periodic", "grid.periodic"), ("chain_seed_neg", "grid.seed"),
+        ("chain_amp_huge", "grid.amplitude"), ("chain_ell_neg", "grid.ell"), ("chain_catalog_zero", "tiles.catalog"),
+        ("chain_axis_missing", "grid.seed")]],
+    "submit {wf_fig} --store {locked} ## --store",                                    # being written
+    "submit {wf_fig} --store {chain} ## --store",
+    "submit {wf_fig} --store {text} ## --store",
+    "submit {wf_fig} --store {adir} ## --store",
+    "submit {wf_fig} --store /proc/x.zarr ## --store",
+    "submit {wf_fig} --store {newstore} --scheduler {text} ## --scheduler",
+    "submit {wf_fig} --store {newstore} --scheduler {binary} ## --scheduler",
+    "submit {wf_fig} --store {newstore} --scheduler {sched_noaddr} ## --scheduler",
+    "submit {wf_fig} --store {newstore} --scheduler {missing} ## --scheduler",
+    "submit {wf_fig} --store {newstore} --scheduler notanaddress ## --scheduler",
+    "submit {wf_fig} --store {newstore} --workers 0 ## --workers",
+    "submit {wf_fig} --store {newstore} --workers -2 ## --workers",
+    "submit {wf_fig} --store {newstore} --workers 100000 ## --workers",
+    "submit {wf_fig} --store {newstore} --workers x ## --workers",
+    "submit {wf_fig} --store {newstore} --scheduler tcp://127.0.0.1:1 --workers-timeout nan ## --workers-timeout",
+    "submit {wf_fig} --store {newstore} --scheduler tcp://127.0.0.1:1 --workers-timeout -1 ## --workers-timeout",
+    "submit {wf_fig} --store {newstore} --scheduler tcp://127.0.0.1:1 --workers-timeout inf ## --workers-timeout",
+    "submit {wf_fig} --store {newstore} --write-from nobody ## --write-from",
+    "submit {wf_fig} --store {newstore} --detach ## --detach",
+    "submit {wf_fig} --store {newstore} --detach --write-from client --scheduler tcp://127.0.0.1:1 ## --detach",
+    "submit ## Missing argument 'WORKFLOW'",
+    "submit {wf_fig} {wf_fig} ## unexpected extra argument",
+    # -- continue --------------------------------------------------------------------------------------
+    "continue {missing} ## WORKFLOW",
+    "continue {text} ## WORKFLOW",
+    "continue {binary} ## WORKFLOW",
+    "continue {adir} ## WORKFLOW",
+    "continue {empty} ## study.name",
+    "continue /dev/null ## WORKFLOW",
+    "continue /dev/zero ## WORKFLOW",
+    "continue {big} ## WORKFLOW",
+    "continue {fifo} ## WORKFLOW",
+    "continue {loop} ## WORKFLOW",
+    "continue {wf_fig} ## bifurcation submit",
+    "continue {wf_chain} ## bifurcation submit",
+    "continue {root}/workflows/chain-report.toml ## chain.report",
+    "continue {wf_rs} --out /proc/x ## --out",
+    "continue {wf_rs} --out {text} ## --out",
+    "continue {wf_rs} --out {text}/sub ## --out",
+    "continue {wf_rs} --out /sys/x ## --out",
+    *[f"continue {{wf_{name}}} --out {{newdir}} ## {needle}" for name, needle in [
+        ("rs_a_nan", "slider.a"), ("rs_a_neg", "slider.a"), ("rs_b_small", "slider.b"), ("rs_dc_inf", "slider.dc"),
+        ("rs_vlp_zero", "slider.v_lp"), ("rs_slider_key", "slider.mass"), ("rs_branch_a_nan", "branch[0].a"),
+        ("rs_eta_neg", "hopf.eta"), ("rs_eta_huge", "hopf.eta"), ("rs_branch_eta_neg", "branch[0].eta"),
+        ("rs_points_huge", "branch[0].points"), ("rs_points_neg", "branch[0].points"),
+        ("rs_points_str", "branch[0].points"), ("rs_points_float", "branch[0].points"),
+        ("rs_maxstep_zero", "branch[0].max_step"), ("rs_state_law", "branch[0].state_law"),
+        ("rs_parameter", "branch[0].parameter"), ("rs_start_point", "branch[0].start_point"),
+        ("rs_b_over_a_huge", "hopf.b_over_a"), ("rs_b_over_a_low", "hopf.b_over_a"),
+        ("rs_hopf_vlp_neg", "hopf.v_lp"), ("rs_hopf_list_long", "hopf.v_lp"), ("rs_hopf_empty", "hopf.v_lp"),
+        ("rs_bautin", "hopf.bautin"), ("rs_name", "study.name"), ("rs_no_branch", "branch"),
+        ("rs_branches_many", "branch"), ("rs_unknown_table", "workflow.output"), ("rs_syntax", "WORKFLOW")]],
+    "continue ## Missing argument 'WORKFLOW'",
+    # -- export ----------------------------------------------------------------------------------------
+    "export --store {sb} --out {existing_nc} ## --out",                               # no overwrite without --force
+    "export --store {sb} --out {existing_csv} --format csv ## --out",
+    "export --store {sb} --out {outdir}/x.nc --format csv ## --format",
+    "export --store {sb} --out {outdir}/x.csv --format netcdf ## --format",
+    "export --store {sb} --out {outdir}/x.txt ## --out",
+    "export --store {sb} --out {outdir}/x ## --out",
+    "export --store {sb} --out {outdir}/x.nc --format xlsx ## --format",
+    "export --store {locked} --out {outdir}/l.nc ## --store",                         # being written
+    "export --store {locked} --out {outdir}/l.csv ## --store",
+    "export --store {damaged} --out {outdir}/d.nc ## --store",
+    "export --store {damaged} --out {outdir}/d.csv ## --store",
+    "export --store {sb} --out /proc/x.nc ## --out",
+    "export --store {sb} --out {adir} ## --out",
+    "export --store {sb} --out {newdir}/deeper/x.nc ## --out",
+    "export --store {text} --out {outdir}/t.nc ## --store",
+    "export --store {adir} --out {outdir}/t.nc ## --store",
+    "export --store {missing} --out {outdir}/t.nc ## --store",
+    "export --store {sb} ## Missing option '--out'",
+    # -- report ----------------------------------------------------------------------------------------
+    "report --store {damaged} --out {newdir} ## --store",
+    "report --store {sb} --out /proc/rep ## --out",
+    "report --store {sb} --out {text} ## --out",
+    "report --store {text} --out {newdir} ## --store",
+    "report --store {adir} --out {newdir} ## --store",
+    "report --store {missing} --out {newdir} ## --store",
+    "report --store {sb} --store {missing} --out {newdir} ## --store",
+    "report --out {newdir} ## Missing option '--store'",
+    # -- status / verify -------------------------------------------------------------------------------
+    "status --store {text} ## --store",
+    "status --store {adir} ## --store",
+    "status --store /proc/self ## --store",
+    "status --store {missing} ## --store",
+    "status --store {binary} ## --store",
+    "verify --store {text} ## --store",
+    "verify --store {missing} ## --store",
+    "verify --store {sb} --workers -1 ## --workers",
+    "verify --store {sb} --workers 2 ## --workers",                                   # ignored without --repair
+    "verify --store {sb} --scheduler {text} ## --scheduler",
+    "verify --store {sb} --scheduler {text} --repair ## --scheduler",
+    "verify --store {sb} --workers 100000 --repair ## --workers",
+    "verify --store {locked} --repair ## --store",
+    # -- query -----------------------------------------------------------------------------------------
+    "query --store {damaged} ## --store",
+    "query --store {sb} --nu nan ## --nu",
+    "query --store {sb} --nu-f inf ## --nu-f",
+    "query --store {sb} --nu 5e-9 ## --nu",
+    "query --store {sb} --nu-f 0.35 ## --nu-f",
+    "query --store {sb} --nu x ## --nu",
+    "query --store {sb} --n 4 ## --n",
+    "query --store {sb} --law nope ## --law",
+    "query --store {sb} --law \"__import__('os')\" ## --law",
+    "query --store {sb} --catalog ## --store",
+    "query --store {sb} --format csv --json ## --json",
+    "query --store {sb} --format xml ## --format",
+    "query --store {chain} --law nope ## --law",
+    "query --store {chain} --n 5 ## --n",
+    "query --store {chain} --gamma 1 ## --gamma",
+    "query --store {text} ## --store",
+    "query --store {missing} ## --store",
+    # -- extrapolate / fit-period ----------------------------------------------------------------------
+    *[f"{cmd} --store {{sb}} --law carlson-langer --nu-f {v} ## --nu-f" for cmd in ("extrapolate", "fit-period")
+      for v in ("nan", "0.35", "x")],
+    "fit-period --store {sb} --law carlson-langer --nu-f -1 ## --nu-f",
+    "fit-period --store {sb} --law carlson-langer --nu-f 0.6 ## --nu-f",
+    *[f"{cmd} --store {{{store}}} --law {law} --nu-f 0.4 ## {needle}" for cmd in ("extrapolate", "fit-period")
+      for store, law, needle in [("damaged", "carlson-langer", "--store"), ("chain", "carlson-langer", "--store"),
+                                 ("sb", "nope", "--law"), ("sb", "carlson-langer", "--store"),
+                                 ("adir", "carlson-langer", "--store"), ("missing", "carlson-langer", "--store")]],
+    # -- bench -----------------------------------------------------------------------------------------
+    "bench --points 0 ## --points",
+    "bench --points -5 ## --points",
+    "bench --points 1000000000 ## --points",
+    "bench --subset 0 ## --subset",
+    "bench --subset 100000 ## --subset",
+    "bench --pipeline -1 ## --pipeline",
+    "bench --pipeline 100000000 ## --pipeline",
+    "bench --suite nope ## --suite",
+    "bench --points x ## --points",
+    # -- outputs inside a store, a store's array given as a store -----------------------------------------
+    "export --store {sb} --out {sb}/inside.nc ## --out",
+    "export --store {sb} --out {chain}/inside.csv ## --out",
+    "report --store {sb} --out {sb} ## --out",
+    "report --store {sb} --out {sb}/rep ## --out",
+    "continue {wf_rs} --out {sb}/cont ## --out",
+    "submit {wf_fig} --store {sb}/nested.zarr ## --store",
+    "reproduce --out {chain}/paper ## --out",
+    "report --store {sb}/delta --out {newdir} ## --store",
+    "extrapolate --store {sb}/delta --law carlson-langer --nu-f 0.4 ## --store",
+    "status --store {sb}/delta ## --store",
+    "query --store {sb}/zarr.json ## --store",
+    "export --store {sb}/done --out {outdir}/x.nc ## --store",
+    # -- reproduce -------------------------------------------------------------------------------------
+    "reproduce --out /proc/x ## --out",
+    "reproduce --out {text} ## --out",
+    "reproduce --workers 0 ## --workers",
+    "reproduce --workers 100000 ## --workers",
+    "reproduce --scheduler {text} ## --scheduler",
+    "reproduce --scheduler notanaddress ## --scheduler",
+]
+
+
+def _split(case: str) -> tuple[str, str]:
+    argv, _, needle = case.partition(" ## ")
+    return argv, needle
+
+
+# -- fixtures -----------------------------------------------------------------------------------------
+
+def _single_block_store(path: Path, tiles, skip_after=None) -> None:
+    from bifurcation.run.tiles import compute_tile, iter_tiles
+    from bifurcation.store import create_store, write_tile
+    from bifurcation.workflow import Workflow
+
+    workflow = Workflow(name="bad-input", laws=("carlson-langer",), nu=(1e-6, 1e-9), nu_f=(0.3, 0.4), tiles=tiles)
+    run_id = create_store(path, workflow)["run_id"]
+    for i, tile in enumerate(iter_tiles(workflow)):
+        if skip_after is None or i < skip_after:
+            write_tile(path, tile, compute_tile(tile), run_id)
+
+
+@pytest.fixture(scope="module")
+def env(tmp_path_factory):
+    d = tmp_path_factory.mktemp("bad-inputs")
+    paths, lock = build_env(d)
+    try:
+        yield d, paths
+    finally:
+        lock.release()
+
+
+def build_env(d: Path):
+    """The fixture files and stores in ``d``: their paths by placeholder name, and the lock held on the
+    store ``locked`` (a submit still running; release it after)."""
+    from bifurcation.run.tiles import compute_tile, iter_tiles
+    from bifurcation.store import create_store, write_tile
+    from bifurcation.store.lock import StoreLock
+    from bifurcation.workflow import parse_workflow
+
+    paths = {"root": str(ROOT), "missing": str(d / "missing.toml")}
+    files = d / "files"
+    files.mkdir()
+    (files / "text.txt").write_text("hello world\n")
+    (files / "binary.toml").write_bytes(b"\xff\xfe\x00garbage\x80")
+    (files / "empty.toml").write_text("")
+    (files / "adir").mkdir()
+    with open(files / "big.toml", "wb") as fh:   # sparse: 2 MB of zeros, no disk used
+        fh.truncate(2 << 20)
+    (files / "sched_noaddr.json").write_text('{"type": "Scheduler", "id": "x"}')
+    os.mkfifo(files / "fifo.toml")                        # opening it to read would wait for a writer forever
+    os.symlink(files / "loop.toml", files / "loop.toml")  # a symlink to itself
+    (files / "existing.nc").write_text("a user's file\n")
+    (files / "existing.csv").write_text("a,b\n1,2\n")
+    for name in ("text.txt", "binary.toml", "empty.toml", "adir", "big.toml", "sched_noaddr.json", "fifo.toml",
+                 "loop.toml"):
+        paths[name.split(".")[0]] = str(files / name)
+    paths["existing_nc"], paths["existing_csv"] = str(files / "existing.nc"), str(files / "existing.csv")
+    for name, (template, old, new) in WORKFLOWS.items():
+        (files / f"{name}.toml").write_text(_edit(template, old, new))
+        paths[f"wf_{name}"] = str(files / f"{name}.toml")
+    for name, text in (("fig", FIG), ("chain", CHAIN), ("rs", RS)):
+        (files / f"{name}.toml").write_text(text)
+        paths[f"wf_{name}"] = str(files / f"{name}.toml")
+
+    stores = d / "stores"
+    stores.mkdir()
+    _single_block_store(stores / "sb.zarr", (2, 2))
+    _single_block_store(stores / "locked.zarr", (1, 1), skip_after=2)   # 2 of 4 points: a submit "running"
+    shutil.copytree(stores / "sb.zarr", stores / "damaged.zarr")
+    chunk = stores / "damaged.zarr" / "delta" / "c" / "0" / "0" / "0"
+    data = bytearray(chunk.read_bytes())
+    data[len(data) // 2] ^= 0x04    # one flipped bit
+    chunk.write_bytes(bytes(data))
+    chain = parse_workflow(CHAIN.replace("values = [20]", "values = [3]"))
+    run_id = create_store(stores / "chain.zarr", chain)["run_id"]
+    for tile in iter_tiles(chain):
+        write_tile(stores / "chain.zarr", tile, compute_tile(tile), run_id)
+    for name in ("sb", "locked", "damaged", "chain"):
+        paths[name] = str(stores / f"{name}.zarr")
+    lock = StoreLock(stores / "locked.zarr").acquire(command="a submit still running (tests/test_bad_inputs.py)")
+    return paths, lock
+
+
+def _snapshot(root: Path) -> dict:
+    out = {}
+    for dirpath, _, names in os.walk(root):
+        for name in names:
+            p = Path(dirpath) / name
+            st = p.lstat()
+            out[str(p)] = (st.st_size, st.st_mtime_ns)
+    return out
+
+
+def test_the_table_is_large_and_has_no_duplicates():
+    argvs = [_split(c)[0] for c in CASES]
+    assert len(CASES) >= 250, len(CASES)
+    assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
+
+
+def test_every_command_has_bad_inputs_in_the_table():
+    commands = set(cli.commands)
+    covered = {shlex.split(_split(c)[0])[0] for c in CASES if not _split(c)[0].startswith("-")}
+    assert commands - {"laws"} <= covered, commands - covered   # laws takes no value (only --json)
+
+
+@pytest.mark.parametrize("case", CASES, ids=[_split(c)[0][:90] for c in CASES])
+def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, monkeypatch):
+    root, paths = env
+    argv_text, needle = _split(case)
+    outdir = tmp_path / "out"   # an existing, empty directory for outputs that must not appear
+    outdir.mkdir()
+    values = {**paths, "newstore": str(tmp_path / "new" / "s.zarr"), "newdir": str(tmp_path / "new"),
+              "outdir": str(outdir)}
+    argv = [word.format(**values) for word in shlex.split(argv_text)]
+    cwd = tmp_path / "cwd"
+    cwd.mkdir()
+    monkeypatch.chdir(cwd)
+    before = _snapshot(root)
+    started = time.perf_counter()
+    result = CliRunner().invoke(cli, argv)
+    elapsed = time.perf_counter() - started
+    assert elapsed < 60, f"{elapsed:.1f} s"
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    assert "Traceback" not in result.output
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("bifurcation: error: "), result.stderr
+    assert needle.format(**values) in lines[0], lines[0]
+    assert result.stdout == ""
+    assert list(cwd.iterdir()) == [], "written into the working directory"
+    assert not (tmp_path / "new").exists() and list(outdir.iterdir()) == [], "an output was created"
+    assert _snapshot(root) == before, "a fixture was changed"
