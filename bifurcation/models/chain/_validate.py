@@ -8,9 +8,10 @@ import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["ENDS", "check_events", "check_initial", "check_size"]
+__all__ = ["ENDS", "ENGINES", "check_engine", "check_events", "check_initial", "check_size"]
 
 ENDS = ("free", "periodic")
+ENGINES = ("exact", "compiled")
 
 
 def _is_int(x) -> bool:
@@ -98,3 +99,39 @@ def check_initial(n: int, ell: float, ends: str, u0, amplitude, seed) -> np.ndar
                          else amplitude, f"puts block {j} at stress σ = {s[j]:.6g} ≥ 1 at t = 0",
                          "all blocks must start stuck (σ_j < 1): lower the displacements or the amplitude")
     return u
+
+
+def check_engine(engine, sigma, tol, precision, energy) -> tuple[str, float, float]:
+    """(engine, σ_f, tol) checked: the compiled engine is double precision without energy budget; σ_f
+    in [0, 1) needs it (on this branch); tol in [1e-15, 1e-3]."""
+    if engine not in ENGINES:
+        raise InputError("engine", engine, "is not a chain engine", "use 'exact' or 'compiled'")
+    try:
+        sig = float(sigma)
+    except (TypeError, ValueError):
+        raise InputError("sigma", sigma, "is not a number", "give a friction drop 0 ≤ σ < 1, e.g. 0.01") from None
+    if not (math.isfinite(sig) and 0 <= sig < 1):
+        raise InputError("sigma", sigma, "must be in [0, 1)", "give a friction drop 0 ≤ σ < 1, e.g. 0.01")
+    if tol is None:
+        from ._compiled import TOL
+        tol_f = TOL
+    else:
+        try:
+            tol_f = float(tol)
+        except (TypeError, ValueError):
+            raise InputError("tol", tol, "is not a number", "give a tolerance in [1e-15, 1e-3], e.g. 1e-12") from None
+        if not (math.isfinite(tol_f) and 1e-15 <= tol_f <= 1e-3):
+            raise InputError("tol", tol, "is outside [1e-15, 1e-3]", "give a tolerance in [1e-15, 1e-3], e.g. 1e-12")
+    if engine == "compiled":
+        if precision != "double":
+            raise InputError("precision", precision, "is not available in the compiled engine",
+                             "use precision='double' or engine='exact'")
+        if energy:
+            raise InputError("energy", energy, "is not available in the compiled engine",
+                             "use energy=False or engine='exact'")
+    else:
+        if sig != 0:
+            raise InputError("sigma", sigma, "needs the compiled engine here", "use engine='compiled'")
+        if tol is not None:
+            raise InputError("tol", tol, "applies to the compiled engine only", "use engine='compiled' or drop tol")
+    return engine, sig, tol_f

@@ -73,6 +73,8 @@ class ChainResult:
     status: ChainStatus
     message: str = ""
     energy: dict | None = None
+    #: per event, the compiled engine's error estimate of the potency (relative; None for "exact")
+    error_estimate: np.ndarray | None = None
 
     @property
     def events(self) -> int:

@@ -6,7 +6,7 @@ import numpy as np
 
 from ...engine._validate import check_nu, check_nu_f, check_precision, check_work
 from ...laws import resolve_law
-from ._validate import check_events, check_initial, check_size
+from ._validate import check_engine, check_events, check_initial, check_size
 from .result import ChainResult, ChainStatus
 
 __all__ = ["chain"]
@@ -14,7 +14,8 @@ __all__ = ["chain"]
 
 def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free", u0=None,
           amplitude=None, seed=None, events: int, precision: str = "double", energy: bool = False,
-          t_max: float = 1e5, max_steps: int = 1_000_000) -> ChainResult:
+          t_max: float = 1e5, max_steps: int = 1_000_000, engine: str = "exact", sigma: float = 0.0,
+          tol: float | None = None) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -47,6 +48,17 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
         Bounds on the duration and the Taylor steps of one event; beyond them the run stops with
         status ``no-stop`` and the catalog holds the completed events.
 
+    engine : {"exact", "compiled"}
+        ``"exact"``: heyoka's Taylor integrator (the reference). ``"compiled"``: the numba engine
+        (``_compiled``; double precision, no energy budget), DOP853 at tolerance ``tol`` with the
+        same exact event location; its catalog adds ``error_estimate`` per event (docs/chain.md,
+        "Engines").
+    sigma : float
+        Friction drop σ_f ∈ [0, 1): Φ_σ(x) = (1 − σ_f) Φ(x/(1 − σ_f)), static threshold 1 (compiled
+        engine only on this branch).
+    tol : float, optional
+        The compiled engine's DOP853 tolerance (default ``_compiled.TOL`` = 1e-12).
+
     Returns
     -------
     ChainResult
@@ -59,6 +71,9 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
     events = check_events(events)
     check_work(t_max, max_steps)   # one event's bounds: refused (not a no-stop run) when not > 0 or NaN
     u = check_initial(n, ell, ends, u0, amplitude, seed)
+    engine, sigma, tol = check_engine(engine, sigma, tol, precision, energy)
+    if engine == "compiled":
+        return _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps)
     from ._loop import ChainLoop
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
@@ -74,3 +89,17 @@ def chain(law, *, n: int, ell: float, nu: float, nu_f: float, ends: str = "free"
         max_velocity=f("max_velocity"), steps=np.array(cat["steps"], dtype=np.int64),
         t=float(loop.t), u=np.array([float(x) for x in loop.u]), stress=np.array([float(x) for x in loop.sigma]),
         status=ChainStatus(out["status"]), message=out["message"], energy=energy_fields)
+
+
+def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps) -> ChainResult:
+    from ._compiled import CompiledChain
+
+    run = CompiledChain(law, n, ell, nu, nu_f, ends, u, sigma=sigma, tol=tol, t_max=t_max, max_steps=max_steps)
+    out = run.run(events)
+    cat = out["catalog"]
+    return ChainResult(
+        law=law.name, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, precision="double", u0=u,
+        t_start=cat["t_start"], hypocentre=cat["hypocentre"], n_blocks=cat["n_blocks"], potency=cat["potency"],
+        duration=cat["duration"], max_velocity=cat["max_velocity"], steps=cat["steps"], t=run.t,
+        u=run.u.copy(), stress=run.stress, status=out["status"], message=out["message"],
+        error_estimate=cat["error_estimate"])
