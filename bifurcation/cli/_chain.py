@@ -33,8 +33,12 @@ def _u0(ctx, param, value):
 @click.option("--seed", type=int, help="Random start: seed of numpy's default_rng.")
 @click.option("--events", required=True, type=int, help="Number of events K ≥ 1.")
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
+@click.option("--engine", type=click.Choice(["exact", "compiled"]), default="exact", show_default=True,
+              help="exact: heyoka Taylor (the reference); compiled: numba DOP853, events located the same way.")
+@click.option("--verify", callback=number("--verify", "0.01"), default="0",
+              help="Compiled engine: re-run this fraction of events exactly and print the largest difference.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (keys = the field names).")
-def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, as_json) -> None:
+def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, engine, verify, as_json) -> None:
     """The first K events of a chain of N blocks: t_start, hypocentre, n_blocks, potency, duration,
     max_velocity per event, and the final state."""
     from ..models.chain import CATALOG_FIELDS, chain
@@ -45,7 +49,7 @@ def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precisio
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
 
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
-              events=events, precision=precision)
+              events=events, precision=precision, engine=engine, verify=verify)
     if as_json:
         echo_json(r.to_json())
     else:
@@ -55,6 +59,11 @@ def chain_cmd(law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precisio
                      for k in CATALOG_FIELDS]
             click.echo(f"{i:6d} " + " ".join(cells))
         click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; {r.message}" if r.message else ""))
+        if r.verification is not None:
+            v = r.verification
+            click.echo(f"verify: {v['checked']} events re-run exactly (every {v['every']}th); largest relative "
+                       f"difference {v['largest_any']:.2e} (" + ", ".join(f"{k} {x:.1e}" for k, x in v['largest'].items())
+                       + f"); hypocentre or size differ in {len(v['mismatched'])}")
     if r.status != 1:
         raise SystemExit(1)
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["ENDS", "ENGINES", "check_engine", "check_events", "check_initial", "check_size"]
+__all__ = ["ENDS", "ENGINES", "check_engine", "check_verify", "check_events", "check_initial", "check_size"]
 
 ENDS = ("free", "periodic")
 ENGINES = ("exact", "compiled")
@@ -135,3 +135,18 @@ def check_engine(engine, sigma, tol, precision, energy) -> tuple[str, float, flo
         if tol is not None:
             raise InputError("tol", tol, "applies to the compiled engine only", "use engine='compiled' or drop tol")
     return engine, sig, tol_f
+
+
+def check_verify(verify, engine, sigma) -> float:
+    """The fraction of events to re-run exactly: 0 (none) or in (0, 1], compiled engine, σ_f = 0."""
+    try:
+        f = float(verify)
+    except (TypeError, ValueError):
+        raise InputError("verify", verify, "is not a number", "give a fraction in (0, 1], e.g. 0.01") from None
+    if not (math.isfinite(f) and 0 <= f <= 1):
+        raise InputError("verify", verify, "must be in [0, 1]", "give a fraction in (0, 1], e.g. 0.01")
+    if f > 0 and engine != "compiled":
+        raise InputError("verify", verify, "checks the compiled engine", "use engine='compiled' with verify")
+    if f > 0 and sigma != 0:
+        raise InputError("verify", verify, "has no exact engine with sigma > 0 here", "use sigma=0 to verify")
+    return f

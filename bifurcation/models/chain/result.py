@@ -75,6 +75,8 @@ class ChainResult:
     energy: dict | None = None
     #: per event, the compiled engine's error estimate of the potency (relative; None for "exact")
     error_estimate: np.ndarray | None = None
+    #: ``verify``: events re-run by the exact engine and the largest differences (``_compiled.run_verified``)
+    verification: dict | None = None
 
     @property
     def events(self) -> int:
