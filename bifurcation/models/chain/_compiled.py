@@ -55,7 +55,7 @@ _inline = nb.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
 
 # -- friction ---------------------------------------------------------------------------------------
-@_inline
+@_jit
 def tape_eval(code, consts, lo, hi, x, regs):
     """The tape entries [lo, hi) at x; registers are local to the piece (``_lawtape``)."""
     for e in range(lo, hi):
@@ -106,16 +106,25 @@ def tape_eval(code, consts, lo, hi, x, regs):
     return regs[hi - lo - 1]
 
 
+@_jit
+def g_carlson_langer(code, consts, tstart, regs, pc, xs):
+    """g = x/(1 + x) directly: the benchmark law without the tape (its mere presence in the loop
+    cost 45x per block and stage: numba/LLVM then left the stage loop unoptimised)."""
+    return xs / (1.0 + xs)
+
+
+@_jit
+def g_tape(code, consts, tstart, regs, pc, xs):
+    return tape_eval(code, consts, tstart[pc], tstart[pc + 1], xs, regs)
+
+
 @_inline
-def _drop(cl, code, consts, tstart, regs, pc, v, fr):
-    """g_σ(x)/ν for a slipping block with scaled velocity v on piece pc (fr: the law's numbers)."""
+def _drop(gfun, code, consts, tstart, regs, pc, v, fr):
+    """g_σ(x)/ν for a slipping block with scaled velocity v on piece pc (fr: the law's numbers).
+    ``gfun`` is one of ``g_carlson_langer``, ``g_tape``: numba compiles the loop once per law kind."""
     sig = fr[2]
     xs = fr[3] * v                    # x/(1 − σ_f) = (ν/ν_f')·v; multiplications, not divisions
-    # (a chain of three divisions per block and stage cost more than the rest of the step)
-    if cl:
-        g = xs / (1.0 + xs)
-    else:
-        g = tape_eval(code, consts, tstart[pc], tstart[pc + 1], xs, regs)
+    g = gfun(code, consts, tstart, regs, pc, xs)
     if sig == 0.0:
         return g * fr[4]
     return (sig + (1.0 - sig) * g) * fr[4]
@@ -138,13 +147,13 @@ def _load(i, w, tau, left, right, selfc, d, l2, nu):
 
 
 @_inline
-def _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, cl, code, consts, tstart, regs, fr, l2, kw, kv, s):
+def _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, s):
     """Stage s of K (rows of kw, kv indexed here: a row view per call cost ~40 ns)."""
     nu = fr[0]
     for i in range(m):
         if slip[i]:
             kw[s, i] = v[i]
-            kv[s, i] = _load(i, w, tau, left, right, selfc, d, l2, nu) + _drop(cl, code, consts, tstart, regs, piece[i], v[i], fr)
+            kv[s, i] = _load(i, w, tau, left, right, selfc, d, l2, nu) + _drop(gfun, code, consts, tstart, regs, piece[i], v[i], fr)
         else:
             kw[s, i] = 0.0
             kv[s, i] = 0.0
@@ -165,11 +174,11 @@ def _dense(F, y0, i, th):
 
 
 @_jit
-def _step(m, h, tau, win, law, fr, l2, rtol, atol):
+def _step(m, h, tau, win, law, gfun, fr, l2, rtol, atol):
     """One DOP853 step of size h from (win.w, win.v) with K[0] set; fills K[1..12], w1, v1.
     Returns (error norm, Σ|err(w)|). Stuck slots keep their state (K = 0): only slipping ones are
     combined."""
-    slip, piece, left, right, selfc, d, cl = win.slip, win.piece, win.left, win.right, win.selfc, win.dn, law.cl
+    slip, piece, left, right, selfc, d = win.slip, win.piece, win.left, win.right, win.selfc, win.dn
     code, consts, tstart, regs = law.code, law.consts, law.start, law.regs   # (a named tuple's field: ~400 ns per read)
     kw, kv, tw, tv, w, v, slip = win.kw, win.kv, win.tw, win.tv, win.w, win.v, win.slip
     for i in range(m):
@@ -187,7 +196,7 @@ def _step(m, h, tau, win, law, fr, l2, rtol, atol):
                         av += a * kv[r, i]
                 tw[i] = w[i] + h * aw
                 tv[i] = v[i] + h * av
-        _rhs(m, tw, tv, tau + _CC[s] * h, slip, piece, left, right, selfc, d, cl, code, consts, tstart, regs, fr, l2, kw, kv, s)
+        _rhs(m, tw, tv, tau + _CC[s] * h, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, s)
     w1, v1 = win.w1, win.v1
     e5 = 0.0
     e3 = 0.0
@@ -206,7 +215,7 @@ def _step(m, h, tau, win, law, fr, l2, rtol, atol):
                 bv += b * kv[r, i]
         w1[i] = w[i] + h * bw
         v1[i] = v[i] + h * bv
-    _rhs(m, w1, v1, tau + h, slip, piece, left, right, selfc, d, cl, code, consts, tstart, regs, fr, l2, kw, kv, 12)
+    _rhs(m, w1, v1, tau + h, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, 12)
     for i in range(m):
         if not slip[i]:
             continue
@@ -232,9 +241,9 @@ def _step(m, h, tau, win, law, fr, l2, rtol, atol):
 
 
 @_jit
-def _dense_prepare(m, h, tau, win, law, fr, l2):
+def _dense_prepare(m, h, tau, win, law, gfun, fr, l2):
     """The three extra stages and the 7 dense-output rows of the last step (w and v)."""
-    slip, piece, left, right, selfc, d, cl = win.slip, win.piece, win.left, win.right, win.selfc, win.dn, law.cl
+    slip, piece, left, right, selfc, d = win.slip, win.piece, win.left, win.right, win.selfc, win.dn
     code, consts, tstart, regs = law.code, law.consts, law.start, law.regs   # (a named tuple's field: ~400 ns per read)
     kw, kv, tw, tv, w, v, w1, v1 = win.kw, win.kv, win.tw, win.tv, win.w, win.v, win.w1, win.v1
     for s in range(13, 16):
@@ -248,7 +257,7 @@ def _dense_prepare(m, h, tau, win, law, fr, l2):
                     av += a * kv[r, i]
             tw[i] = w[i] + h * aw
             tv[i] = v[i] + h * av
-        _rhs(m, tw, tv, tau + _CC[s] * h, slip, piece, left, right, selfc, d, cl, code, consts, tstart, regs, fr, l2, kw, kv, s)
+        _rhs(m, tw, tv, tau + _CC[s] * h, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, s)
     Fw, Fv = win.fw, win.fv
     for i in range(m):
         dw = w1[i] - w[i]
@@ -481,7 +490,7 @@ def _commit(m, tau, win, g, l2, nu):
 @_jit
 def _side(j, k, win, tau, l2, fr, law):
     """Piece of slot j at breakpoint k (between pieces k and k + 1): by the direction of x there."""
-    slip, piece, left, right, selfc, d, cl = win.slip, win.piece, win.left, win.right, win.selfc, win.dn, law.cl
+    slip, piece, left, right, selfc, d = win.slip, win.piece, win.left, win.right, win.selfc, win.dn
     code, consts, tstart, regs = law.code, law.consts, law.start, law.regs   # (a named tuple's field: ~400 ns per read)
     nu, sig = fr[0], fr[2]
     gb = law.g_break[k]
@@ -505,11 +514,11 @@ def _piece_index(law, xs):
 
 
 @_jit
-def _segment(m, win, g, law, fr, par, tau_far, t_left, h, acc):
+def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
     """Integrate the window from w = 0 until the event ends (0), a window block starts (1, slot),
     the far block starts (2), the bounds are reached (3) or the state is not finite (5).
     Returns (code, slot, τ, next h); ``acc`` accumulates [steps, Σ err(w), vmax]."""
-    slip, piece, left, right, selfc, d, cl = win.slip, win.piece, win.left, win.right, win.selfc, win.dn, law.cl
+    slip, piece, left, right, selfc, d = win.slip, win.piece, win.left, win.right, win.selfc, win.dn
     code, consts, tstart, regs = law.code, law.consts, law.start, law.regs   # (a named tuple's field: ~400 ns per read)
     w, v, w1, v1, fw, fv, tw, tv_ = win.w, win.v, win.w1, win.v1, win.fw, win.fv, win.tw, win.tv
     nu, nu_fs, l2 = fr[0], fr[1], par[0]
@@ -517,7 +526,7 @@ def _segment(m, win, g, law, fr, par, tau_far, t_left, h, acc):
     kw, kv = win.kw, win.kv
     npieces = law.lower.size
     tau = 0.0
-    _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, cl, code, consts, tstart, regs, fr, l2, kw, kv, 0)
+    _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, 0)
     t_end = min(tau_far, t_left)
     nslip = 0
     for i in range(m):
@@ -527,7 +536,7 @@ def _segment(m, win, g, law, fr, par, tau_far, t_left, h, acc):
             return (2 if tau_far <= t_left else 3), -1, tau, h
         hh = min(h, t_end - tau)
         last = hh == t_end - tau
-        err, ew = _step(m, hh, tau, win, law, fr, l2, rtol, atol)
+        err, ew = _step(m, hh, tau, win, law, gfun, fr, l2, rtol, atol)
         if not (err <= 1.0):
             if err != err:          # NaN: a non-finite stage
                 for i in range(m):
@@ -553,7 +562,7 @@ def _segment(m, win, g, law, fr, par, tau_far, t_left, h, acc):
                 va, vb = v[i], v1[i]
                 if vb <= 0.0 and (va > 0.0 or vb < 0.0):
                     if not dense:
-                        _dense_prepare(m, hh, tau, win, law, fr, l2)
+                        _dense_prepare(m, hh, tau, win, law, gfun, fr, l2)
                         dense = True
                     th = _root(0, i, win, tau, hh, l2, nu, 0.0, va, vb)
                     if th < best:
@@ -570,7 +579,7 @@ def _segment(m, win, g, law, fr, par, tau_far, t_left, h, acc):
                         bnd = lo
                     if bnd >= 0.0:
                         if not dense:
-                            _dense_prepare(m, hh, tau, win, law, fr, l2)
+                            _dense_prepare(m, hh, tau, win, law, gfun, fr, l2)
                             dense = True
                         tv = bnd * nu_fs / nu
                         th = _root(2, i, win, tau, hh, l2, nu, tv, va - tv, vb - tv)
@@ -584,7 +593,7 @@ def _segment(m, win, g, law, fr, par, tau_far, t_left, h, acc):
                     f1 = _load(i, w1, tau + hh, left, right, selfc, d, l2, nu)
                     if f1 >= 0.0:
                         if not dense:
-                            _dense_prepare(m, hh, tau, win, law, fr, l2)
+                            _dense_prepare(m, hh, tau, win, law, gfun, fr, l2)
                             dense = True
                         th = _root(1, i, win, tau, hh, l2, nu, 0.0, f0, f1)
                         if th < best:
@@ -592,7 +601,7 @@ def _segment(m, win, g, law, fr, par, tau_far, t_left, h, acc):
         lim = 1.0 if kind_b < 0 else best
         if interior:
             if not dense:
-                _dense_prepare(m, hh, tau, win, law, fr, l2)
+                _dense_prepare(m, hh, tau, win, law, gfun, fr, l2)
                 dense = True
             for i in range(m):
                 if slip[i] and kv[0, i] > 0.0 and kv[12, i] < 0.0:
@@ -651,11 +660,11 @@ def _segment(m, win, g, law, fr, par, tau_far, t_left, h, acc):
                         if abs(new - p0) == 1:
                             new = _side(i, min(new, p0), win, tau, l2, fr, law)
                         piece[i] = new
-        _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, cl, code, consts, tstart, regs, fr, l2, kw, kv, 0)
+        _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, 0)
 
 
 @_jit
-def run_events(k, win, g, law, fr, par, scal, out_f, out_i):
+def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i):
     """Up to k events. ``scal`` = [t, L, h]; out_f[:, e] = t_start, potency, duration, vmax (scaled),
     error estimate; out_i[:, e] = hypocentre, n_blocks, steps, widest window.
     Returns (events done, outcome code)."""
@@ -707,7 +716,7 @@ def run_events(k, win, g, law, fr, par, scal, out_f, out_i):
             tau_far = np.inf
             if g.tv[top] > _NEG_INF:
                 tau_far = (1.0 - (((g.s[top] - base) + 1.0) + lam)) / nu
-            code, j, tau, h = _segment(m, win, g, law, fr, par, tau_far, t_max - dur, h, acc)
+            code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc)
             if code == 5 or code == 3:
                 break
             pot += nu * _commit(m, tau, win, g, l2, nu)
@@ -770,6 +779,7 @@ class CompiledChain:
         tape = law_tape(law)
         self.law, self.n, self.ends = law, n, ends
         self.nu, self.nu_f, self.ell, self.sigma = float(nu), float(nu_f), float(ell), float(sigma)
+        self._gfun = g_carlson_langer if tape.carlson_langer else g_tape
         self._law = _Law(tape.code, tape.consts, tape.start, np.zeros(max(tape.registers, 1)),
                          bool(tape.carlson_langer), tape.lower, tape.upper, tape.g_break)
         u = np.array(u0, dtype=np.float64)
@@ -813,7 +823,7 @@ class CompiledChain:
 
         out_f = np.zeros((5, k))
         out_i = np.zeros((4, k), dtype=np.int64)
-        done, code = run_events(k, self._win, self._g, self._law, self._fr, self._par, self._scal, out_f, out_i)
+        done, code = run_events(k, self._win, self._g, self._law, self._gfun, self._fr, self._par, self._scal, out_f, out_i)
         cat = {"t_start": out_f[0, :done].copy(), "hypocentre": out_i[0, :done].copy(),
                "n_blocks": out_i[1, :done].copy(), "potency": out_f[1, :done].copy(),
                "duration": out_f[2, :done].copy(), "max_velocity": self.nu * out_f[3, :done],
