@@ -334,6 +334,50 @@ def run_long(*, n: int = 256, events: int = 100_000, chunk: int = 10_000, law: s
             "largest": int(sizes_.max()), "spanning": int(np.sum(sizes_ == n))}
 
 
+def run_scaling(*, sizes=(64, 1024, 16384, 100_000), nu: float = 1e-6, nu_f: float = 0.2, sigma: float = 0.0,
+                events: int = 3000, transient: int = 3000, law: str = "carlson-langer", ell: float = 1.0,
+                amplitude: float = 0.1, seed: int = 1, echo=print) -> dict:
+    """The compiled engine's CPU time per event and memory against N (issue 18: cost independent of N).
+    Memory: the bytes of the engine's arrays (all allocated once per run, O(N))."""
+    from ...laws import resolve_law
+    from ._compiled import CompiledChain
+    from ._validate import check_initial
+
+    say = echo or (lambda *_: None)
+    law_obj = resolve_law(law)
+    rows = []
+    for n in sizes:
+        run = CompiledChain(law_obj, n, ell, nu, nu_f, "free", check_initial(n, ell, "free", None, amplitude, seed),
+                            sigma=sigma)
+        run.run(transient)
+        out, wall_s, cpu_s = _timed(lambda: run.run(events))
+        nbytes = sum(a.nbytes for t in (run._win, run._g) for a in t if isinstance(a, np.ndarray))
+        row = {"n": n, "us_per_event": 1e6 * cpu_s / events, "mean_n_blocks": float(out["catalog"]["n_blocks"].mean()),
+               "steps_per_event": float(out["catalog"]["steps"].mean()), "bytes": nbytes, "status": int(out["status"])}
+        rows.append(row)
+        say(f"  N = {n:6d}: {row['us_per_event']:7.1f} µs per event (CPU), mean size {row['mean_n_blocks']:.2f}, "
+            f"{row['steps_per_event']:.0f} steps/event, engine arrays {nbytes / 1e6:.2f} MB ({nbytes / n:.0f} B per block)")
+    return {"nu": nu, "sigma": sigma, "rows": rows}
+
+
+def run_million(*, n: int = 1024, events: int = 1_000_000, nu: float = 1e-4, nu_f: float = 0.2,
+                law: str = "carlson-langer", ell: float = 1.0, amplitude: float = 0.1, seed: int = 1,
+                echo=print) -> dict:
+    """10^6 events of one chain on the compiled engine, CPU and wall time (issue 18's target: ≤ 2 min)."""
+    from ...laws import resolve_law
+    from ._compiled import CompiledChain
+    from ._validate import check_initial
+
+    run = CompiledChain(resolve_law(law), n, ell, nu, nu_f, "free", check_initial(n, ell, "free", None, amplitude, seed))
+    run.run(10)                                    # compile outside the timing
+    out, wall_s, cpu_s = _timed(lambda: run.run(events))
+    res = {"n": n, "events": int(out["catalog"]["potency"].size), "cpu_s": cpu_s, "wall_s": wall_s,
+           "status": int(out["status"]), "mean_n_blocks": float(out["catalog"]["n_blocks"].mean())}
+    (echo or (lambda *_: None))(f"{res['events']} events of N = {n}: CPU {cpu_s:.1f} s, wall {wall_s:.1f} s, "
+                                f"mean size {res['mean_n_blocks']:.2f}, status {res['status']}")
+    return res
+
+
 def run_lone_block_check(*, n: int = 64, events: int = 300, dts=(0.2, 0.1, 0.05, 0.02), nu: float = 1e-3,
                          nu_f: float = 0.2, seed: int = 1, echo=print) -> dict:
     """Relative error of the lone interior block's slip, exact engine and RK4, against the closed form
@@ -374,5 +418,9 @@ if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md 
                      n=int(sys.argv[3]) if len(sys.argv) > 3 else 256)
     elif what == "long":
         run_long(events=int(sys.argv[2]) if len(sys.argv) > 2 else 100_000)
+    elif what == "scaling":
+        run_scaling()
+    elif what == "million":
+        run_million()
     elif what == "atom":
         run_lone_block_check()
