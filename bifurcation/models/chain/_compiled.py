@@ -619,6 +619,7 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
             h = hnext
             continue
         # cut the step at the event
+        tau0 = tau
         if best >= 1.0:
             for i in range(m):
                 w[i] = w1[i]
@@ -643,8 +644,11 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
             for i in range(m):
                 if slip[i] and (i == j or v[i] <= 0.0):
                     v[i] = 0.0
-                    if _load(i, w, tau, left, right, selfc, d, l2, nu) >= 0.0:
+                    if tau > tau0 and _load(i, w, tau, left, right, selfc, d, l2, nu) >= 0.0:
                         continue             # σ ≥ 1 at V = 0 (rounding): it cannot stick
+                    # (a block kept at V = 0 that decelerates at once stops at the step's start, τ not
+                    # advancing: σ − 1 is at rounding level there; keeping it looped forever, found at
+                    # event 63 944 of N = 1024, ν = 1e-4, seed 1)
                     slip[i] = 0
                     nslip -= 1
             if nslip == 0:
@@ -841,6 +845,15 @@ class CompiledChain:
         elif code == NONFINITE:
             status, message = ChainStatus.NONFINITE, f"non-finite state in event {done}"
         return dict(catalog=cat, status=status, message=message)
+
+    def restore(self, sigma, u, t) -> None:
+        """Set a between-events state (σ, U, t), as ``snapshot`` returns it."""
+        g = self._g
+        g.s[:] = sigma
+        g.u[:] = u
+        g.tv[:self.n] = g.s
+        tree_build(g.tv, g.ti, g.p)
+        self._scal[0], self._scal[1] = float(t), 0.0
 
     def snapshot(self) -> tuple[np.ndarray, np.ndarray, float]:
         """(σ, U, t) now: a between-events state (every block stuck)."""
