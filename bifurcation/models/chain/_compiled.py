@@ -152,24 +152,24 @@ def _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, gfun, code, consts, t
     nu = fr[0]
     for i in range(m):
         if slip[i]:
-            kw[s, i] = v[i]
-            kv[s, i] = _load(i, w, tau, left, right, selfc, d, l2, nu) + _drop(gfun, code, consts, tstart, regs, piece[i], v[i], fr)
+            kw[i, s] = v[i]
+            kv[i, s] = _load(i, w, tau, left, right, selfc, d, l2, nu) + _drop(gfun, code, consts, tstart, regs, piece[i], v[i], fr)
         else:
-            kw[s, i] = 0.0
-            kv[s, i] = 0.0
+            kw[i, s] = 0.0
+            kv[i, s] = 0.0
 
 
 @_inline
 def _dense(F, y0, i, th):
     """Component i of the DOP853 dense output at θ (``F`` (7, ·) as scipy's Dop853DenseOutput)."""
     x1 = 1.0 - th
-    y = F[6, i] * th
-    y = (y + F[5, i]) * x1
-    y = (y + F[4, i]) * th
-    y = (y + F[3, i]) * x1
-    y = (y + F[2, i]) * th
-    y = (y + F[1, i]) * x1
-    y = (y + F[0, i]) * th
+    y = F[i, 6] * th
+    y = (y + F[i, 5]) * x1
+    y = (y + F[i, 4]) * th
+    y = (y + F[i, 3]) * x1
+    y = (y + F[i, 2]) * th
+    y = (y + F[i, 1]) * x1
+    y = (y + F[i, 0]) * th
     return y0[i] + y
 
 
@@ -192,8 +192,8 @@ def _step(m, h, tau, win, law, gfun, fr, l2, rtol, atol):
                 for r in range(s):
                     a = _A[s, r]
                     if a != 0.0:
-                        aw += a * kw[r, i]
-                        av += a * kv[r, i]
+                        aw += a * kw[i, r]
+                        av += a * kv[i, r]
                 tw[i] = w[i] + h * aw
                 tv[i] = v[i] + h * av
         _rhs(m, tw, tv, tau + _CC[s] * h, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, s)
@@ -211,8 +211,8 @@ def _step(m, h, tau, win, law, gfun, fr, l2, rtol, atol):
         for r in range(12):
             b = _B[r]
             if b != 0.0:
-                bw += b * kw[r, i]
-                bv += b * kv[r, i]
+                bw += b * kw[i, r]
+                bv += b * kv[i, r]
         w1[i] = w[i] + h * bw
         v1[i] = v[i] + h * bv
     _rhs(m, w1, v1, tau + h, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, 12)
@@ -224,10 +224,10 @@ def _step(m, h, tau, win, law, gfun, fr, l2, rtol, atol):
         x5v = 0.0
         x3v = 0.0
         for r in range(13):
-            x5w += _E5[r] * kw[r, i]
-            x3w += _E3[r] * kw[r, i]
-            x5v += _E5[r] * kv[r, i]
-            x3v += _E3[r] * kv[r, i]
+            x5w += _E5[r] * kw[i, r]
+            x3w += _E3[r] * kw[i, r]
+            x5v += _E5[r] * kv[i, r]
+            x3v += _E3[r] * kv[i, r]
         sw = atol + rtol * max(abs(w[i]), abs(w1[i]))
         sv = atol + rtol * max(abs(v[i]), abs(v1[i]))
         e5 += (x5w / sw) ** 2 + (x5v / sv) ** 2
@@ -253,8 +253,8 @@ def _dense_prepare(m, h, tau, win, law, gfun, fr, l2):
             for r in range(s):
                 a = _A[s, r]
                 if a != 0.0:
-                    aw += a * kw[r, i]
-                    av += a * kv[r, i]
+                    aw += a * kw[i, r]
+                    av += a * kv[i, r]
             tw[i] = w[i] + h * aw
             tv[i] = v[i] + h * av
         _rhs(m, tw, tv, tau + _CC[s] * h, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, s)
@@ -262,22 +262,22 @@ def _dense_prepare(m, h, tau, win, law, gfun, fr, l2):
     for i in range(m):
         dw = w1[i] - w[i]
         dv = v1[i] - v[i]
-        Fw[0, i] = dw
-        Fv[0, i] = dv
-        Fw[1, i] = h * kw[0, i] - dw
-        Fv[1, i] = h * kv[0, i] - dv
-        Fw[2, i] = 2.0 * dw - h * (kw[12, i] + kw[0, i])
-        Fv[2, i] = 2.0 * dv - h * (kv[12, i] + kv[0, i])
+        Fw[i, 0] = dw
+        Fv[i, 0] = dv
+        Fw[i, 1] = h * kw[i, 0] - dw
+        Fv[i, 1] = h * kv[i, 0] - dv
+        Fw[i, 2] = 2.0 * dw - h * (kw[i, 12] + kw[i, 0])
+        Fv[i, 2] = 2.0 * dv - h * (kv[i, 12] + kv[i, 0])
         for q in range(4):
             sw = 0.0
             sv = 0.0
             for r in range(16):
                 dq = _D[q, r]
                 if dq != 0.0:
-                    sw += dq * kw[r, i]
-                    sv += dq * kv[r, i]
-            Fw[3 + q, i] = h * sw
-            Fv[3 + q, i] = h * sv
+                    sw += dq * kw[i, r]
+                    sv += dq * kv[i, r]
+            Fw[i, 3 + q] = h * sw
+            Fv[i, 3 + q] = h * sv
 
 
 @_inline
@@ -585,7 +585,7 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
                         th = _root(2, i, win, tau, hh, l2, nu, tv, va - tv, vb - tv)
                         if th < best:
                             best, kind_b, slot_b, brk_b = th, 2, i, (pc if bnd == up else pc - 1)
-                if kv[0, i] > 0.0 and kv[12, i] < 0.0:
+                if kv[i, 0] > 0.0 and kv[i, 12] < 0.0:
                     interior = True
             else:
                 f0 = _load(i, w, tau, left, right, selfc, d, l2, nu)
@@ -604,15 +604,15 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
                 _dense_prepare(m, hh, tau, win, law, gfun, fr, l2)
                 dense = True
             for i in range(m):
-                if slip[i] and kv[0, i] > 0.0 and kv[12, i] < 0.0:
+                if slip[i] and kv[i, 0] > 0.0 and kv[i, 12] < 0.0:
                     acc[2] = max(acc[2], _vmax_in(i, win, lim))
         acc[1] += ew
         if kind_b < 0:     # no event: take the whole step (FSAL)
             for i in range(m):
                 w[i] = w1[i]
                 v[i] = v1[i]
-                kw[0, i] = kw[12, i]
-                kv[0, i] = kv[12, i]
+                kw[i, 0] = kw[i, 12]
+                kv[i, 0] = kv[i, 12]
                 if slip[i] and v[i] > acc[2]:
                     acc[2] = v[i]
             tau = t_end if last else tau + hh
@@ -802,7 +802,7 @@ class CompiledChain:
                         np.zeros(1, dtype=np.int64))
         f, i8 = np.zeros, np.int64
         self._win = _Win(f(n, i8), f(n, i8), f(n, i8), f(n), f(n), f(n), f(n), f(n, np.uint8), f(n, i8), f(n), f(n),
-                         f(n), f(n), f(n), f(n), f((16, n)), f((16, n)), f((7, n)), f((7, n)),
+                         f(n), f(n), f(n), f(n), f((n, 16)), f((n, 16)), f((n, 7)), f((n, 7)),
                          f(n, i8), f(n), f(n), f(n, np.uint8), f(n, i8), f(n + 1, i8))
         nu_fs = self.nu_f * (1.0 - self.sigma)
         self._fr = np.array([self.nu, nu_fs, self.sigma, self.nu / nu_fs, 1.0 / self.nu])
