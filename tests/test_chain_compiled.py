@@ -154,3 +154,25 @@ def test_bad_engine_options_are_refused(kwargs, name):
     with pytest.raises(InputError) as err:
         bf.chain("carlson-langer", n=4, ell=1, nu=1e-3, nu_f=0.2, amplitude=0.1, seed=1, events=2, **kwargs)
     assert name in str(err.value).split("=")[0]
+
+
+def test_cli_engine_and_verify():
+    """``bifurcation chain --engine compiled --verify F`` prints the catalog and the verification line
+    (the API's numbers); ``--verify`` with the exact engine or outside [0, 1] is one line, exit 2."""
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    base = ["chain", "--law", "carlson-langer", "--ell", "1", "--nu", "1e-3", "--nu-f", "0.3", "--n", "6",
+            "--amplitude", "0.1", "--seed", "3", "--events", "6"]
+    res = CliRunner().invoke(cli, base + ["--engine", "compiled", "--verify", "0.5"])
+    assert res.exit_code == 0, res.output
+    api = bf.chain("carlson-langer", n=6, ell=1, nu=1e-3, nu_f=0.3, amplitude=0.1, seed=3, events=6,
+                   engine="compiled", verify=0.5)
+    line = [x for x in res.output.splitlines() if x.startswith("verify:")]
+    assert len(line) == 1 and f"{api.verification['largest_any']:.2e}" in line[0]
+    assert "differ in 0" in line[0]
+    for bad in (["--verify", "0.5"], ["--engine", "compiled", "--verify", "2"], ["--engine", "fast"]):
+        res = CliRunner().invoke(cli, base + bad)
+        assert res.exit_code == 2 and "Traceback" not in res.output
+        assert len(res.output.strip().splitlines()) == 1, res.output
