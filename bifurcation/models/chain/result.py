@@ -106,4 +106,8 @@ class ChainResult:
         rec["stress"] = np.asarray(self.stress, dtype=float).tolist()
         if self.message:
             rec["message"] = self.message
+        if self.error_estimate is not None:    # the compiled engine
+            rec["error_estimate"] = np.asarray(self.error_estimate, dtype=float).tolist()
+        if self.verification is not None:
+            rec["verification"] = {k: (dict(v) if isinstance(v, dict) else v) for k, v in self.verification.items()}
         return rec
