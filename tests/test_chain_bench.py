@@ -28,14 +28,38 @@ def test_the_steady_start_is_the_state_after_the_transient():
 
 
 def test_the_suite_reports_rates_and_ratios_at_every_step():
-    """One tiny case: the report carries, per dt, RK4's rate, its KS distances (in [0, 1]) and the ratio
-    exact/RK4 computed from the two rates; RK4's catalog has the requested number of events."""
-    out = run_chain_bench(cases=((1e-3, 8, 20, 5),), dts=(0.2, 0.1), echo=None)
+    """One tiny case: the report carries the compiled engine's rate and its verification, and per
+    baseline (numba RK4 active set and whole chain, numpy RK4) and dt the rate, KS distances in [0, 1]
+    and the ratio compiled/baseline computed from the two rates."""
+    out = run_chain_bench(cases=((1e-3, 8, 20, 5),), dts=(0.2, 0.1), verify=0.25, echo=None)
     (row,) = out["rows"]
     assert (row["nu"], row["n"], row["events"], row["transient"]) == (1e-3, 8, 20, 5)
+    assert [(r["kind"], r["dt"]) for r in row["numba"]] == [("active", 0.2), ("active", 0.1), ("plain", 0.2),
+                                                             ("plain", 0.1)]
     assert [r["dt"] for r in row["rk4"]] == [0.2, 0.1]
-    for r in row["rk4"]:
+    for r in row["numba"] + row["rk4"]:
         assert 0 <= r["ks"] <= 1 and 0 <= r["ks_magnitude"] <= 1
-        assert r["ratio"] == row["exact_events_per_s"] / r["events_per_s"]
+        assert r["ratio"] == row["compiled_events_per_s"] / r["events_per_s"]
+    assert row["verify"]["checked"] == 5 and row["verify"]["mismatched"] == []
+    assert row["verify"]["largest_any"] <= 1e-10
+    assert row["exact_events_per_s"] > 0
     u0 = check_initial(8, 1.0, "free", None, 0.1, 1)
     assert len(rk4_chain("carlson-langer", n=8, ell=1.0, nu=1e-3, nu_f=0.2, u0=u0, events=7, dt=0.2)["potency"]) == 7
+
+
+def test_numba_rk4_baselines_are_the_interpreted_rk4():
+    """The compiled baselines step the same equations as ``rk4_chain`` (stuck blocks held by
+    max(σ − 1, 0), clipped velocities): the whole-chain version gives its catalog to rounding over a
+    few events (1e-9: operations ordered differently, a chaotic chain); the active-set version the
+    same sizes (it steps a block only once a neighbour moved, a difference at the step's rounding)."""
+    from bifurcation.models.chain._bench_rk4 import run_rk4
+
+    u0 = check_initial(16, 1.0, "free", None, 0.1, 4)
+    kw = dict(n=16, ell=1.0, nu=1e-4, nu_f=0.2, u0=u0, events=6, dt=0.1)
+    ref = rk4_chain("carlson-langer", **kw)
+    plain = run_rk4("plain", "carlson-langer", **kw)
+    active = run_rk4("active", "carlson-langer", **kw)
+    np.testing.assert_allclose(plain["potency"], ref["potency"], rtol=1e-9)
+    np.testing.assert_array_equal(plain["n_blocks"], ref["n_blocks"])
+    np.testing.assert_array_equal(active["n_blocks"], ref["n_blocks"])
+    np.testing.assert_allclose(active["potency"], ref["potency"], rtol=1e-6)

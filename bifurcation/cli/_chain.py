@@ -87,9 +87,13 @@ def _u0(ctx, param, value):
 @click.option("--v-threshold", "v_threshold", default=None,
               help="Event membership by slip velocity: count only blocks faster than V_th (in V0), or 'default' "
                    "for 10·ν (docs/chain.md). Without it: every block that moved, until all are stuck.")
+@click.option("--engine", type=click.Choice(["exact", "compiled"]), default="exact", show_default=True,
+              help="exact: heyoka Taylor (the reference); compiled: numba DOP853, events located the same way.")
+@click.option("--verify", callback=number("--verify", "0.01"), default="0",
+              help="Compiled engine: re-run this fraction of events exactly and print the largest difference.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (keys = the field names).")
 def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, precision, sigma, v_threshold,
-              as_json) -> None:
+              engine, verify, as_json) -> None:
     """The first K events of a chain of N blocks: t_start, hypocentre, n_blocks, potency, duration,
     max_velocity per event, and the final state."""
     from ..models.chain import CATALOG_FIELDS, chain
@@ -137,8 +141,8 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
                          "give --seed S, e.g. --seed 1 (the start is numpy.random.default_rng(S))")
 
     r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
-              events=events, precision=precision, sigma=sigma, v_threshold=v_threshold,
-              progress=_progress(time.perf_counter()))
+              events=events, precision=precision, sigma=sigma, v_threshold=v_threshold, engine=engine,
+              verify=verify, progress=_progress(time.perf_counter()))
     if as_json:
         echo_json(r.to_json())
     else:
@@ -150,6 +154,11 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
         click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; membership {r.membership}" if r.v_threshold else "")
                    + (f"; {r.message}" if r.message else ""))
         click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
+        if r.verification is not None:
+            v = r.verification
+            click.echo(f"verify: {v['checked']} events re-run exactly (every {v['every']}th); largest relative "
+                       f"difference {v['largest_any']:.2e} (" + ", ".join(f"{k} {x:.1e}" for k, x in v['largest'].items())
+                       + f"); hypocentre or size differ in {len(v['mismatched'])}")
     if r.status != 1:
         raise SystemExit(1)
 

@@ -155,112 +155,153 @@ def _magnitudes(p):
     return np.round(np.log10(np.maximum(np.asarray(p, dtype=float), 1e-300)), 2)
 
 
-#: (ν, N, timed events, transient events) of the default suite. ν = 1e-4 is the regime the study is
-#: about (events of a few blocks, the chain all stuck between them); at ν = 1e-3 a chain of N ≳ 64 is
-#: rarely all stuck and its "events" merge (mean 400 blocks at N = 1024, results/chain/REPORT.md), so
-#: that row is short: RK4 runs at ~1-3 events per second there.
-CASES = ((1e-4, 64, 1000, 500), (1e-4, 256, 1000, 500), (1e-4, 1024, 500, 1000),
-         (1e-3, 64, 1000, 500), (1e-3, 256, 500, 500), (1e-3, 1024, 100, 1000))
+#: (ν, N, timed events, transient events) of the default suite: ν = 1e-4, the regime of the study
+#: (events of a few blocks, the chain all stuck between them) and of issue 18's targets.
+CASES = ((1e-4, 64, 2000, 1000), (1e-4, 256, 2000, 1000), (1e-4, 1024, 1000, 2000), (1e-4, 4096, 300, 4000))
+#: the exact (heyoka) engine is timed up to this N (its warm-up compiles every window size up to N)
+EXACT_UP_TO = 1024
+
+
+def _steady_start_compiled(law_obj, n, ell, nu, nu_f, u0, events) -> np.ndarray:
+    """As ``_steady_start``, the transient run by the compiled engine (``--verify`` checks it)."""
+    from ._compiled import CompiledChain
+    from ._validate import check_initial
+
+    if events <= 0:
+        return u0
+    run = CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0)
+    out = run.run(events)
+    if out["status"] != 1:
+        raise RuntimeError(f"the transient of {events} events stopped: {out['message']}")
+    return check_initial(n, ell, "free", np.asarray(run.u, dtype=float) - nu * run.t, None, None)
 
 
 def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu_f: float = 0.2, cases=CASES,
-                    dts=(0.2, 0.1, 0.05), amplitude: float = 0.1, seed: int = 1,
-                    compact_above: int = 32, echo=print) -> dict:
-    """Events per second of the exact engine and of RK4 at steps dt, per (ν, N) of ``cases``.
+                    dts=(0.2, 0.1), amplitude: float = 0.1, seed: int = 1, compact_above: int = 32,
+                    verify: float = 0.01, echo=print) -> dict:
+    """Events per CPU second, side by side in one process, from the same steady start, of: the compiled
+    engine (``_compiled``, tolerance 1e-12, its ``verify`` sample re-run by the exact engine, untimed),
+    the exact heyoka engine (N ≤ ``EXACT_UP_TO``), numba RK4 with an active set and of the whole
+    chain at each dt (``_bench_rk4``, the baselines of issue 18), and the interpreted numpy RK4
+    (``rk4_chain``, a second column). Ratios are compiled engine / baseline on CPU time.
 
-    Both start from the same state: the random start of amplitude ``amplitude`` run through the
-    case's transient by the exact engine (``_steady_start``), so that the timed events are the
-    chain's steady state, not the first events of a random start (at N = 1024 these are a transient of
-    512–1023-block events that costs both codes several times more per event).
-
-    Rates are events per CPU second of this process (and per wall second, shown too); the ratio is
-    taken on CPU time. ``compact_above``: the exact engine's windows up to this size use heyoka's
-    full mode (``_integrator.window_integrator``); every window size the run can meet is compiled
-    and ``min(k, 50)`` events are run before the timing, whose wall time is reported as ``compile_s``.
-    KS distances of catalogs this short are within their sampling noise (shown): the step that gives
-    equal accuracy is resolved by ``run_ks_study`` on 40 000-event catalogs, not here.
+    The start: the random start of amplitude ``amplitude`` run through the case's transient by the
+    compiled engine, so the timed events are the chain's steady state. Every numba function is
+    compiled before the timings (a tiny run of each). KS distances of catalogs this short are within
+    their sampling noise (shown): equal statistics are resolved by ``run_ks_study``.
     """
     from ...laws import resolve_law
+    from ._bench_rk4 import run_rk4
+    from ._compiled import CompiledChain, run_verified
     from ._validate import check_initial
 
     say = echo or (lambda *_: None)
     law_obj = resolve_law(law)
     rows = []
-    say(f"chain bench: {law}, ℓ = {ell}, ν_f = {nu_f}, free ends, random start A = {amplitude}, "
-        f"seed {seed}, run through a transient by the exact engine; RK4 steps {list(dts)}; exact windows ≤ "
-        f"{compact_above} in full mode; rates per CPU second (wall in brackets)")
+    say(f"chain bench: {law}, ℓ = {ell}, ν_f = {nu_f}, free ends, random start A = {amplitude}, seed {seed}, "
+        f"run through a transient by the compiled engine; RK4 steps {list(dts)}; rates per CPU second of this "
+        f"process (wall in brackets); ratio = compiled engine / baseline")
+    tiny = check_initial(8, ell, "free", None, amplitude, seed)          # compile every numba path first
+    CompiledChain(law_obj, 8, ell, 1e-3, nu_f, "free", tiny).run(3)
+    for kind in ("active", "plain"):
+        run_rk4(kind, law, n=8, ell=ell, nu=1e-3, nu_f=nu_f, u0=tiny, events=3, dt=0.1)
     for nu, n, k, skip in cases:
-        u0 = _steady_start(law_obj, n, ell, nu, nu_f, check_initial(n, ell, "free", None, amplitude, seed), skip,
-                           compact_above)
-        loop, cat, wall_s, cpu_s, compile_s = _exact(law_obj, n, ell, nu, nu_f, u0, k, compact_above)
-        potency = np.array([float(x) for x in cat["potency"]])
-        sizes_ = np.array(cat["n_blocks"])
-        wall = np.array(loop.wall)
-        row = {"nu": nu, "n": n, "events": k, "transient": skip, "exact_s": wall_s, "exact_cpu_s": cpu_s, "compile_s": compile_s,
-               "exact_events_per_s": k / cpu_s, "exact_events_per_wall_s": k / wall_s,
-               "mean_n_blocks": float(sizes_.mean()), "noise_ks": 1.36 * math.sqrt(2 / k), "rk4": []}
+        u0 = _steady_start_compiled(law_obj, n, ell, nu, nu_f, check_initial(n, ell, "free", None, amplitude, seed),
+                                    skip)
+        run = CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0)
+        out, wall_s, cpu_s = _timed(lambda: run.run(k))
+        cat = out["catalog"]
+        rate = k / cpu_s
+        row = {"nu": nu, "n": n, "events": k, "transient": skip, "compiled_events_per_s": rate,
+               "compiled_events_per_wall_s": k / wall_s, "mean_n_blocks": float(cat["n_blocks"].mean()),
+               "steps_per_event": float(cat["steps"].mean()), "noise_ks": 1.36 * math.sqrt(2 / k),
+               "numba": [], "rk4": []}
+        sizes_, mags = cat["n_blocks"], _magnitudes(cat["potency"])
+        if verify:
+            _, rep = run_verified(CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0), k, verify)
+            row["verify"] = rep
+        if n <= EXACT_UP_TO:
+            _, ecat, ewall, ecpu, compile_s = _exact(law_obj, n, ell, nu, nu_f, u0, k, compact_above)
+            row["exact_events_per_s"] = k / ecpu
+            row["exact_compile_s"] = compile_s
+        for kind in ("active", "plain"):
+            for dt in dts:
+                base, s, c = _timed(lambda: run_rk4(kind, law, n=n, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=k, dt=dt))
+                row["numba"].append({"kind": kind, "dt": dt, "events_per_s": k / c, "events_per_wall_s": k / s,
+                                     "ks": ks_distance(sizes_, base["n_blocks"]),
+                                     "ks_magnitude": ks_distance(mags, _magnitudes(base["potency"])),
+                                     "ratio": rate / (k / c)})
         for dt in dts:
-            base, s, c = _timed(lambda: rk4_chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=k, dt=dt))
-            d = ks_distance(sizes_, base["n_blocks"])
-            dm = ks_distance(_magnitudes(potency), _magnitudes(base["potency"]))
-            row["rk4"].append({"dt": dt, "seconds": s, "cpu_seconds": c, "events_per_s": k / c,
-                               "events_per_wall_s": k / s, "ks": d, "ks_magnitude": dm,
-                               "ratio": row["exact_events_per_s"] / (k / c)})
-            say(f"  ν = {nu:g}, N = {n:5d}: RK4 dt = {dt:<5g} {k / c:9.1f} events/s ({k / s:.1f}), KS(n_blocks) = {d:.3f}, "
-                f"KS(magnitude, 0.01) = {dm:.3f}")
-        # cost against event size: mean wall time per event, by n_blocks (a CPU clock per event would
-        # cost more than a small event: ChainLoop's ``timing``)
-        row["cost_by_size"] = _cost_by_size(sizes_, wall)
-        say(f"  ν = {nu:g}, N = {n:5d}: exact {row['exact_events_per_s']:9.1f} events/s ({k / wall_s:.1f}) (mean size "
-            f"{row['mean_n_blocks']:.1f}, warm-up incl. compile {compile_s:.1f} s); KS noise at {k} events "
-            f"{row['noise_ks']:.3f}; "
-            + "exact/RK4 at dt = " + " / ".join(f"{r['dt']:g}" for r in row["rk4"]) + ": "
-            + " / ".join(f"{r['ratio']:.1f}x" for r in row["rk4"]))
-        say("           cost by size (wall ms per event): " + ", ".join(
-            f"{c['n_blocks']}: {c['ms_per_event']:.2f} ({c['events']})" for c in row["cost_by_size"]))
+            kk = min(k, 300)
+            base, s, c = _timed(lambda: rk4_chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=kk, dt=dt))
+            row["rk4"].append({"dt": dt, "events": kk, "events_per_s": kk / c, "ratio": rate / (kk / c),
+                               "ks": ks_distance(sizes_[:kk], base["n_blocks"]),
+                               "ks_magnitude": ks_distance(mags[:kk], _magnitudes(base["potency"]))})
+        exact = (f"exact {row['exact_events_per_s']:.0f}/s (compiled/exact {rate / row['exact_events_per_s']:.2f}x)"
+                 if "exact_events_per_s" in row else "exact not timed (N > 1024)")
+        say(f"  ν = {nu:g}, N = {n:5d}: compiled {rate:9.0f} events/s ({k / wall_s:.0f}), {row['steps_per_event']:.0f} "
+            f"steps/event, mean size {row['mean_n_blocks']:.2f}; {exact}")
+        if "verify" in row:
+            v = row["verify"]
+            say(f"           verify: {v['checked']} events re-run exactly, largest relative difference "
+                f"{v['largest_any']:.1e}, hypocentre/size differ in {len(v['mismatched'])}")
+        for r in row["numba"]:
+            say(f"           numba RK4 {r['kind']:6s} dt = {r['dt']:<4g} {r['events_per_s']:9.0f} events/s, "
+                f"compiled/RK4 = {r['ratio']:.3f}x, KS(n_blocks) {r['ks']:.3f}, KS(magnitude) {r['ks_magnitude']:.3f} "
+                f"(noise {row['noise_ks']:.3f})")
+        say("           interpreted numpy RK4 (second column): " + ", ".join(
+            f"dt = {r['dt']:g}: {r['events_per_s']:.0f} events/s, compiled/RK4 = {r['ratio']:.1f}x" for r in row["rk4"]))
         rows.append(row)
-    return {"suite": "chain", "law": law, "ell": ell, "nu_f": nu_f, "compact_above": compact_above,
-            "rows": rows}
+    return {"suite": "chain", "law": law, "ell": ell, "nu_f": nu_f, "compact_above": compact_above, "rows": rows}
 
 
-def run_ks_study(*, n: int = 64, events: int = 4000, dts=(0.2, 0.1, 0.05, 0.02), law: str = "carlson-langer",
-                 ell: float = 1.0, nu: float = 1e-3, nu_f: float = 0.2, amplitude: float = 0.1, seed: int = 1,
-                 compact_above: int = 32, echo=print) -> dict:
+def run_ks_study(*, n: int = 256, events: int = 40_000, dts=(0.2, 0.1, 0.05), law: str = "carlson-langer",
+                 ell: float = 1.0, nu: float = 1e-4, nu_f: float = 0.2, amplitude: float = 0.1, seed: int = 1,
+                 transient: int = 2000, verify: float = 0.001, echo=print) -> dict:
     """KS distance of RK4's event sizes and magnitudes from the exact catalog's, against its noise.
 
-    The noise floor is measured, not only quoted: the KS distance between two exact catalogs of the
-    same chain from different random starts (seeds ``seed`` and ``seed + 1``), next to the 95 %
-    two-sample bound 1.36·sqrt(2/k). A KS distance of RK4 below that floor is not resolved.
+    The exact catalogs come from the compiled engine (a ``verify`` sample re-run by the heyoka engine,
+    reported), after ``transient`` events. The noise floor is measured, not only quoted: the KS distance
+    between two exact catalogs of the same chain from different random starts (seeds ``seed`` and
+    ``seed + 1``), next to the 95 % two-sample bound 1.36·sqrt(2/k). A KS distance of RK4 below that
+    floor is not resolved. RK4: numba, active set and whole chain, from the first catalog's start.
     """
     from ...laws import resolve_law
+    from ._bench_rk4 import run_rk4
+    from ._compiled import CompiledChain, run_verified
     from ._validate import check_initial
 
     say = echo or (lambda *_: None)
     law_obj = resolve_law(law)
-    cats = []
+    cats, report = [], None
     for s_ in (seed, seed + 1):
-        u0_ = check_initial(n, ell, "free", None, amplitude, s_)
-        _, cat, wall_s, cpu_s, _ = _exact(law_obj, n, ell, nu, nu_f, u0_, events, compact_above)
-        cats.append((u0_, cat, cpu_s))
+        u0_ = _steady_start_compiled(law_obj, n, ell, nu, nu_f, check_initial(n, ell, "free", None, amplitude, s_),
+                                     transient)
+        run = CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0_)
+        if report is None and verify:
+            (out, report), _, cpu_s = _timed(lambda: run_verified(run, events, verify))
+        else:
+            out, _, cpu_s = _timed(lambda: run.run(events))
+        cats.append((u0_, out["catalog"], cpu_s))
     (u0, cat, cpu_s), (_, other, _) = cats
-    sizes_ = np.array(cat["n_blocks"])
-    mags = _magnitudes([float(x) for x in cat["potency"]])
+    sizes_, mags = cat["n_blocks"], _magnitudes(cat["potency"])
     floor = {"ks": ks_distance(sizes_, other["n_blocks"]),
-             "ks_magnitude": ks_distance(mags, _magnitudes([float(x) for x in other["potency"]]))}
-    out = {"n": n, "events": events, "exact_events_per_s": events / cpu_s, "noise_ks": 1.36 * math.sqrt(2 / events),
-           "exact_vs_exact": floor, "rk4": []}
-    say(f"KS study: N = {n}, {events} events per catalog, {law}, ℓ = {ell}, ν = {nu}, ν_f = {nu_f}; "
-        f"exact {events / cpu_s:.1f} events/s; 95 % noise bound {out['noise_ks']:.3f}; exact seed {seed} vs "
-        f"seed {seed + 1}: KS(n_blocks) = {floor['ks']:.3f}, KS(magnitude) = {floor['ks_magnitude']:.3f}")
-    for dt in dts:
-        base, s, c = _timed(lambda: rk4_chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=events, dt=dt))
-        row = {"dt": dt, "cpu_seconds": c, "events_per_s": events / c,
-               "ks": ks_distance(sizes_, base["n_blocks"]),
-               "ks_magnitude": ks_distance(mags, _magnitudes(base["potency"]))}
-        row["ratio"] = out["exact_events_per_s"] / row["events_per_s"]
-        out["rk4"].append(row)
-        say(f"  RK4 dt = {dt:<5g} {row['events_per_s']:8.1f} events/s, KS(n_blocks) = {row['ks']:.3f}, "
-            f"KS(magnitude, 0.01) = {row['ks_magnitude']:.3f}, exact/RK4 = {row['ratio']:.1f}x")
+             "ks_magnitude": ks_distance(mags, _magnitudes(other["potency"]))}
+    out = {"n": n, "nu": nu, "events": events, "noise_ks": 1.36 * math.sqrt(2 / events),
+           "exact_vs_exact": floor, "verify": report, "rk4": []}
+    say(f"KS study: N = {n}, {events} events per catalog, {law}, ℓ = {ell}, ν = {nu}, ν_f = {nu_f}; 95 % noise bound "
+        f"{out['noise_ks']:.4f}; exact seed {seed} vs seed {seed + 1}: KS(n_blocks) = {floor['ks']:.4f}, "
+        f"KS(magnitude) = {floor['ks_magnitude']:.4f}"
+        + (f"; verify: {report['checked']} events re-run by heyoka, largest difference {report['largest_any']:.1e}, "
+           f"{len(report['mismatched'])} differ in hypocentre/size" if report else ""))
+    for kind in ("active", "plain"):
+        for dt in dts:
+            base = run_rk4(kind, law, n=n, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=events, dt=dt)
+            row = {"kind": kind, "dt": dt, "ks": ks_distance(sizes_, base["n_blocks"]),
+                   "ks_magnitude": ks_distance(mags, _magnitudes(base["potency"]))}
+            out["rk4"].append(row)
+            say(f"  numba RK4 {kind:6s} dt = {dt:<5g} KS(n_blocks) = {row['ks']:.4f}, KS(magnitude, 0.01) = "
+                f"{row['ks_magnitude']:.4f}")
     return out
 
 
@@ -291,6 +332,50 @@ def run_long(*, n: int = 256, events: int = 100_000, chunk: int = 10_000, law: s
     sizes_ = np.array(sizes_)
     return {"n": n, "events": done, "marks": marks, "mean_n_blocks": float(sizes_.mean()),
             "largest": int(sizes_.max()), "spanning": int(np.sum(sizes_ == n))}
+
+
+def run_scaling(*, sizes=(64, 1024, 16384, 100_000), nu: float = 1e-6, nu_f: float = 0.2, sigma: float = 0.0,
+                events: int = 3000, transient: int = 3000, law: str = "carlson-langer", ell: float = 1.0,
+                amplitude: float = 0.1, seed: int = 1, echo=print) -> dict:
+    """The compiled engine's CPU time per event and memory against N (issue 18: cost independent of N).
+    Memory: the bytes of the engine's arrays (all allocated once per run, O(N))."""
+    from ...laws import resolve_law
+    from ._compiled import CompiledChain
+    from ._validate import check_initial
+
+    say = echo or (lambda *_: None)
+    law_obj = resolve_law(law)
+    rows = []
+    for n in sizes:
+        run = CompiledChain(law_obj, n, ell, nu, nu_f, "free", check_initial(n, ell, "free", None, amplitude, seed),
+                            sigma=sigma)
+        run.run(transient)
+        out, wall_s, cpu_s = _timed(lambda: run.run(events))
+        nbytes = sum(a.nbytes for t in (run._win, run._g) for a in t if isinstance(a, np.ndarray))
+        row = {"n": n, "us_per_event": 1e6 * cpu_s / events, "mean_n_blocks": float(out["catalog"]["n_blocks"].mean()),
+               "steps_per_event": float(out["catalog"]["steps"].mean()), "bytes": nbytes, "status": int(out["status"])}
+        rows.append(row)
+        say(f"  N = {n:6d}: {row['us_per_event']:7.1f} µs per event (CPU), mean size {row['mean_n_blocks']:.2f}, "
+            f"{row['steps_per_event']:.0f} steps/event, engine arrays {nbytes / 1e6:.2f} MB ({nbytes / n:.0f} B per block)")
+    return {"nu": nu, "sigma": sigma, "rows": rows}
+
+
+def run_million(*, n: int = 1024, events: int = 1_000_000, nu: float = 1e-4, nu_f: float = 0.2,
+                law: str = "carlson-langer", ell: float = 1.0, amplitude: float = 0.1, seed: int = 1,
+                echo=print) -> dict:
+    """10^6 events of one chain on the compiled engine, CPU and wall time (issue 18's target: ≤ 2 min)."""
+    from ...laws import resolve_law
+    from ._compiled import CompiledChain
+    from ._validate import check_initial
+
+    run = CompiledChain(resolve_law(law), n, ell, nu, nu_f, "free", check_initial(n, ell, "free", None, amplitude, seed))
+    run.run(10)                                    # compile outside the timing
+    out, wall_s, cpu_s = _timed(lambda: run.run(events))
+    res = {"n": n, "events": int(out["catalog"]["potency"].size), "cpu_s": cpu_s, "wall_s": wall_s,
+           "status": int(out["status"]), "mean_n_blocks": float(out["catalog"]["n_blocks"].mean())}
+    (echo or (lambda *_: None))(f"{res['events']} events of N = {n}: CPU {cpu_s:.1f} s, wall {wall_s:.1f} s, "
+                                f"mean size {res['mean_n_blocks']:.2f}, status {res['status']}")
+    return res
 
 
 def run_lone_block_check(*, n: int = 64, events: int = 300, dts=(0.2, 0.1, 0.05, 0.02), nu: float = 1e-3,
@@ -329,8 +414,13 @@ if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md 
     if what == "suite":
         run_chain_bench()
     elif what == "ks":
-        run_ks_study(events=int(sys.argv[2]) if len(sys.argv) > 2 else 4000)
+        run_ks_study(events=int(sys.argv[2]) if len(sys.argv) > 2 else 40_000,
+                     n=int(sys.argv[3]) if len(sys.argv) > 3 else 256)
     elif what == "long":
         run_long(events=int(sys.argv[2]) if len(sys.argv) > 2 else 100_000)
+    elif what == "scaling":
+        run_scaling()
+    elif what == "million":
+        run_million()
     elif what == "atom":
         run_lone_block_check()

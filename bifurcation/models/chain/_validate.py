@@ -8,9 +8,11 @@ import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["DEFAULT_V_THRESHOLD", "ENDS", "check_events", "check_initial", "check_sigma", "check_size", "check_v_threshold"]
+__all__ = ["DEFAULT_V_THRESHOLD", "ENDS", "ENGINES", "check_engine", "check_events", "check_initial", "check_sigma",
+           "check_size", "check_v_threshold", "check_verify"]
 
 ENDS = ("free", "periodic")
+ENGINES = ("exact", "compiled")
 
 
 def _is_int(x) -> bool:
@@ -135,3 +137,50 @@ def check_initial(n: int, ell: float, ends: str, u0, amplitude, seed) -> np.ndar
                          else amplitude, f"puts block {j} at stress σ = {s[j]:.6g} ≥ 1 at t = 0",
                          "all blocks must start stuck (σ_j < 1): lower the displacements or the amplitude")
     return u
+
+
+def check_engine(engine, sigma, tol, precision, energy) -> tuple[str, float, float]:
+    """(engine, σ_f, tol) checked: the compiled engine is double precision without energy budget; σ_f
+    in [0, 1) (both engines); tol in [1e-15, 1e-3]."""
+    if engine not in ENGINES:
+        raise InputError("engine", engine, "is not a chain engine", "use 'exact' or 'compiled'")
+    try:
+        sig = float(sigma)
+    except (TypeError, ValueError):
+        raise InputError("sigma", sigma, "is not a number", "give a friction drop 0 ≤ σ < 1, e.g. 0.01") from None
+    if not (math.isfinite(sig) and 0 <= sig < 1):
+        raise InputError("sigma", sigma, "must be in [0, 1)", "give a friction drop 0 ≤ σ < 1, e.g. 0.01")
+    if tol is None:
+        from ._compiled import TOL
+        tol_f = TOL
+    else:
+        try:
+            tol_f = float(tol)
+        except (TypeError, ValueError):
+            raise InputError("tol", tol, "is not a number", "give a tolerance in [1e-15, 1e-3], e.g. 1e-12") from None
+        if not (math.isfinite(tol_f) and 1e-15 <= tol_f <= 1e-3):
+            raise InputError("tol", tol, "is outside [1e-15, 1e-3]", "give a tolerance in [1e-15, 1e-3], e.g. 1e-12")
+    if engine == "compiled":
+        if precision != "double":
+            raise InputError("precision", precision, "is not available in the compiled engine",
+                             "use precision='double' or engine='exact'")
+        if energy:
+            raise InputError("energy", energy, "is not available in the compiled engine",
+                             "use energy=False or engine='exact'")
+    else:
+        if tol is not None:
+            raise InputError("tol", tol, "applies to the compiled engine only", "use engine='compiled' or drop tol")
+    return engine, sig, tol_f
+
+
+def check_verify(verify, engine, sigma) -> float:
+    """The fraction of events to re-run exactly: 0 (none) or in (0, 1], compiled engine (any σ_f)."""
+    try:
+        f = float(verify)
+    except (TypeError, ValueError):
+        raise InputError("verify", verify, "is not a number", "give a fraction in (0, 1], e.g. 0.01") from None
+    if not (math.isfinite(f) and 0 <= f <= 1):
+        raise InputError("verify", verify, "must be in [0, 1]", "give a fraction in (0, 1], e.g. 0.01")
+    if f > 0 and engine != "compiled":
+        raise InputError("verify", verify, "checks the compiled engine", "use engine='compiled' with verify")
+    return f

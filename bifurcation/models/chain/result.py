@@ -85,6 +85,10 @@ class ChainResult:
     def membership(self) -> str:
         """Which event definition ``n_blocks`` and ``potency`` follow: "all-stuck" or "v-threshold=<V_th>"."""
         return "all-stuck" if self.v_threshold is None else f"v-threshold={float(self.v_threshold)!r}"
+    #: per event, the compiled engine's error estimate of the potency (relative; None for "exact")
+    error_estimate: np.ndarray | None = None
+    #: ``verify``: events re-run by the exact engine and the largest differences (``_compiled.run_verified``)
+    verification: dict | None = None
 
     @property
     def events(self) -> int:
@@ -118,4 +122,8 @@ class ChainResult:
         rec["stress"] = np.asarray(self.stress, dtype=float).tolist()
         if self.message:
             rec["message"] = self.message
+        if self.error_estimate is not None:    # the compiled engine
+            rec["error_estimate"] = np.asarray(self.error_estimate, dtype=float).tolist()
+        if self.verification is not None:
+            rec["verification"] = {k: (dict(v) if isinstance(v, dict) else v) for k, v in self.verification.items()}
         return rec

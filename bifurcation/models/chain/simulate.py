@@ -7,7 +7,8 @@ import numpy as np
 from ...engine._validate import check_nu, check_nu_f, check_precision, check_work
 from ...errors import InputError
 from ...laws import resolve_law
-from ._validate import check_events, check_initial, check_sigma, check_size, check_v_threshold
+from ._validate import (check_engine, check_events, check_initial, check_sigma, check_size, check_v_threshold,
+                        check_verify)
 from .result import ChainResult, ChainStatus
 
 __all__ = ["chain"]
@@ -17,7 +18,7 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
           nu_f: float | None = None, ends: str | None = None, u0=None, amplitude=None, seed=None, events: int,
           precision: str = "double", energy: bool = False, t_max: float = 1e5, max_steps: int = 1_000_000,
           sigma: float | None = None, v_threshold=None, preset: str | None = None,
-          progress=None) -> ChainResult:
+          progress=None, engine: str = "exact", tol: float | None = None, verify: float = 0.0) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -66,7 +67,19 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         event (``n_blocks_all``, ``potency_all`` keep the others); ``membership`` records which.
     progress : callable, optional
         ``progress(events_done, events, t)``, called about every second of computing (the CLI's line
-        on stderr for a long run); the events are the same with or without it.
+        on stderr for a long run); the events are the same with or without it (the exact engine; the
+        compiled one runs without it).
+    engine : {"exact", "compiled"}
+        ``"exact"``: heyoka's Taylor integrator (the reference). ``"compiled"``: the numba engine
+        (``_compiled``; double precision, no energy budget), DOP853 at tolerance ``tol`` with the
+        same exact event location; its catalog adds ``error_estimate`` per event (docs/chain.md,
+        "Engines").
+    tol : float, optional
+        The compiled engine's DOP853 tolerance (default ``_compiled.TOL`` = 1e-12).
+    verify : float
+        With the compiled engine: re-run this fraction of the events (every ⌈1/verify⌉-th, the first
+        included) with the exact engine from the same pre-event state; ``result.verification`` holds
+        the largest relative differences and the events whose hypocentre or size differ.
 
     Returns
     -------
@@ -96,6 +109,13 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
     v_threshold = check_v_threshold(v_threshold, nu)
     check_work(t_max, max_steps)   # one event's bounds: refused (not a no-stop run) when not > 0 or NaN
     u = check_initial(n, ell, ends, u0, amplitude, seed)
+    engine, sigma, tol = check_engine(engine, sigma, tol, precision, energy)
+    verify = check_verify(verify, engine, sigma)
+    if engine == "compiled":
+        if v_threshold:
+            raise InputError("v_threshold", v_threshold, "is not available in the compiled engine",
+                             "use engine='exact' for membership by a slip-velocity threshold")
+        return _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps, verify)
     from ._loop import ChainLoop
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
@@ -139,3 +159,21 @@ def _run_reporting(loop, events: int, progress, every: float = 1.0) -> dict:
         chunk = max(1, min(chunk * 2, int(chunk * every / elapsed) if elapsed > 0 else chunk * 2))
         progress(done, events, float(loop.t))
     return out
+
+
+def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps, verify) -> ChainResult:
+    from ._compiled import CompiledChain, run_verified
+
+    run = CompiledChain(law, n, ell, nu, nu_f, ends, u, sigma=sigma, tol=tol, t_max=t_max, max_steps=max_steps)
+    report = None
+    if verify > 0:
+        out, report = run_verified(run, events, verify)
+    else:
+        out = run.run(events)
+    cat = out["catalog"]
+    return ChainResult(
+        law=law.name, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, precision="double", u0=u,
+        t_start=cat["t_start"], hypocentre=cat["hypocentre"], n_blocks=cat["n_blocks"], potency=cat["potency"],
+        duration=cat["duration"], max_velocity=cat["max_velocity"], steps=cat["steps"], t=run.t,
+        u=run.u.copy(), stress=run.stress, status=out["status"], message=out["message"],
+        error_estimate=cat["error_estimate"], verification=report, sigma=sigma)

@@ -1,0 +1,178 @@
+"""The compiled chain engine (bifurcation/models/chain/_compiled.py) against the exact heyoka engine,
+against an mpmath reference for σ_f > 0, and its input checks.
+
+Compile time counts: every test shares the numba functions (one compile per process, cached on disk)
+and the heyoka window integrators (cached per law and size)."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath
+import numpy as np
+import pytest
+
+import bifurcation as bf
+from bifurcation.errors import InputError
+from bifurcation.laws import resolve_law
+from bifurcation.models.chain._compiled import CompiledChain, run_verified, tape_eval
+from bifurcation.models.chain._lawtape import law_tape
+from bifurcation.models.chain._validate import check_initial
+
+#: the issue's bound for ``--verify`` (issue 18); DOP853 at tol 1e-12 measured ≤ 6e-12 on these chains
+VERIFY_BOUND = 1e-10
+
+THREE_PIECES = "piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)"
+
+
+def test_dop853_table_is_scipys():
+    """The copied coefficients are scipy's transcription of Hairer's dop853.f, digit for digit."""
+    ref = pytest.importorskip("scipy.integrate._ivp.dop853_coefficients")
+    from bifurcation.models.chain import _dop853 as ours
+
+    for name in ("A", "B", "C", "E3", "E5", "D"):
+        np.testing.assert_array_equal(getattr(ours, name), getattr(ref, name))
+
+
+@pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear", "exponential", "1/(1+x/2)^2", THREE_PIECES,
+                                 "exp(-x)*cos(x)^2 + x*exp(-x)*sin(x)"])
+def test_law_tape_is_the_drop(law):
+    """The tape evaluates g = 1 − Φ on every piece as the law's mpmath drop does, to a few ulps
+    relative (both come from the defect-form rules; only double rounding differs), down to x = 1e-12
+    where a naive 1 − Φ would have lost every digit."""
+    try:
+        obj = resolve_law(law)
+    except InputError:
+        pytest.skip("formula refused by the laws package")
+    tape = law_tape(obj)
+    regs = np.zeros(tape.registers)
+    for x in (1e-12, 1e-6, 0.01, 0.3, 0.49, 0.7, 1.0, 1.2, 2.0, 7.5, 40.0):
+        pc = obj.piece_index(x)
+        got = tape_eval(tape.code, tape.consts, tape.start[pc], tape.start[pc + 1], x, regs)
+        with mpmath.workdps(40):
+            want = float(obj.pieces[pc].drop_mp(mpmath.mpf(x)))
+        assert abs(got - want) <= 8e-16 * max(abs(want), 1e-300), (x, got, want)
+
+
+@pytest.mark.parametrize("law, n, nu, nu_f, ends, amplitude", [
+    ("carlson-langer", 64, 1e-4, 0.2, "free", 0.1),
+    ("carlson-langer", 1, 1e-3, 0.3, "free", 0.1),
+    ("carlson-langer", 2, 1e-3, 0.2, "periodic", 0.1),
+    ("piecewise-linear", 8, 1e-3, 0.3, "periodic", 0.1),      # Φ = 0 above x = 1: switches
+    (THREE_PIECES, 8, 1e-4, 0.3, "free", 0.1),                # two breakpoints
+    ("1/(1+x/2)^2", 8, 1e-3, 0.3, "free", 0.1),               # a formula law (tape)
+    ("exponential", 5, 1e-3, 0.3, "free", 0.1),
+    ("carlson-langer", 12, 1e-3, 0.2, "periodic", 0.0),       # a uniform start: coincident events
+])
+def test_compiled_events_equal_the_exact_engine(law, n, nu, nu_f, ends, amplitude):
+    """Every event of a 24-event run re-run by the heyoka engine from the same pre-event state:
+    same hypocentre and size; times, potencies, durations and velocity maxima within 1e-10."""
+    obj = resolve_law(law)
+    u0 = check_initial(n, 1.0, ends, None, amplitude, 1)
+    out, rep = run_verified(CompiledChain(obj, n, 1.0, nu, nu_f, ends, u0), 24, 1.0)
+    assert out["status"] == 1 and rep["checked"] == 24
+    assert rep["mismatched"] == []
+    assert rep["largest_any"] <= VERIFY_BOUND, rep["largest"]
+    assert np.all(out["catalog"]["error_estimate"] < 1e-9)   # the estimate: sum of local DOP853 errors
+    if law in ("piecewise-linear", THREE_PIECES):             # the switches were exercised
+        assert np.max(out["catalog"]["max_velocity"]) / nu_f > 1.0
+
+
+def _sigma_reference(nu, nu_f, sig, dps=25):
+    """One Carlson–Langer block from σ = 1 at rest with friction drop σ_f: V̇ = 1 − u + ντ − Φ_σ(V/ν_f),
+    Φ_σ(x) = (1 − σ_f)/(1 + x/(1 − σ_f)), solved by mpmath's Taylor ODE solver at ``dps`` digits until
+    V returns to 0 (an independent reference: no engine code). Returns (duration, slip)."""
+    with mpmath.workdps(dps):
+        nu, nu_f, sig = mpmath.mpf(nu), mpmath.mpf(nu_f), mpmath.mpf(sig)
+        phi = lambda x: (1 - sig) / (1 + x / (1 - sig))   # noqa: E731
+        f = mpmath.odefun(lambda t, y: [y[1], 1 - y[0] + nu * t - phi(y[1] / nu_f)], 0, [mpmath.mpf(0)] * 2)
+        t, dt = mpmath.mpf("0.05"), mpmath.mpf("0.05")
+        while f(t)[1] > 0:
+            t += dt
+        stop = mpmath.findroot(lambda s: f(s)[1], (t - dt, t), solver="anderson")
+        return float(stop), float(f(stop)[0])
+
+
+def test_sigma_against_an_mpmath_reference():
+    """σ_f = 0.01: one block (N = 1), and a lone interior block of a 5-block chain, which is the
+    single block at ν/√k, √k ν_f with P scaled by 1/k, k = 1 + 2ℓ² (docs/chain.md, "Threshold of a
+    lone block"; the argument holds for any Φ). Reference: ``_sigma_reference``; measured agreement
+    4e-14 (duration) and 4e-15 (slip); bound 1e-12."""
+    duration, slip = _sigma_reference("1e-3", "0.3", "0.01")
+    one = bf.chain("carlson-langer", n=1, ell=1, nu=1e-3, nu_f=0.3, u0=[0.0], events=2, engine="compiled",
+                   sigma=0.01)
+    assert one.status == 1
+    np.testing.assert_allclose(one.duration, duration, rtol=1e-12)
+    np.testing.assert_allclose(one.potency, slip, rtol=1e-12)
+    k = 3.0
+    lone = bf.chain("carlson-langer", n=5, ell=1, nu=1e-3 * math.sqrt(k), nu_f=0.3 / math.sqrt(k),
+                    u0=[0.3, 0.3, 0.0, 0.3, 0.3], events=1, engine="compiled", sigma=0.01)
+    assert lone.hypocentre[0] == 2 and lone.n_blocks[0] == 1
+    assert abs(lone.potency[0] * k / slip - 1) <= 1e-12
+    assert abs(lone.duration[0] * math.sqrt(k) / duration - 1) <= 1e-12
+
+
+def test_sigma_changes_the_catalog_continuously():
+    """σ_f = 1e-6 is the σ_f = 0 model to O(1e-6) (friction differs by at most σ_f): a check that σ_f
+    enters as defined, not as a switch (the same events, potencies within 1e-4)."""
+    kw = dict(n=8, ell=1, nu=1e-3, nu_f=0.2, amplitude=0.1, seed=2, events=6, engine="compiled")
+    a, b = bf.chain("carlson-langer", **kw), bf.chain("carlson-langer", sigma=1e-6, **kw)
+    assert list(a.n_blocks) == list(b.n_blocks)
+    assert 0 < np.max(np.abs(a.potency / b.potency - 1)) < 1e-4
+
+
+def test_free_and_periodic_single_and_long_chain_run():
+    """N = 1..64 both ends run to completion and the time per run does not matter here; the final
+    stresses are below 1 (every block stuck between events)."""
+    for n in (1, 2, 3, 64):
+        for ends in ("free", "periodic"):
+            r = bf.chain("carlson-langer", n=n, ell=1, nu=1e-3, nu_f=0.2, ends=ends, amplitude=0.1, seed=n,
+                         events=10, engine="compiled")
+            assert r.status == 1 and r.events == 10
+            assert np.all(r.stress < 1)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(engine="fast"), "engine"),
+    (dict(engine="compiled", sigma=-0.1), "sigma"),
+    (dict(engine="compiled", sigma=1.0), "sigma"),
+    (dict(engine="compiled", sigma=float("nan")), "sigma"),
+    (dict(engine="compiled", sigma="a"), "sigma"),
+    (dict(engine="compiled", tol=0.0), "tol"),
+    (dict(engine="compiled", tol=1e-20), "tol"),
+    (dict(engine="compiled", tol="x"), "tol"),
+    (dict(engine="compiled", verify=2.0), "verify"),
+    (dict(engine="compiled", verify=-0.5), "verify"),
+    (dict(engine="compiled", verify=0.1, sigma=0.01), "verify"),
+    (dict(verify=0.1), "verify"),
+    (dict(sigma=0.01), "sigma"),
+    (dict(tol=1e-10), "tol"),
+    (dict(engine="compiled", precision="quad"), "precision"),
+    (dict(engine="compiled", energy=True), "energy"),
+])
+def test_bad_engine_options_are_refused(kwargs, name):
+    with pytest.raises(InputError) as err:
+        bf.chain("carlson-langer", n=4, ell=1, nu=1e-3, nu_f=0.2, amplitude=0.1, seed=1, events=2, **kwargs)
+    assert name in str(err.value).split("=")[0]
+
+
+def test_cli_engine_and_verify():
+    """``bifurcation chain --engine compiled --verify F`` prints the catalog and the verification line
+    (the API's numbers); ``--verify`` with the exact engine or outside [0, 1] is one line, exit 2."""
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    base = ["chain", "--law", "carlson-langer", "--ell", "1", "--nu", "1e-3", "--nu-f", "0.3", "--n", "6",
+            "--amplitude", "0.1", "--seed", "3", "--events", "6"]
+    res = CliRunner().invoke(cli, base + ["--engine", "compiled", "--verify", "0.5"])
+    assert res.exit_code == 0, res.output
+    api = bf.chain("carlson-langer", n=6, ell=1, nu=1e-3, nu_f=0.3, amplitude=0.1, seed=3, events=6,
+                   engine="compiled", verify=0.5)
+    line = [x for x in res.output.splitlines() if x.startswith("verify:")]
+    assert len(line) == 1 and f"{api.verification['largest_any']:.2e}" in line[0]
+    assert "differ in 0" in line[0]
+    for bad in (["--verify", "0.5"], ["--engine", "compiled", "--verify", "2"], ["--engine", "fast"]):
+        res = CliRunner().invoke(cli, base + bad)
+        assert res.exit_code == 2 and "Traceback" not in res.output
+        assert len(res.output.strip().splitlines()) == 1, res.output
