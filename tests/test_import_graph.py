@@ -35,7 +35,10 @@ LAYERS = (
     ("bifurcation.run",),
     ("bifurcation.analysis",),
     ("bifurcation.report", "bifurcation.bench"),
-    # model packages (every folder under bifurcation/models/): built on all of the above
+    # model packages (every folder under bifurcation/models/): built on all of the above; the shipped
+    # ones first, so a new model package may build on their public modules (the rate-state chain
+    # imports the slider's state laws, rate_state.laws) but never the other way round
+    ("bifurcation.models.chain", "bifurcation.models.rate_state"),
     ("bifurcation.models.*",),
     ("bifurcation.cli",),
     ("bifurcation.__main__",),
