@@ -39,6 +39,7 @@ _REGISTRY = {
     "damped-block": "damped_block:DAMPED_BLOCK",
     "rate-state": "rate_state.model:RATE_STATE",
     "chain": "chain.model:CHAIN",
+    "rs-chain": "rs_chain.model:RS_CHAIN",
 }
 _LOADED: dict[str, Model] = {}
 

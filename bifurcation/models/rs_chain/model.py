@@ -1,0 +1,152 @@
+"""The rate-and-state Burridge–Knopoff chain as a model of the registry: one run (an event catalog) per point.
+
+A study is a workflow with ``[model] name = "rs-chain"`` (docs/rs-chain.md): labels are the slider's
+state laws (``aging``, ``slip``, ``prz``; rate_state.laws), the axes the chain's parameters (all but N
+and k with defaults), and each point one run of ``simulate.run`` — the first ``events`` events from
+steady sliding at V_lp with ln V_j perturbed by A r_j (seeded). Per run the store keeps ``status``,
+``events_done``, ``t_end``, ``steps`` and ``balance_max`` (the largest stress-balance residual of its
+events); per event, in the Burridge–Knopoff chain's catalog schema, ``t_start``, ``hypocentre``,
+``n_blocks``, ``potency``, ``duration`` and ``max_velocity``. ``[engine] t_max`` and ``max_steps`` bound
+one event (and the wait for it): beyond them the run stops with ``no-stop`` and keeps the events before.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...errors import InputError
+from .._base import Axis, Hooks, Labels, Model, Output
+from .result import RSChainStatus
+
+__all__ = ["AXES", "OUTPUTS", "RS_CHAIN", "run_rs_chains"]
+
+
+def _resolve(text):
+    from ..rate_state.laws import resolve_state_law
+
+    if not isinstance(text, str) or not text.strip():
+        raise InputError("state_law", text, "is not a state law name", "give aging, slip or prz")
+    return resolve_state_law(text).name
+
+
+LABELS = Labels(name="state_law", long_name="state evolution law of every block (aging, slip, prz)",
+                workflow_key="laws", resolve=_resolve, identity=_resolve, example="aging")
+
+AXES = (
+    Axis("n", "N", "number of blocks N", bounds=(1, 1 << 16), example=16, default_tile=1, dtype="int64",
+         structural=True),
+    Axis("k", "k", "loading-spring stiffness k per block (σ = 1)", bounds=(1e-9, 1e9), units="1/length",
+         scale="log", example=0.1, default_tile=1),
+    Axis("ell", "ℓ", "coupling ℓ: neighbour springs of stiffness ℓ²k", bounds=(0.0, 1e3), example=3.0,
+         default_tile=1, default=1.0),
+    Axis("v_lp", "V_lp", "plate (load-point) velocity V_lp", bounds=(1e-12, 1e6), units="length/time",
+         scale="log", example=1.0, default_tile=1, default=1.0),
+    Axis("a", "a", "direct-effect parameter a (> 0)", bounds=(1e-6, 1.0), scale="log", example=0.01,
+         default_tile=1, default=0.01),
+    Axis("b", "b", "evolution-effect parameter b (>= 0)", bounds=(0.0, 1.0), example=0.015, default_tile=1,
+         default=0.015),
+    Axis("dc", "D_c", "critical slip distance Dc (> 0)", bounds=(1e-9, 1e6), units="length", scale="log",
+         example=0.01, default_tile=1, default=0.01),
+    Axis("mass", "M", "block mass M per unit normal force (0: quasi-dynamic)", bounds=(0.0, 1e30),
+         units="time^2/length", example=0.0, default_tile=1, default=0.0),
+    Axis("eta", "η", "radiation damping η: τ_load − ηV = μ(V, θ)", bounds=(0.0, 1e6), units="time/length",
+         example=1e-3, default_tile=1, default=1e-3),
+    Axis("v_th", "v_th", "slip-velocity threshold: a block slips while V > v_th (> V_lp)", bounds=(1e-12, 1e12),
+         units="length/time", scale="log", example=10.0, default_tile=1, default=10.0),
+    Axis("amplitude", "A", "amplitude A of the initial perturbation ln V_j = ln V_lp + A r_j", bounds=(0.0, 50.0),
+         example=1.0, default_tile=1, default=1.0),
+    Axis("seed", "S", "seed of numpy.random.default_rng for r_j", bounds=(0, 2**62), example=1, default_tile=1,
+         dtype="int64", default=1),
+    Axis("events", "K", "events computed per run", bounds=(1, 10**9), example=1000, default_tile=1,
+         dtype="int64"),
+    Axis("periodic", "ends", "chain ends: 0 free, 1 periodic", bounds=(0, 1), example=0, default_tile=1,
+         dtype="int64", default=0),
+)
+
+#: Per-event outputs: the Burridge–Knopoff chain's catalog schema (bifurcation/models/chain/model.py).
+_CATALOG = {
+    "t_start": ("time the first block of the event exceeded v_th", "time", "float64"),
+    "hypocentre": ("0-based index of the first block above v_th", "1", "int64"),
+    "n_blocks": ("distinct blocks above v_th during the event", "1", "int64"),
+    "potency": ("P = sum_j (δ_j(end) − δ_j(start))", "length", "float64"),
+    "duration": ("time from the first up-crossing of v_th until every block is below it", "time", "float64"),
+    "max_velocity": ("largest block velocity during the event (at an exact maximum)", "length/time", "float64"),
+}
+
+OUTPUTS = (
+    Output("status", "outcome of the run (see bifurcation.models.rs_chain.RSChainStatus)", dtype="int8", fill=0),
+    Output("events_done", "events catalogued (K unless the run stopped early)", dtype="int64", fill=0),
+    Output("t_end", "end of the last catalogued event (NaN: no event)", "time"),
+    Output("steps", "Taylor steps of the run", dtype="int64", fill=0),
+    Output("balance_max", "largest |ΔΣ(μ+z+ηV) − k(N V_lp Δt − ΔP)| / |ΔΣ| over the run's events"),
+    *(Output(name, long, units, dtype=dtype, fill=-1 if dtype == "int64" else np.nan, per_event=True)
+      for name, (long, units, dtype) in _CATALOG.items()),
+)
+
+
+def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_steps=1_000_000, batch=1,
+                  checkpoints=None) -> tuple[dict, dict]:
+    """The runner: one chain run per point (flat per-axis arrays in ``points``); catalogs as object arrays."""
+    from .simulate import RSChainSpec, initial_state, run
+
+    size = np.size(points["n"])
+    per_run = {o.name: np.full(size, o.fill, dtype=o.dtype) for o in OUTPUTS if not o.per_event}
+    catalogs = {o.name: np.empty(size, dtype=object) for o in OUTPUTS if o.per_event}
+    messages = {}
+    for i in range(size):
+        p = {name: points[name][i] for name in points}
+        if precision != "double":
+            per_run["status"][i] = RSChainStatus.NOT_RESOLVED
+            messages[i] = f"precision {precision!r}: rs-chain runs are computed in double (see docs/rs-chain.md)"
+            for name, (_, _, dtype) in _CATALOG.items():
+                catalogs[name][i] = np.empty(0, dtype=dtype)
+            continue
+        try:
+            spec = RSChainSpec(n=int(p["n"]), state_law=label, a=float(p["a"]), b=float(p["b"]), dc=float(p["dc"]),
+                               k=float(p["k"]), ell=float(p["ell"]), v_lp=float(p["v_lp"]), mass=float(p["mass"]),
+                               eta=float(p["eta"]), v_th=float(p["v_th"]), periodic=bool(int(p["periodic"])))
+            state0 = initial_state(spec, float(p["amplitude"]), int(p["seed"]))
+        except InputError as exc:     # a point of the grid that is no valid chain: said per point
+            per_run["status"][i] = RSChainStatus.NOT_APPLICABLE
+            messages[i] = str(exc)
+            for name, (_, _, dtype) in _CATALOG.items():
+                catalogs[name][i] = np.empty(0, dtype=dtype)
+            continue
+        r = run(spec, state0, int(p["events"]), t_max=float(t_max), max_steps=int(max_steps))
+        for name, (_, _, dtype) in _CATALOG.items():
+            catalogs[name][i] = np.asarray(getattr(r, name), dtype=dtype)
+        per_run["status"][i] = int(r.status)
+        per_run["events_done"][i] = r.events
+        per_run["t_end"][i] = r.t_end
+        per_run["steps"][i] = r.steps
+        per_run["balance_max"][i] = float(np.max(r.balance)) if r.events else np.nan
+        if r.message:
+            messages[i] = r.message
+    return {**per_run, **catalogs}, messages
+
+
+RS_CHAIN = Model(
+    name="rs-chain",
+    title="rate-and-state Burridge–Knopoff chain: N sliders, neighbour springs, events by a slip-velocity threshold",
+    description=("M V̇_j = k(δ_lp − δ_j) + ℓ²k(δ_{j+1} − 2δ_j + δ_{j−1}) − μ(V_j, θ_j) − ηV_j with the slider's "
+                 "rate-and-state friction per block; one run of K events per point, its catalog (t_start, "
+                 "hypocentre, n_blocks, potency, duration, max_velocity) stored per event (docs/rs-chain.md)"),
+    source=("Burridge and Knopoff, BSSA 57, 341 (1967); Kawamura, Hatano, Kato, Biswas, Chakrabarti, Rev. Mod. "
+            "Phys. 84, 839 (2012), §III.1.7; Erickson, Birnir, Lavallée, Nonlin. Processes Geophys. 15, 1 (2008)"),
+    labels=LABELS,
+    axes=AXES,
+    parameters=(),
+    state=(),
+    events=(),
+    outputs=OUTPUTS,
+    statuses=tuple(RSChainStatus),
+    equations=None,
+    classify=None,
+    runner=run_rs_chains,
+    catalog_size="events",
+    catalog_count="events_done",
+    hooks=Hooks(describe_label="bifurcation.models.rs_chain.store_report:describe_label",
+                report="bifurcation.models.rs_chain.store_report:blocks",
+                bench="bifurcation.models.rs_chain._bench:run_rs_chain_bench", bench_needs=("scipy", "numba")),
+    units_note="those of the workflow's own V_lp, Dc, k (σ = 1: stresses in units of the normal stress)",
+)

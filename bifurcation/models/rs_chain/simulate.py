@@ -1,0 +1,274 @@
+"""``rs_chain``: one run of the rate-and-state chain, its event catalog and the stress balance per event.
+
+An event is a connected run of time during which at least one block slips faster than v_th (a block
+"slips" while V_j > v_th). Per event: ``t_start`` (the first up-crossing), ``hypocentre`` (its block),
+``n_blocks`` (distinct blocks above v_th during the event), ``potency`` (ΔΣδ_j, from the integrated
+P), ``duration`` (until the last block falls below v_th), ``max_velocity`` (the largest V_j at an exact
+maximum, ẋ_j = 0, of a block above v_th) and the stress balance: summing the force balance over the
+blocks (the neighbour springs cancel for free and periodic ends),
+
+    Σ_j (μ_j + z_j + η V_j)  changes by  k (N V_lp Δt − ΔP)   over the event,
+
+whose two sides come from different variables (x, y, z against the integrated P): ``balance`` is
+their difference over the event's stress change (a check of the integration, not used to compute
+anything).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import heyoka as hy
+import numpy as np
+
+from ...errors import InputError
+from ..rate_state.laws import resolve_state_law
+from ._system import PARAMETERS, Layout, compiled, steady_state
+from .result import RSChainStatus
+
+__all__ = ["CATALOG_FIELDS", "RSChainResult", "RSChainSpec", "RSChainStatus", "initial_state", "rs_chain", "run"]
+
+CATALOG_FIELDS = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
+
+
+def _number(argument, value, *, low=None, positive=False, fix="give a finite number") -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(argument, value, "is not a number", fix) from None
+    if not math.isfinite(v):
+        raise InputError(argument, value, "is not finite", fix)
+    if positive and not v > 0:
+        raise InputError(argument, value, "must be > 0", fix)
+    if low is not None and v < low:
+        raise InputError(argument, value, f"must be >= {low:g}", fix)
+    return v
+
+
+@dataclass(frozen=True)
+class RSChainSpec:
+    """A validated chain: N blocks, state law, a, b, Dc, k, ℓ, V_lp, M, η, v_th and its ends."""
+
+    n: int
+    state_law: str
+    a: float
+    b: float
+    dc: float
+    k: float
+    ell: float
+    v_lp: float
+    mass: float = 0.0
+    eta: float = 0.0
+    v_th: float = 10.0
+    periodic: bool = False
+
+    def __post_init__(self) -> None:
+        if isinstance(self.n, bool) or not isinstance(self.n, (int, np.integer)) or self.n < 1:
+            raise InputError("n", self.n, "must be a whole number of blocks >= 1", "give n = 1, 2, ...")
+        object.__setattr__(self, "state_law", resolve_state_law(self.state_law).name)
+        for name in ("a", "dc", "k", "v_lp", "v_th"):
+            object.__setattr__(self, name, _number(name, getattr(self, name), positive=True,
+                                                   fix=f"give {name} > 0"))
+        for name in ("b", "ell", "mass", "eta"):
+            object.__setattr__(self, name, _number(name, getattr(self, name), low=0.0,
+                                                   fix=f"give {name} >= 0"))
+        if not self.v_th > self.v_lp:
+            raise InputError("v_th", self.v_th, f"is not above the plate velocity v_lp = {self.v_lp:g}",
+                             "give a slip-velocity threshold v_th > v_lp (a block slips while V > v_th)")
+
+    @property
+    def inertial(self) -> bool:
+        return self.mass > 0
+
+    @property
+    def law(self):
+        return resolve_state_law(self.state_law)
+
+    def parameters(self) -> dict:
+        return {"a": self.a, "b": self.b, "dc": self.dc, "k": self.k, "ell2": self.ell * self.ell,
+                "v_lp": self.v_lp, "mass": self.mass if self.inertial else 1.0, "eta": self.eta,
+                "ln_v_th": math.log(self.v_th)}
+
+    def stress(self, state, layout: Layout) -> float:
+        """Σ_j (μ_j − μ0 + z_j + η V_j) at ``state`` (μ0 left out: it cancels in every change)."""
+        n = self.n
+        x = np.asarray(state[:n], dtype=float)
+        y = np.asarray(state[n:2 * n], dtype=float)
+        s = self.a * x + self.b * (y - math.log(self.law.steady_factor * self.dc)) + self.eta * np.exp(x)
+        if self.inertial:
+            s = s + np.asarray(state[2 * n:3 * n], dtype=float)
+        return float(math.fsum(s))
+
+
+def initial_state(spec: RSChainSpec, amplitude: float = 0.0, seed: int = 0) -> np.ndarray:
+    """Steady sliding at V_lp with ln V_j perturbed by A r_j, r_j uniform in [−1, 1) from
+    ``numpy.random.default_rng(seed)`` (θ_j stays at its steady value for V_lp; z_j = 0)."""
+    amplitude = _number("amplitude", amplitude, low=0.0, fix="give amplitude >= 0")
+    x_ss, y_ss = steady_state(spec.law, spec.v_lp, spec.dc)
+    r = np.random.default_rng(int(seed)).uniform(-1.0, 1.0, spec.n) if amplitude > 0 else np.zeros(spec.n)
+    x = x_ss + amplitude * r
+    if np.max(x) >= math.log(spec.v_th):
+        raise InputError("amplitude", amplitude, f"starts a block at V >= v_th = {spec.v_th:g}",
+                         "give a smaller amplitude or a larger v_th (blocks start below the threshold)")
+    layout = Layout(spec.n, spec.inertial)
+    state = np.zeros(layout.size)
+    state[:spec.n] = x
+    state[spec.n:2 * spec.n] = y_ss
+    return state
+
+
+@dataclass(frozen=True)
+class RSChainResult:
+    """The first events of a run: catalog arrays, per-event stress balance, final state and status."""
+
+    spec: RSChainSpec
+    t_start: np.ndarray
+    hypocentre: np.ndarray
+    n_blocks: np.ndarray
+    potency: np.ndarray
+    duration: np.ndarray
+    max_velocity: np.ndarray
+    stress_drop: np.ndarray      # −ΔΣ(μ_j + z_j + ηV_j) over the event
+    balance: np.ndarray          # |ΔΣ − k(N V_lp Δt − ΔP)| / |ΔΣ| per event
+    t_end: float                 # the end of the last event
+    steps: int
+    status: RSChainStatus
+    message: str = ""
+    crossings: np.ndarray | None = None   # rows (t, block, +1 up / −1 down) with ``crossings=True``
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def events(self) -> int:
+        return int(self.t_start.size)
+
+    def catalog(self) -> dict:
+        return {name: getattr(self, name) for name in CATALOG_FIELDS}
+
+
+class _Events:
+    """Assembles slip events from the time-ordered crossings of each step."""
+
+    def __init__(self, spec: RSChainSpec, layout: Layout, wanted: int) -> None:
+        self.spec, self.layout, self.wanted = spec, layout, wanted
+        self.above = np.zeros(spec.n, dtype=bool)
+        self.rows: list = []
+        self.current = None
+        self.t_last = 0.0
+        self.ln_v_th = math.log(spec.v_th)
+        self.crossings: list | None = None
+
+    @property
+    def done(self) -> int:
+        return len(self.rows)
+
+    def feed(self, buffer: list) -> None:
+        for time, kind, j, data in sorted(buffer, key=lambda r: (r[0], -r[1])):
+            if self.done >= self.wanted:
+                return
+            if self.crossings is not None and kind != 0:
+                self.crossings.append((time, j, kind))
+            if kind == 1:
+                if self.above[j]:
+                    continue          # a repeated root at a tangency: already above
+                if not self.above.any():
+                    self.current = {"t_start": time, "hypocentre": j, "blocks": {j}, "vmax": self.spec.v_th,
+                                    "p0": float(data[self.layout.potency]),
+                                    "s0": self.spec.stress(data, self.layout)}
+                self.above[j] = True
+                self.current["blocks"].add(j)
+            elif kind == -1:
+                if not self.above[j]:
+                    continue
+                self.above[j] = False
+                if not self.above.any():
+                    self._close(time, data)
+            elif self.above[j] and data > self.ln_v_th:
+                self.current["vmax"] = max(self.current["vmax"], math.exp(data))
+
+    def _close(self, time, data) -> None:
+        c, spec = self.current, self.spec
+        dt = time - c["t_start"]
+        potency = float(data[self.layout.potency]) - c["p0"]
+        ds = spec.stress(data, self.layout) - c["s0"]
+        load = spec.k * (spec.n * spec.v_lp * dt - potency)
+        balance = abs(ds - load) / abs(ds) if ds != 0 else math.inf
+        self.rows.append((c["t_start"], c["hypocentre"], len(c["blocks"]), potency, dt, c["vmax"], -ds, balance))
+        self.current = None
+        self.t_last = time
+
+
+def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_steps: int = 10_000_000,
+        maxima: bool = True, crossings: bool = False) -> RSChainResult:
+    """Integrate from ``state0`` (``initial_state``) until ``events`` events are catalogued.
+
+    ``t_max`` and ``max_steps`` bound the time and the Taylor steps from the start or the end of the
+    last event to the end of the next one; beyond them the run stops with ``no-stop`` and keeps the
+    events before. ``maxima=False`` leaves out the velocity-maximum events (``max_velocity`` is NaN);
+    ``crossings=True`` keeps every threshold crossing (t, block, ±1) of the catalogued events.
+    """
+    if int(events) < 1:
+        raise InputError("events", events, "must be >= 1", "give the number of events to catalogue")
+    c = compiled(spec.state_law, spec.n, inertial=spec.inertial, periodic=spec.periodic,
+                 damped=spec.eta > 0, maxima=maxima)
+    ta, layout = c.integrator, c.layout
+    state0 = np.asarray(state0, dtype=float)
+    if state0.shape != (layout.size,):
+        raise InputError("state0", state0.shape, f"is not a state of {layout.size} values",
+                         "give initial_state(spec, ...)")
+    ta.time = 0.0
+    ta.state[:] = state0
+    values = spec.parameters()
+    ta.pars[:] = [values[name] for name in PARAMETERS]
+    c.recorder.buffer.clear()
+    assembler = _Events(spec, layout, int(events))
+    if crossings:
+        assembler.crossings = []
+    steps = [0, 0]        # total, since the last event ended
+    status = [RSChainStatus.COMPLETE, ""]
+    p_index = layout.potency
+
+    def step(ta) -> bool:
+        steps[0] += 1
+        steps[1] += 1
+        before = assembler.done
+        if c.recorder.buffer:
+            assembler.feed(c.recorder.buffer)
+            c.recorder.buffer.clear()
+        if assembler.done >= assembler.wanted:
+            return False
+        if assembler.done > before:
+            steps[1] = 0
+        if not assembler.above.any():
+            ta.state[p_index] = 0.0     # between events P restarts from 0: it never grows large
+        if steps[1] > max_steps or ta.time - assembler.t_last > t_max:
+            status[0] = RSChainStatus.NO_STOP
+            status[1] = (f"no-stop: event {assembler.done + 1} did not end within t_max = {t_max:g} or "
+                         f"max_steps = {max_steps} (t = {ta.time:.17g}, {steps[0]} steps)")
+            return False
+        return True
+
+    outcome = ta.propagate_until(1e300, callback=step)[0]
+    if outcome == hy.taylor_outcome.err_nf_state:
+        status = [RSChainStatus.NONFINITE, f"nonfinite state at t = {ta.time:.17g} after {steps[0]} steps "
+                  f"(M = 0 and η = 0 blow up in finite time below the critical stiffness: give η > 0 or M > 0)"]
+    rows = assembler.rows
+    cols = list(zip(*rows)) if rows else [()] * 8
+    return RSChainResult(
+        spec=spec, t_start=np.array(cols[0], dtype=float), hypocentre=np.array(cols[1], dtype=np.int64),
+        n_blocks=np.array(cols[2], dtype=np.int64), potency=np.array(cols[3], dtype=float),
+        duration=np.array(cols[4], dtype=float),
+        max_velocity=np.array(cols[5], dtype=float) if maxima else np.full(len(rows), np.nan),
+        stress_drop=np.array(cols[6], dtype=float), balance=np.array(cols[7], dtype=float),
+        t_end=assembler.t_last if rows else math.nan, steps=steps[0], status=status[0], message=status[1],
+        crossings=np.array(assembler.crossings, dtype=float).reshape(-1, 3) if crossings else None)
+
+
+def rs_chain(*, n, state_law="aging", a=0.01, b=0.015, dc=0.01, k, ell=1.0, v_lp=1.0, mass=0.0, eta=0.0,
+             v_th=10.0, periodic=False, amplitude=0.1, seed=1, events=100, t_max=math.inf,
+             max_steps=10_000_000, maxima=True, crossings=False) -> RSChainResult:
+    """Run a rate-and-state chain from perturbed steady sliding and catalogue its first ``events`` events."""
+    spec = RSChainSpec(n=n, state_law=state_law, a=a, b=b, dc=dc, k=k, ell=ell, v_lp=v_lp, mass=mass, eta=eta,
+                       v_th=v_th, periodic=bool(periodic))
+    return run(spec, initial_state(spec, amplitude, seed), events, t_max=t_max, max_steps=max_steps,
+               maxima=maxima, crossings=crossings)
