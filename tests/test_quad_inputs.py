@@ -114,3 +114,25 @@ def test_rate_state_quad_reads_decimals_in_real128():
     # own 36-digit steps) against 3.7e-17 from their doubles
     assert error(a="0.011", b="0.015", dc="0.01", k="0.6", mu0="0.6", v_lp=load_history(["1", "3"], at=[0.2])) < 1e-23
     assert error(a=0.011, b=0.015, dc=0.01, k=0.6, mu0=0.6, v_lp=load_history([1.0, 3.0], at=[0.2])) > 1e-18
+
+
+def test_limit_quad_reads_decimals_in_real128(monkeypatch):
+    """``limit(..., precision="quad")`` hands ν_f's decimal text to the real128 orbit (and, as an mpf of
+    that text, to the 60-digit manifold start), not the nearest double; Δ0 is then Eq. (18) of the
+    paper at the decimal ν_f to double rounding (the result is returned in double)."""
+    import heyoka as hy
+    import mpmath
+
+    import bifurcation as bf
+    from bifurcation.engine import _exact
+    from bifurcation.theory.linear import delta0_piecewise_linear
+
+    calls = []
+    original = _exact.at_precision
+    monkeypatch.setattr(_exact, "at_precision", lambda x, dtype: calls.append((decimal_text(x), dtype)) or
+                        original(x, dtype))
+    r = bf.limit("piecewise-linear", nu_f="0.3", precision="quad")
+    assert ("0.3", hy.real128) in calls
+    with mpmath.workdps(40):
+        ref = delta0_piecewise_linear(mpmath.mpf("0.3"))
+    assert abs(float(r.delta0) - float(ref)) <= 2.2e-16 * float(ref)

@@ -20,6 +20,7 @@ from ..laws import FrictionLaw, resolve_law
 from ._integrator import compiled
 from ._validate import check_nu_f, check_precision
 from .cycle import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, run_cycle
+from .manifold import _DPS as _MANIFOLD_DPS
 from .manifold import fast_manifold_start
 from .result import Status, _Fields
 
@@ -73,16 +74,23 @@ def _to_fp(value, dtype):
     return dtype(mpmath.nstr(value, 45)) if dtype is not np.float64 else float(value)
 
 
-def _stick_slip_limit(law: FrictionLaw, nu_f: float, precision: str):
+def _stick_slip_limit(law: FrictionLaw, nu_f: float, precision: str, given=None):
+    """``given``: ν_f as the user gave it; in quad its decimal text is read exactly (engine._exact), by the
+    60-digit manifold start and by the real128 orbit alike, not through the nearest double."""
+    from ._exact import at_precision, decimal_text
+
     c = compiled(law, precision)
     dtype = c.dtype
+    text = decimal_text(given) if precision == "quad" and given is not None else None
+    nu_f_fp = at_precision(given, dtype) if text is not None else dtype(nu_f)
     y_start = min(1e-3, 0.5 * law.breakpoints[0]) if law.breakpoints else 1e-3
     try:
-        U, Ud = fast_manifold_start(law, nu_f, y_start=y_start)
+        with mpmath.workdps(_MANIFOLD_DPS):   # the decimal read at the manifold's own precision
+            U, Ud = fast_manifold_start(law, mpmath.mpf(text) if text is not None else nu_f, y_start=y_start)
     except ValueError as exc:
         return (math.nan,) * 4 + (0, Status.NONFINITE, str(exc))
     # The creep event marks U̇ = ν_f; run_cycle records it and every later crossing of breakpoint 1.
-    raw = run_cycle(c, {"nu": dtype(1), "nu_f": dtype(nu_f), "forcing": dtype(0)},
+    raw = run_cycle(c, {"nu": dtype(1), "nu_f": nu_f_fp, "forcing": dtype(0)},
                     state0=(_to_fp(U, dtype), _to_fp(Ud, dtype)), t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS)
     if raw["status"] is not Status.STICK_SLIP:
         return (math.nan,) * 4 + (raw["steps"], raw["status"], raw["message"])
@@ -118,6 +126,7 @@ def limit(law: str | FrictionLaw, *, nu_f, precision: str = "double") -> LimitRe
     check_precision(precision)
     nu_f_arr = check_nu_f(nu_f)
     shape = nu_f_arr.shape
+    given = np.broadcast_to(np.asarray(nu_f, dtype=object), shape) if precision == "quad" else None
     out = {k: np.full(shape, np.nan) for k in LIMIT_FIELDS}
     steps = np.zeros(shape, dtype=np.int64)
     status = np.zeros(shape, dtype=np.int8)
@@ -130,7 +139,8 @@ def limit(law: str | FrictionLaw, *, nu_f, precision: str = "double") -> LimitRe
             out["stop_time0"][idx] = linear.stop_time_creep(nf)
             status[idx] = int(Status.CREEP)
             continue
-        d0, vmax, dur, tau1, n, st, msg = _stick_slip_limit(law, nf, precision)
+        d0, vmax, dur, tau1, n, st, msg = _stick_slip_limit(law, nf, precision,
+                                                            given[idx] if given is not None else None)
         out["delta0"][idx], out["max_velocity0"][idx] = d0, vmax
         out["slip_duration0"][idx], out["tau1"][idx] = dur, tau1
         steps[idx], status[idx] = n, int(st)
