@@ -130,6 +130,8 @@ def test_cycle_cli_json():
     ({"--v-lp": "1e-3,2e-3", "--at": "5", "--damping": "1", "--cycle": None}, "must be one load-point velocity"),
     ({"--damping": "10", "--cycle": None}, "--cycle: no-hopf-point"),
     ({}, "--t-end=None: is missing"),
+    # a run length with --cycle was checked, then silently ignored (merge of rs's --cycle with ux's checks)
+    ({"--damping": "1", "--cycle": None, "--t-end": "40"}, "--t-end=40.0: does not apply with --cycle"),
 ])
 def test_rate_state_bad_damping_and_cycle_input_is_one_line_exit_2(change, message):
     args = {"--state-law": "slip", "--a": "0.01", "--b": "0.015", "--dc": "1e-4", "--k": "32", "--v-lp": "1e-3",
