@@ -75,7 +75,7 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         same exact event location; its catalog adds ``error_estimate`` per event (docs/chain.md,
         "Engines").
     tol : float, optional
-        The compiled engine's DOP853 tolerance (default ``_compiled.TOL`` = 1e-12).
+        The compiled engine's DOP853 tolerance (default ``_compiled.TOL`` = 1e-11).
     verify : float
         With the compiled engine: re-run this fraction of the events (every ⌈1/verify⌉-th, the first
         included) with the exact engine from the same pre-event state; ``result.verification`` holds
