@@ -300,3 +300,20 @@ def test_qdyns_own_stickslip_case():
     assert abs(r.ln_v_min - np.median(tight["ln_v_min"])) < 1e-5
     default = next(run for run in ss["runs"] if run["acc"] == 1e-7)
     assert abs(r.period / np.mean(default["periods"]) - 1) < 1e-5   # the goal at QDYN's default
+
+
+def test_reference_cycle_reads_decimal_inputs_as_its_dynamics_do():
+    # reference_cycle's section g = 0 (V = V_lp) and the Taylor coefficients must read the same numbers:
+    # the coefficients took a decimal input from its text (40 digits), the section through the nearest
+    # double, so a point "on the section" had dτ/dt = k(V_lp − V) = 1.9e-17 instead of 0 (measured
+    # before the fix; 1.7e-41 after, the 40-digit working precision)
+    from bifurcation.engine._exact import Text
+    from bifurcation.models.rate_state.reference import _coefficients, _section_function
+
+    spec = SliderSpec(a=Text("0.01"), b=[Text("0.015")], dc=[Text("1e-4")], state_law=["slip"], k=Text("32"),
+                      damping=Text("0.3"))
+    with mp.workdps(40):
+        v_lp, thetas = mp.mpf("1e-3"), [mp.mpf("0.13")]
+        tau = -_section_function(spec, v_lp)(mp.mpf(0), thetas)   # on the section
+        dtau, _ = _coefficients(spec, v_lp, tau, thetas, 2)
+        assert abs(dtau[1]) < 1e-35   # 40 digits minus the margin of a few operations
