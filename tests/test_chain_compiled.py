@@ -19,7 +19,8 @@ from bifurcation.models.chain._compiled import CompiledChain, run_verified, tape
 from bifurcation.models.chain._lawtape import law_tape
 from bifurcation.models.chain._validate import check_initial
 
-#: the issue's bound for ``--verify`` (issue 18); DOP853 at tol 1e-12 measured ≤ 6e-12 on these chains
+#: the issue's bound for ``--verify`` (issue 18); DOP853 at the default tol 1e-11 measured ≤ 1.6e-11 on the
+#: chains of test_compiled_events_equal_the_exact_engine (the three-piece law; 3.4e-13–1.1e-11 the others)
 VERIFY_BOUND = 1e-10
 
 THREE_PIECES = "piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)"
@@ -73,7 +74,9 @@ def test_compiled_events_equal_the_exact_engine(law, n, nu, nu_f, ends, amplitud
     assert out["status"] == 1 and rep["checked"] == 24
     assert rep["mismatched"] == []
     assert rep["largest_any"] <= VERIFY_BOUND, rep["largest"]
-    assert np.all(out["catalog"]["error_estimate"] < 1e-9)   # the estimate: sum of local DOP853 errors
+    # the estimate (sum of local DOP853 errors relative to the potency): measured ≤ 1.8e-11 at tol 1e-11;
+    # 1e-9 leaves a factor 50 for other CPUs, and still fails if it stopped following tol
+    assert np.all(out["catalog"]["error_estimate"] < 1e-9)
     if law in ("piecewise-linear", THREE_PIECES):             # the switches were exercised
         assert np.max(out["catalog"]["max_velocity"]) / nu_f > 1.0
 
