@@ -248,10 +248,10 @@ CASES = [
     *_values(CHAIN_CLI, "--sigma", ["1", "-0.1", "nan", "x"]),
     *_values(CHAIN_CLI, "--v-threshold", ["x", "-1", "0", "nan"]),
     *_values(CHAIN_CLI, "--engine", ["fast"]),
-    *_values(CHAIN_CLI, "--verify", ["0.5"]),                                  # verify checks the compiled engine
+    *_values(CHAIN_CLI, "--verify", ["0.5"], "--verify=0.5: checks the compiled engine against the exact one; give --engine compiled"),
     *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--verify", ["2", "-0.5", "nan"]),
-    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--precision", ["quad"]),
-    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--v-threshold", ["0.01", "default"]),
+    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--precision", ["quad"], "give --precision double, or --engine exact"),
+    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--v-threshold", ["0.01", "default"], "or give --engine exact"),
     *_values(CHAIN_CLI, "--preset", ["nope"]),
     "chain --preset carlson-langer-1991 --n 4 --amplitude 0.1 --seed 1 --events 3 --sigma 1.5 ## --sigma",
     "chain --preset carlson-langer-1991 --n 0 --amplitude 0.1 --seed 1 --events 3 ## --n",

@@ -134,6 +134,16 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
         except InputError as exc:
             raise InputError("--v-threshold", v_threshold, exc.problem,
                              "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None
+    # the engines' limits in the CLI's words (the library's errors name its keyword arguments)
+    if engine == "compiled" and precision != "double":
+        raise InputError("--precision", precision, "is not available with --engine compiled (double only)",
+                         "give --precision double, or --engine exact for quad")
+    if engine == "compiled" and v_threshold is not None:
+        raise InputError("--v-threshold", v_threshold, "is not available with --engine compiled",
+                         "drop --v-threshold, or give --engine exact for membership by a slip-velocity threshold")
+    if verify and 0 < verify <= 1 and engine != "compiled":   # (out of range: the library's message)
+        raise InputError("--verify", verify, "checks the compiled engine against the exact one",
+                         "give --engine compiled with --verify")
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
     if u0 is None and seed is None:   # a random start names its seed: no silent seed 0
@@ -156,7 +166,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
         click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
         if r.verification is not None:
             v = r.verification
-            click.echo(f"verify: {v['checked']} events re-run exactly (every {v['every']}th); largest relative "
+            click.echo(f"verify: {v['checked']} events re-run exactly (one in {v['every']}); largest relative "
                        f"difference {v['largest_any']:.2e} (" + ", ".join(f"{k} {x:.1e}" for k, x in v['largest'].items())
                        + f"); hypocentre or size differ in {len(v['mismatched'])}")
     if r.status != 1:
