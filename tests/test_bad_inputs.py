@@ -448,6 +448,8 @@ CASES = [
     "bench --pipeline 100000000 ## --pipeline",
     "bench --suite nope ## --suite",
     "bench --points x ## --points",
+    "bench --suite chain --points 5 ## --points=5: does not apply to --suite chain",   # was silently ignored
+    "bench --suite chain --subset 2 --pipeline 0 ## --subset=2: does not apply",
     # -- outputs inside a store, a store's array given as a store -----------------------------------------
     "export --store {sb} --out {sb}/inside.nc ## --out",
     "export --store {sb} --out {chain}/inside.csv ## --out",
