@@ -247,6 +247,8 @@ CASES = [
     # also in combinations that each option alone accepts
     *_values(CHAIN_CLI, "--sigma", ["1", "-0.1", "nan", "x"]),
     *_values(CHAIN_CLI, "--v-threshold", ["x", "-1", "0", "nan"]),
+    *_values(CHAIN_CLI, "--sigma", ["0.995"], "--sigma=0.995: is outside [0, 0.99]"),        # the axis bounds
+    *_values(CHAIN_CLI, "--v-threshold", ["1e4"], "--v-threshold=10000.0: is outside [0, 1000]"),
     *_values(CHAIN_CLI, "--engine", ["fast"]),
     *_values(CHAIN_CLI, "--verify", ["0.5"], "--verify=0.5: checks the compiled engine against the exact one; give --engine compiled"),
     *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--verify", ["2", "-0.5", "nan"]),

@@ -18,7 +18,7 @@ _STUDY = ("for more, run a study: a workflow with [grid.n] and [grid.events] thr
           "(checkpointed and resumable; workflows/chain-study.toml, docs/chain.md)")
 
 
-def _check_bounds(n, ell, amplitude, seed, events) -> None:
+def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None) -> None:
     """The chain's values against the bounds its workflows obey (the model's axes), and the CLI's cap on
     events, before anything is computed."""
     from ..models import get_model
@@ -27,13 +27,14 @@ def _check_bounds(n, ell, amplitude, seed, events) -> None:
     if events is not None and events > MAX_EVENTS:
         raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
                          "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
-    given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events}
+    given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events, "sigma": sigma,
+             "v_threshold": v_threshold}
     for name, value in given.items():
         if value is None or value != value:   # missing, or NaN (refused with its own message later)
             continue
         low, high = (int(b) if float(b).is_integer() else b for b in axes[name].bounds)
         if not low <= value <= high:
-            option = "--" + name
+            option = "--" + name.replace("_", "-")
             raise InputError(option, value, f"is outside [{low}, {high}], the bounds of the chain model (its "
                              "workflows' too: bifurcation.models.chain)", f"give a value in [{low}, {high}]")
 
@@ -144,6 +145,8 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
     if verify and 0 < verify <= 1 and engine != "compiled":   # (out of range: the library's message)
         raise InputError("--verify", verify, "checks the compiled engine against the exact one",
                          "give --engine compiled with --verify")
+    # σ and V_th within the bounds of the model's axes too (after their own checks: a value, in range)
+    _check_bounds(None, None, None, None, None, sigma, v_threshold if v_threshold != "default" else None)
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
     if u0 is None and seed is None:   # a random start names its seed: no silent seed 0
