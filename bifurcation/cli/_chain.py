@@ -84,7 +84,7 @@ def _u0(ctx, param, value):
 @click.option("--events", required=True, type=int, help="Number of events K ≥ 1.")
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
 @click.option("--sigma", callback=number("--sigma", "0.01"),
-              help="Friction drop 0 ≤ σ < 1: Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 (default) is the seed's model (docs/chain.md).")
+              help="Friction drop 0 ≤ σ ≤ 0.99 (the model's bounds): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 (default) is the seed's model (docs/chain.md).")
 @click.option("--v-threshold", "v_threshold", default=None,
               help="Event membership by slip velocity: count only blocks faster than V_th (in V0), or 'default' "
                    "for 10·ν (docs/chain.md). Without it: every block that moved, until all are stuck.")
