@@ -216,6 +216,18 @@ def test_continue_damping_option_is_checked_before_work(tmp_path):
         assert not out.exists()
 
 
+def test_continue_checks_its_default_output_directory_before_work(tmp_path, monkeypatch):
+    # the default is results/local/<study name>: checking "results" let a run compute for minutes and then
+    # fail to write (here results/local is a file)
+    workflow = str(pathlib.Path("workflows/rate-state-quick.toml").resolve())
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "results").mkdir()
+    (tmp_path / "results" / "local").write_text("")
+    r = _cli("continue", workflow)
+    assert r.exit_code == 2 and "--out='results/local/rate-state-quick': cannot be created" in r.output, r.output
+    assert len(r.output.strip().splitlines()) == 1
+
+
 @pytest.mark.slow
 def test_continue_damping_option_reaches_the_branches(tmp_path):
     # ~14 s: the quick workflow's PRZ branch with η = 0.002: k_c = (b − a − η)/Dc = 0.3 in the store

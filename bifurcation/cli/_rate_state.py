@@ -204,10 +204,10 @@ def continue_cmd(workflow: str, out, damping) -> None:
 
     from ._common import check_writable_dir
 
-    load_study(workflow)  # validate before anything is computed or written
+    study = load_study(workflow)  # validate before anything is computed or written
     if damping is not None:
         damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
-    check_writable_dir(out if out is not None else "results")   # and where it goes
+    check_writable_dir(out if out is not None else f"results/local/{study.name}")   # and where it goes (run_study's default)
     run_study(workflow, out, echo=click.echo, damping=damping)
 
 
