@@ -278,6 +278,7 @@ CASES = [
     f"{_set(RATE, '--cycle', None)} --cycle ## --t-end",                            # a run length --cycle ignored
     f"{_set(_set(_set(RATE, '--t-end', None), '--at', None), '--v-lp', '1')} --cycle --precision quad ## --precision",
     f"{_set(RATE, '--t-end', None)} --cycle ## --v-lp",                             # two velocities
+    f"{_set(_set(_set(RATE, '--t-end', None), '--at', None), '--v-lp', '1')} --cycle --outputs 5 ## --outputs=5: does not apply",
     # -- hopf ------------------------------------------------------------------------------------------
     *_values(HOPF, "--mass", ["-1", "0"], "mass"),
     *_values(HOPF, "--v-lp", ["nan", "0", "-1"], "--v-lp"),

@@ -121,6 +121,9 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
     if cycle and t_end is not None:   # the cycle search sets its own run length: a given one would be ignored
         raise InputError("--t-end", t_end, "does not apply with --cycle (the search runs until the cycle is "
                          "found or refused)", "drop --t-end, or drop --cycle for a time series up to it")
+    if cycle and click.get_current_context().get_parameter_source("outputs") is not click.core.ParameterSource.DEFAULT:
+        raise InputError("--outputs", outputs, "does not apply with --cycle (it prints the cycle, not a time "
+                         "series)", "drop --outputs, or drop --cycle for a time series")
     if t_end is not None:
         _check_times(t_end, outputs)
     for step in at or []:
