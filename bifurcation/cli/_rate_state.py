@@ -210,7 +210,8 @@ def continue_cmd(workflow: str, out, damping) -> None:
     study = load_study(workflow)  # validate before anything is computed or written
     if damping is not None:
         damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
-    check_writable_dir(out if out is not None else f"results/local/{study.name}")   # and where it goes (run_study's default)
+    # and where it goes (run_study's default)
+    check_writable_dir(out if out is not None else f"results/local/{study.name}")
     run_study(workflow, out, echo=click.echo, damping=damping)
 
 
