@@ -243,6 +243,22 @@ CASES = [
     f"{_set(CHAIN_CLI, '--u0', '0,0,0,0')} ## --u0",                                   # u0 with amplitude
     *[f"{_set(_set(_set(CHAIN_CLI, '--amplitude', None), '--seed', None), '--u0', v)} ## --u0"
       for v in ["0,1", "0", "0,nan,0,0", "a,b,c,d", "", "0,0,0,inf", "1e300,0,0,0", "-2,0,0,0", "0;0;0;0"]],
+    # the options merged this session (sigma, engines, membership, presets): each refused before work,
+    # also in combinations that each option alone accepts
+    *_values(CHAIN_CLI, "--sigma", ["1", "-0.1", "nan", "x"]),
+    *_values(CHAIN_CLI, "--v-threshold", ["x", "-1", "0", "nan"]),
+    *_values(CHAIN_CLI, "--sigma", ["0.995"], "--sigma=0.995: is outside [0, 0.99]"),        # the axis bounds
+    *_values(CHAIN_CLI, "--v-threshold", ["1e4"], "--v-threshold=10000.0: is outside [0, 1000]"),
+    *_values(CHAIN_CLI, "--engine", ["fast"]),
+    *_values(CHAIN_CLI, "--verify", ["0.5"], "--verify=0.5: checks the compiled engine against the exact one; give --engine compiled"),
+    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--verify", ["2", "-0.5", "nan"]),
+    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--precision", ["quad"], "give --precision double, or --engine exact"),
+    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--v-threshold", ["0.01", "default"], "or give --engine exact"),
+    *_values(CHAIN_CLI, "--preset", ["nope"]),
+    "chain --preset carlson-langer-1991 --n 4 --amplitude 0.1 --seed 1 --events 3 --sigma 1.5 ## --sigma",
+    "chain --preset carlson-langer-1991 --n 0 --amplitude 0.1 --seed 1 --events 3 ## --n",
+    "chain --preset carlson-langer-1991 --amplitude 0.1 --seed 1 --events 3 --ell 1e10 ## --ell",
+    "chain --n 4 --amplitude 0.1 --seed 1 --events 3 ## --law",                  # no law and no preset
     # -- rate-state ------------------------------------------------------------------------------------
     *_values(RATE, "--outputs", ["100000000", "-1", "0", "1", "abc", "2.5"]),
     *_values(RATE, "--t-end", ["nan", "inf", "-5", "0", "x"]),
@@ -258,6 +274,11 @@ CASES = [
     *_values(RATE, "--k", ["0", "inf", "-1e-3"], "k="),
     *_values(RATE, "--mass", ["-1", "0", "nan"], "mass"),
     *_values(RATE, "--precision", ["double-double"]),
+    *_values(RATE, "--damping", ["-1", "nan", "x"], "damping"),
+    f"{_set(RATE, '--cycle', None)} --cycle ## --t-end",                            # a run length --cycle ignored
+    f"{_set(_set(_set(RATE, '--t-end', None), '--at', None), '--v-lp', '1')} --cycle --precision quad ## --precision",
+    f"{_set(RATE, '--t-end', None)} --cycle ## --v-lp",                             # two velocities
+    f"{_set(_set(_set(RATE, '--t-end', None), '--at', None), '--v-lp', '1')} --cycle --outputs 5 ## --outputs=5: does not apply",
     # -- hopf ------------------------------------------------------------------------------------------
     *_values(HOPF, "--mass", ["-1", "0"], "mass"),
     *_values(HOPF, "--v-lp", ["nan", "0", "-1"], "--v-lp"),
@@ -430,6 +451,8 @@ CASES = [
     "bench --pipeline 100000000 ## --pipeline",
     "bench --suite nope ## --suite",
     "bench --points x ## --points",
+    "bench --suite chain --points 5 ## --points=5: does not apply to --suite chain",   # was silently ignored
+    "bench --suite chain --subset 2 --pipeline 0 ## --subset=2: does not apply",
     # -- outputs inside a store, a store's array given as a store -----------------------------------------
     "export --store {sb} --out {sb}/inside.nc ## --out",
     "export --store {sb} --out {chain}/inside.csv ## --out",

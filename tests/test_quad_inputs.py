@@ -136,3 +136,26 @@ def test_limit_quad_reads_decimals_in_real128(monkeypatch):
     with mpmath.workdps(40):
         ref = delta0_piecewise_linear(mpmath.mpf("0.3"))
     assert abs(float(r.delta0) - float(ref)) <= 2.2e-16 * float(ref)
+
+
+def test_rate_state_quad_slip_is_at_quad_precision():
+    # slip = δ_lp − (μ + ηV − μ0 − ηV0)/k: with k, η and the load point's displacement taken through
+    # doubles, quad's slip was 6.7e-20 off (measured; μ itself 9e-35) — now 4.7e-35. Reference: the mpmath
+    # run's μ and V at 45 digits from the same decimals, the history's step time as the binary 0.2 it is.
+    from bifurcation.models.rate_state import load_history, rate_state
+    from bifurcation.models.rate_state.reference import reference_run
+    from bifurcation.models.rate_state.spec import SliderSpec
+
+    t = [0.0, 0.1, 0.25]
+    inputs = dict(a="0.011", b="0.015", dc="0.01", state_law="aging", k="0.6", mu0="0.6", damping="0.3")
+    history = load_history(["1", "3"], at=[0.2])
+    ref = reference_run(SliderSpec(**inputs), history, t, dps=45)
+    r = rate_state(**inputs, v_lp=history, t=t, precision="quad")
+    assert r.status == "ok", r.message
+    with mp.workdps(45):
+        eta, k, step = mp.mpf("0.3"), mp.mpf("0.6"), mp.mpf(0.2)
+        tau = [m + eta * v for m, v in zip(ref["mu"], ref["v"])]
+        dlp = [min(mp.mpf(s), step) + 3 * max(mp.mpf(s) - step, 0) for s in t]
+        slip = [dlp[i] - (tau[i] - tau[0]) / k for i in range(len(t))]
+        error = max(float(abs(mp.mpf(str(a)) - b) / abs(b)) for a, b in zip(r.slip[1:], slip[1:]))
+    assert error < 1e-31   # measured 4.7e-35 (real128's tolerance 1.9e-34): 3 digits of margin for another CPU

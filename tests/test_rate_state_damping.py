@@ -118,6 +118,8 @@ def test_cycle_cli_json():
     assert out["status"] == "limit-cycle"
     qdyn = next(c for c in QDYN["cases"] if c["law"] == "slip" and c["kappa"] == 0.8)
     assert abs(out["period"] / qdyn["period"] - 1) < 1e-6
+    # error estimates: present (> 0: floored at 4 ulps) and small; docs/rate-state.md measures 1e-15 … 7e-15
+    # relative on the QDYN cases, so 1e-12 fails only if the estimate stopped being a rounding-level one
     for key in ("period", "ln_v_max", "ln_v_min", "slip"):
         assert 0 < out[f"{key}_error"] < 1e-12 * max(1.0, abs(out[key]))
 
@@ -130,6 +132,8 @@ def test_cycle_cli_json():
     ({"--v-lp": "1e-3,2e-3", "--at": "5", "--damping": "1", "--cycle": None}, "must be one load-point velocity"),
     ({"--damping": "10", "--cycle": None}, "--cycle: no-hopf-point"),
     ({}, "--t-end=None: is missing"),
+    # a run length with --cycle was checked, then silently ignored (merge of rs's --cycle with ux's checks)
+    ({"--damping": "1", "--cycle": None, "--t-end": "40"}, "--t-end=40.0: does not apply with --cycle"),
 ])
 def test_rate_state_bad_damping_and_cycle_input_is_one_line_exit_2(change, message):
     args = {"--state-law": "slip", "--a": "0.01", "--b": "0.015", "--dc": "1e-4", "--k": "32", "--v-lp": "1e-3",
@@ -210,6 +214,18 @@ def test_continue_damping_option_is_checked_before_work(tmp_path):
         r = _cli("continue", "workflows/rate-state-quick.toml", "--out", str(out), "--damping", value)
         assert r.exit_code == 2 and message in r.output and len(r.output.strip().splitlines()) == 1
         assert not out.exists()
+
+
+def test_continue_checks_its_default_output_directory_before_work(tmp_path, monkeypatch):
+    # the default is results/local/<study name>: checking "results" let a run compute for minutes and then
+    # fail to write (here results/local is a file)
+    workflow = str(pathlib.Path("workflows/rate-state-quick.toml").resolve())
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "results").mkdir()
+    (tmp_path / "results" / "local").write_text("")
+    r = _cli("continue", workflow)
+    assert r.exit_code == 2 and "--out='results/local/rate-state-quick': cannot be created" in r.output, r.output
+    assert len(r.output.strip().splitlines()) == 1
 
 
 @pytest.mark.slow
@@ -298,3 +314,20 @@ def test_qdyns_own_stickslip_case():
     assert abs(r.ln_v_min - np.median(tight["ln_v_min"])) < 1e-5
     default = next(run for run in ss["runs"] if run["acc"] == 1e-7)
     assert abs(r.period / np.mean(default["periods"]) - 1) < 1e-5   # the goal at QDYN's default
+
+
+def test_reference_cycle_reads_decimal_inputs_as_its_dynamics_do():
+    # reference_cycle's section g = 0 (V = V_lp) and the Taylor coefficients must read the same numbers:
+    # the coefficients took a decimal input from its text (40 digits), the section through the nearest
+    # double, so a point "on the section" had dτ/dt = k(V_lp − V) = 1.9e-17 instead of 0 (measured
+    # before the fix; 1.7e-41 after, the 40-digit working precision)
+    from bifurcation.engine._exact import Text
+    from bifurcation.models.rate_state.reference import _coefficients, _section_function
+
+    spec = SliderSpec(a=Text("0.01"), b=[Text("0.015")], dc=[Text("1e-4")], state_law=["slip"], k=Text("32"),
+                      damping=Text("0.3"))
+    with mp.workdps(40):
+        v_lp, thetas = mp.mpf("1e-3"), [mp.mpf("0.13")]
+        tau = -_section_function(spec, v_lp)(mp.mpf(0), thetas)   # on the section
+        dtau, _ = _coefficients(spec, v_lp, tau, thetas, 2)
+        assert abs(dtau[1]) < 1e-35   # 40 digits minus the margin of a few operations

@@ -18,7 +18,7 @@ _STUDY = ("for more, run a study: a workflow with [grid.n] and [grid.events] thr
           "(checkpointed and resumable; workflows/chain-study.toml, docs/chain.md)")
 
 
-def _check_bounds(n, ell, amplitude, seed, events) -> None:
+def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None) -> None:
     """The chain's values against the bounds its workflows obey (the model's axes), and the CLI's cap on
     events, before anything is computed."""
     from ..models import get_model
@@ -27,13 +27,14 @@ def _check_bounds(n, ell, amplitude, seed, events) -> None:
     if events is not None and events > MAX_EVENTS:
         raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
                          "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
-    given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events}
+    given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events, "sigma": sigma,
+             "v_threshold": v_threshold}
     for name, value in given.items():
         if value is None or value != value:   # missing, or NaN (refused with its own message later)
             continue
         low, high = (int(b) if float(b).is_integer() else b for b in axes[name].bounds)
         if not low <= value <= high:
-            option = "--" + name
+            option = "--" + name.replace("_", "-")
             raise InputError(option, value, f"is outside [{low}, {high}], the bounds of the chain model (its "
                              "workflows' too: bifurcation.models.chain)", f"give a value in [{low}, {high}]")
 
@@ -83,7 +84,7 @@ def _u0(ctx, param, value):
 @click.option("--events", required=True, type=int, help="Number of events K ≥ 1.")
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
 @click.option("--sigma", callback=number("--sigma", "0.01"),
-              help="Friction drop 0 ≤ σ < 1: Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 (default) is the seed's model (docs/chain.md).")
+              help="Friction drop 0 ≤ σ ≤ 0.99 (the model's bounds): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 (default) is the seed's model (docs/chain.md).")
 @click.option("--v-threshold", "v_threshold", default=None,
               help="Event membership by slip velocity: count only blocks faster than V_th (in V0), or 'default' "
                    "for 10·ν (docs/chain.md). Without it: every block that moved, until all are stuck.")
@@ -134,6 +135,18 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
         except InputError as exc:
             raise InputError("--v-threshold", v_threshold, exc.problem,
                              "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None
+    # the engines' limits in the CLI's words (the library's errors name its keyword arguments)
+    if engine == "compiled" and precision != "double":
+        raise InputError("--precision", precision, "is not available with --engine compiled (double only)",
+                         "give --precision double, or --engine exact for quad")
+    if engine == "compiled" and v_threshold is not None:
+        raise InputError("--v-threshold", v_threshold, "is not available with --engine compiled",
+                         "drop --v-threshold, or give --engine exact for membership by a slip-velocity threshold")
+    if verify and 0 < verify <= 1 and engine != "compiled":   # (out of range: the library's message)
+        raise InputError("--verify", verify, "checks the compiled engine against the exact one",
+                         "give --engine compiled with --verify")
+    # σ and V_th within the bounds of the model's axes too (after their own checks: a value, in range)
+    _check_bounds(None, None, None, None, None, sigma, v_threshold if v_threshold != "default" else None)
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
     if u0 is None and seed is None:   # a random start names its seed: no silent seed 0
@@ -156,7 +169,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
         click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
         if r.verification is not None:
             v = r.verification
-            click.echo(f"verify: {v['checked']} events re-run exactly (every {v['every']}th); largest relative "
+            click.echo(f"verify: {v['checked']} events re-run exactly (one in {v['every']}); largest relative "
                        f"difference {v['largest_any']:.2e} (" + ", ".join(f"{k} {x:.1e}" for k, x in v['largest'].items())
                        + f"); hypocentre or size differ in {len(v['mismatched'])}")
     if r.status != 1:

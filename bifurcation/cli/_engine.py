@@ -92,6 +92,7 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
     import importlib.util
     import inspect
 
+    from ..errors import InputError
     from ..models import DEFAULT_MODEL, get_model
 
     model = get_model(DEFAULT_MODEL if suite == "engine" else suite)
@@ -102,6 +103,12 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
     run = model.hook("bench")
     options = {"points": points, "subset": subset, "pipeline_points": pipeline_points}
     accepted = inspect.signature(run).parameters
+    ctx = click.get_current_context()
+    for name, flag in (("points", "--points"), ("subset", "--subset"), ("pipeline_points", "--pipeline")):
+        # an option given on the command line that this suite does not take would be silently ignored
+        if name not in accepted and ctx.get_parameter_source(name) is not click.core.ParameterSource.DEFAULT:
+            raise InputError(flag, options[name], f"does not apply to --suite {suite} (its cases are fixed)",
+                             f"drop {flag}, or use --suite engine")
     report = run(echo=None if as_json else click.echo, **{k: v for k, v in options.items() if k in accepted})
     if as_json:
         echo_json(report)

@@ -97,7 +97,7 @@ def hopf_cmd(state_law, a, b, dc, v_lp, mass, damping, as_json) -> None:
 @click.option("--at", "at", default=None, callback=_floats("--at", "10"),
               help="Times of the velocity steps, comma-separated, increasing (one fewer than --v-lp).")
 @click.option("--t-end", "t_end", default=None, callback=number("--t-end", "40"),
-              help="End time (required unless --cycle).")
+              help="End time (required, except with --cycle, which takes none).")
 @click.option("--outputs", default=41, show_default=True, help="Number of evenly spaced output times.")
 @click.option("--mass", default=None, callback=number("--mass", "1e-3"), help="Mass M > 0 (inertial).")
 @click.option("--damping", default=None, callback=number("--damping", "0.002"),
@@ -118,6 +118,12 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
     from ..errors import InputError
     from ..models.rate_state import SliderSpec, load_history, rate_state
 
+    if cycle and t_end is not None:   # the cycle search sets its own run length: a given one would be ignored
+        raise InputError("--t-end", t_end, "does not apply with --cycle (the search runs until the cycle is "
+                         "found or refused)", "drop --t-end, or drop --cycle for a time series up to it")
+    if cycle and click.get_current_context().get_parameter_source("outputs") is not click.core.ParameterSource.DEFAULT:
+        raise InputError("--outputs", outputs, "does not apply with --cycle (it prints the cycle, not a time "
+                         "series)", "drop --outputs, or drop --cycle for a time series")
     if t_end is not None:
         _check_times(t_end, outputs)
     for step in at or []:
@@ -201,10 +207,11 @@ def continue_cmd(workflow: str, out, damping) -> None:
 
     from ._common import check_writable_dir
 
-    load_study(workflow)  # validate before anything is computed or written
+    study = load_study(workflow)  # validate before anything is computed or written
     if damping is not None:
         damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
-    check_writable_dir(out if out is not None else "results")   # and where it goes
+    # and where it goes (run_study's default)
+    check_writable_dir(out if out is not None else f"results/local/{study.name}")
     run_study(workflow, out, echo=click.echo, damping=damping)
 
 

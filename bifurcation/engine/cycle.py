@@ -201,7 +201,8 @@ def run_model(model, law, points: dict, *, precision: str = "double", t_max: flo
         where = np.flatnonzero(inverse.ravel() == g)
         structure = {name: model.axis(name).cast(value) for name, value in zip(structural, key)}
         part, notes = _run_group(model, law, {k: v[where] for k, v in values.items()}, where.size, structure,
-                                 precision, t_max, max_steps, batch)
+                                 precision, t_max, max_steps, batch,
+                                 {k: np.asarray(v)[where] for k, v in exact.items()} if exact else None)
         for name, column in part.items():
             if name not in fields:
                 fields[name] = np.empty(size, dtype=np.asarray(column).dtype)

@@ -67,15 +67,15 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         event (``n_blocks_all``, ``potency_all`` keep the others); ``membership`` records which.
     progress : callable, optional
         ``progress(events_done, events, t)``, called about every second of computing (the CLI's line
-        on stderr for a long run); the events are the same with or without it (the exact engine; the
-        compiled one runs without it).
+        on stderr for a long run); the events are the same with or without it (either engine; not
+        called when the compiled engine runs with ``verify``).
     engine : {"exact", "compiled"}
         ``"exact"``: heyoka's Taylor integrator (the reference). ``"compiled"``: the numba engine
         (``_compiled``; double precision, no energy budget), DOP853 at tolerance ``tol`` with the
         same exact event location; its catalog adds ``error_estimate`` per event (docs/chain.md,
         "Engines").
     tol : float, optional
-        The compiled engine's DOP853 tolerance (default ``_compiled.TOL`` = 1e-12).
+        The compiled engine's DOP853 tolerance (default ``_compiled.TOL`` = 1e-11).
     verify : float
         With the compiled engine: re-run this fraction of the events (every ⌈1/verify⌉-th, the first
         included) with the exact engine from the same pre-event state; ``result.verification`` holds
@@ -115,7 +115,7 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         if v_threshold:
             raise InputError("v_threshold", v_threshold, "is not available in the compiled engine",
                              "use engine='exact' for membership by a slip-velocity threshold")
-        return _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps, verify)
+        return _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps, verify, progress)
     from ._loop import ChainLoop
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
@@ -146,28 +146,34 @@ def _run_reporting(loop, events: int, progress, every: float = 1.0) -> dict:
     while done < events:
         started = time.perf_counter()
         part = loop.run(min(chunk, events - done))
-        if out["catalog"] is None:
-            out["catalog"] = part["catalog"]
+        if out["catalog"] is None:   # lists (the exact engine) or arrays (the compiled one: joined at the end)
+            out["catalog"] = {k: v if isinstance(v, list) else [v] for k, v in part["catalog"].items()}
+            arrays = not isinstance(part["catalog"]["t_start"], list)
         else:
             for key, values in part["catalog"].items():
-                out["catalog"][key].extend(values)
-        done = len(out["catalog"]["t_start"])
+                out["catalog"][key].extend(values if not arrays else [values])
+        done += len(part["catalog"]["t_start"])
         if part["status"] != ChainStatus.COMPLETE:
             out["status"], out["message"] = part["status"], part["message"]
             break
         elapsed = time.perf_counter() - started
         chunk = max(1, min(chunk * 2, int(chunk * every / elapsed) if elapsed > 0 else chunk * 2))
         progress(done, events, float(loop.t))
+    if arrays:
+        out["catalog"] = {k: np.concatenate(v) for k, v in out["catalog"].items()}
     return out
 
 
-def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps, verify) -> ChainResult:
+def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps, verify,
+                  progress=None) -> ChainResult:
     from ._compiled import CompiledChain, run_verified
 
     run = CompiledChain(law, n, ell, nu, nu_f, ends, u, sigma=sigma, tol=tol, t_max=t_max, max_steps=max_steps)
     report = None
     if verify > 0:
         out, report = run_verified(run, events, verify)
+    elif progress is not None:   # in growing pieces, as the exact engine: the same events (tests)
+        out = _run_reporting(run, events, progress)
     else:
         out = run.run(events)
     cat = out["catalog"]

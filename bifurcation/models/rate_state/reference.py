@@ -170,12 +170,12 @@ def reference_run(spec: SliderSpec, history: LoadHistory, times, *, dps: int = 4
 
 def _section_function(spec: SliderSpec, v_lp):
     """g(τ, θ) = a ln(V/V*) + ηV − a ln(V_lp/V*) − ηV_lp: zero on the section V = V_lp, increasing in V."""
-    a, eta, vref, mu0 = mp.mpf(spec.a), mp.mpf(spec.damping), mp.mpf(spec.v_ref), mp.mpf(spec.mu0)
+    a, eta, vref, mu0 = _mpf(spec.a), _mpf(spec.damping), _mpf(spec.v_ref), _mpf(spec.mu0)
     laws = [resolve_state_law(n) for n in spec.state_law]
     offset = mu0 + a * mp.log(v_lp / vref) + eta * v_lp
 
     def g(tau, thetas):
-        return tau - offset - mp.fsum(mp.mpf(b) * mp.log(vref * th / (law.steady_factor * mp.mpf(d)))
+        return tau - offset - mp.fsum(_mpf(b) * mp.log(vref * th / (law.steady_factor * _mpf(d)))
                                       for b, th, law, d in zip(spec.b, thetas, laws, spec.dc))
     return g
 
@@ -195,11 +195,11 @@ def reference_cycle(spec: SliderSpec, v_lp, theta0, *, turns: int = 2, dps: int 
     if spec.inertial:
         raise ValueError("the mpmath cycle reference is for the quasi-static slider")
     with mp.workdps(dps):
-        v_lp = mp.mpf(v_lp)
-        a, eta, vref = mp.mpf(spec.a), mp.mpf(spec.damping), mp.mpf(spec.v_ref)
+        v_lp = _mpf(v_lp)
+        a, eta, vref = _mpf(spec.a), _mpf(spec.damping), _mpf(spec.v_ref)
         tol = mp.mpf(10) ** (-tol_digits)
         g = _section_function(spec, v_lp)
-        thetas = [mp.mpf(x) for x in theta0]
+        thetas = [_mpf(x) for x in theta0]
         out = []
 
         def velocity(tau, ths):
@@ -225,7 +225,7 @@ def reference_cycle(spec: SliderSpec, v_lp, theta0, *, turns: int = 2, dps: int 
 
                 def dg_at(s):
                     ths = [_horner(c, s) for c in TH]
-                    return _horner(dM, s) - mp.fsum(mp.mpf(b) * _horner(dc_, s) / th
+                    return _horner(dM, s) - mp.fsum(_mpf(b) * _horner(dc_, s) / th
                                                     for b, dc_, th in zip(spec.b, dTH, ths))
 
                 g0, g1 = g_at(0), g_at(h)

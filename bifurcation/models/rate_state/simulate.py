@@ -212,9 +212,12 @@ def _result(spec, history, times, out, c, thresholds, status, message, steps, pr
     mu = spec.mu(ln_v, ln_theta, log=_log_for(c.dtype), num=c.dtype)
     spring = mu + z   # k(δ_lp − δ) = μ + z + ηV
     if spec.damped:
-        spring = spring + c.dtype(spec.damping) * np.exp(ln_v)
-    spring = spring / c.dtype(spec.k)
-    dlp = np.array([history.displacement(float(s)) for s in times]).astype(c.dtype)
+        spring = spring + at_precision(spec.damping, c.dtype) * np.exp(ln_v)
+    spring = spring / at_precision(spec.k, c.dtype)
+    if c.dtype is np.float64:
+        dlp = np.array([history.displacement(float(s)) for s in times]).astype(c.dtype)
+    else:   # real128: the load point's displacement and k from the decimals too, or slip is double-accurate
+        dlp = np.array([history.displacement(float(s), c.dtype) for s in times], dtype=c.dtype)
     slip = (dlp - dlp[0]) - (spring - spring[0])
     ext = np.array(c.recorder.extrema, dtype=float).reshape(-1, 3)
     cro = np.array(c.recorder.crossings, dtype=float).reshape(-1, 3)

@@ -65,8 +65,19 @@ class LoadHistory:
                 v = vj
         return v
 
-    def displacement(self, t) -> float:
-        """Load-point displacement δ_lp(t) − δ_lp(times[0])."""
+    def displacement(self, t, dtype=None) -> float:
+        """Load-point displacement δ_lp(t) − δ_lp(times[0]); in ``dtype`` (e.g. real128) when given, the
+        velocities read from their decimal text at that precision (engine._exact)."""
+        if dtype is not None:
+            from ...engine._exact import at_precision
+
+            d = dtype(0)
+            for j, (tj, vj) in enumerate(zip(self.times, self.velocities)):
+                end = self.times[j + 1] if j + 1 < len(self.times) else math.inf
+                if t <= tj:
+                    break
+                d += at_precision(vj, dtype) * (at_precision(min(t, end), dtype) - at_precision(tj, dtype))
+            return d
         d = 0.0
         for j, (tj, vj) in enumerate(zip(self.times, self.velocities)):
             end = self.times[j + 1] if j + 1 < len(self.times) else math.inf
