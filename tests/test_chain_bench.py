@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from bifurcation.laws import resolve_law
 from bifurcation.models.chain._bench import _steady_start, rk4_chain, run_chain_bench
@@ -27,6 +28,7 @@ def test_the_steady_start_is_the_state_after_the_transient():
     np.testing.assert_allclose(again["potency"], after["potency"], rtol=1e-9)
 
 
+@pytest.mark.slow   # 8 s; the baselines' catalogs stay in the fast suite (test_numba_rk4_baselines_are_the_interpreted_rk4)
 def test_the_suite_reports_rates_and_ratios_at_every_step():
     """One tiny case: the report carries the compiled engine's rate and its verification, and per
     baseline (numba RK4 active set and whole chain, numpy RK4) and dt the rate, KS distances in [0, 1]

@@ -111,6 +111,7 @@ def test_slide_hold_slide_spans_many_decades_of_velocity():
     assert r.v[1] == pytest.approx(1.0, rel=1e-6) and r.slip[-1] > 0
 
 
+@pytest.mark.slow   # 8 s; holds stay in the fast suite through test_slide_hold_slide_spans_many_decades_of_velocity
 def test_reload_after_a_1e12_hold_is_as_precise_as_its_first_second():
     # Slip law, hold of 1e12: V falls 15.5 decades (ln V = −35.7). Each load segment runs in its own
     # local time, so the reload is resolved to its own scale and not to ulp(1e12) = 1.2e-4 (which
