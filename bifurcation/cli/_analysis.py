@@ -113,7 +113,7 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> N
 
 
 @click.command("report", epilog=examples(
-    'bifurcation report --store results/paper-fig3.zarr --out my-report'))
+    'bifurcation report --store results/paper-fig3.zarr --out results/local/my-report'))
 @_STORE
 @click.option("--out", "out", metavar="DIR", required=True, help="Directory for REPORT.md, report.html, PNGs.")
 @O.JSON
@@ -147,7 +147,7 @@ def _workflow_dir() -> Path:
 
 
 @click.command("reproduce", epilog=examples(
-    'bifurcation reproduce --out my-paper-report'))
+    'bifurcation reproduce --out results/local/my-paper-report'))
 @click.option("--out", default="results/local/paper", show_default=True, metavar="DIR",
               help="Where the report goes (the stores go to results/<study>.zarr). The committed "
                    "reference is results/paper: `--out results/paper` rewrites it.")

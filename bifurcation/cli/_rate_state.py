@@ -193,7 +193,7 @@ def _cycle(spec, history, precision, as_json) -> None:
 
 
 @click.command("continue", epilog=examples(
-    'bifurcation continue workflows/rate-state-quick.toml --out rate-state-quick'))
+    'bifurcation continue workflows/rate-state-quick.toml --out results/local/rate-state-quick'))
 @click.argument("workflow")
 @click.option("--out", default=None,
               help="Output directory (default results/local/<study name>/; the committed reference of "

@@ -24,8 +24,8 @@ def status(store: str, as_json: bool) -> None:
         click.echo(str(found))
 
 
-@click.command("export", epilog=examples("bifurcation export --store results/paper-fig3.zarr --out fig3.nc",
-                                          "bifurcation export --store results/paper-fig3.zarr --out fig3.csv"))
+@click.command("export", epilog=examples("bifurcation export --store results/paper-fig3.zarr --out results/fig3.nc",
+                                          "bifurcation export --store results/paper-fig3.zarr --out results/fig3.csv"))
 @click.option("--store", metavar="PATH", required=True, help="A store written by `bifurcation submit`.")
 @click.option("--out", metavar="FILE", required=True, help="The file to write: .nc (netCDF, CF) or .csv.")
 @click.option("--format", "fmt", type=click.Choice(["netcdf", "csv"]), default=None,
