@@ -10,6 +10,7 @@ from click.testing import CliRunner
 
 import bifurcation as bf
 from bifurcation.cli import cli
+from bifurcation.errors import InputError
 from bifurcation.models.chain import CATALOG_FIELDS
 
 BASE = ["chain", "--law", "carlson-langer", "--ell", "1", "--nu", "1e-6", "--nu-f", "0.3"]
@@ -100,3 +101,11 @@ def test_a_flag_given_twice_is_one_line_without_an_empty_value():
     res = CliRunner().invoke(cli, BASE + ["--n", "2", "--amplitude", "0.1", "--seed", "1", "--events", "2",
                                           "--json", "--json"])
     assert res.exit_code == 2 and res.stderr.strip() == "bifurcation: error: --json is given twice: give it once"
+
+
+def test_a_random_start_without_a_seed_is_refused_by_the_api_too():
+    """Issue 21: ``chain(amplitude=A)`` without ``seed`` silently took seed 0; the API now asks for it,
+    as the CLI does, before any work."""
+    with pytest.raises(InputError) as err:
+        bf.chain("carlson-langer", n=4, ell=1.0, nu=1e-3, nu_f=0.2, amplitude=0.1, events=2)
+    assert err.value.argument == "seed" and "seed=1" in str(err.value)

@@ -105,9 +105,13 @@ def check_initial(n: int, ell: float, ends: str, u0, amplitude, seed) -> np.ndar
         if amplitude is None:
             raise InputError("amplitude", None, "is missing", "give u0=array or amplitude=A (and seed=S)")
         amp = _nonnegative("amplitude", amplitude, "give an amplitude A ≥ 0, e.g. 0.5")
-        if seed is not None and (not _is_int(seed) or seed < 0):
+        if seed is None:   # a random start names its seed (issue 21: no silent seed 0)
+            raise InputError("seed", None, "is missing (a random start from amplitude needs it)",
+                             "give seed=S, e.g. seed=1 (the start is numpy.random.default_rng(S); seed=0 is the "
+                             "start earlier versions took when none was given)")
+        if not _is_int(seed) or seed < 0:
             raise InputError("seed", seed, "is not an integer ≥ 0", "give an integer seed ≥ 0, e.g. 1")
-        rng = np.random.default_rng(0 if seed is None else int(seed))
+        rng = np.random.default_rng(int(seed))
         with np.errstate(over="ignore", invalid="ignore"):
             u = amp * rng.random(n)
             u = u + np.max(stress(u, ell, ends))

@@ -43,7 +43,7 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         real128, not through the nearest double (``engine._exact``).
     ends : {"free", "periodic"}
     u0 : array_like, optional
-        Initial displacements (all σ_j(0) < 1). Or ``amplitude`` A and ``seed``: u_j = −A r_j,
+        Initial displacements (all σ_j(0) < 1). Or ``amplitude`` A and ``seed`` (both required): u_j = −A r_j,
         r_j uniform in [0, 1) from ``numpy.random.default_rng(seed)``.
     events : int
         Number of events to compute.
