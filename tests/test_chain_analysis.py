@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from bifurcation.models.chain.analysis import (b_value, finite_size_fit, hysteresis, magnitude_frequency,
                                                recurrence, spanning_excess, sweep_nu_f)
@@ -134,6 +135,7 @@ def test_sweep_steps_are_measured_in_loading_cycles():
     assert capped["events"] == [3] and capped["cycles"][0] < 2.0
 
 
+@pytest.mark.slow   # 3 s; the chain's report section and its figure stay fast in test_chain_store.py
 def test_report_runner_writes_report_figures_and_data(tmp_path):
     """A tiny workflow through the report runner: every section, the figures, data.json, and a Speed
     section of an existing REPORT.md carried over unchanged."""

@@ -237,6 +237,7 @@ def test_a_deep_inertial_slip_cycle_against_a_direct_run():
     assert last[:, 1].min() == pytest.approx(float(out["ln_v_min"][0]), abs=1e-9)
 
 
+@pytest.mark.slow   # 3 s; V_lp as a continuation parameter stays fast in test_rate_state_cycles.py
 def test_v_lp_only_rescales_a_point_at_fixed_eta():
     # In τ = t V_lp/Dc and ln(V/V_lp) the equations contain V_lp only through η = M V_lp²/(a Dc)
     # (docs/rate-state.md): over 12 decades of V_lp at η = 0.1 the stored cycle has the same V_lp·T and
