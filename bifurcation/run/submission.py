@@ -98,6 +98,28 @@ def _report(values: dict) -> list[int]:
     return np.bincount(values["status"][values["done"]].astype(np.int64), minlength=max(Status) + 1).tolist()
 
 
+def _submit_tile(client, tile: Tile, store: str, run_id: str, writer: str, key: str, retries: int):
+    """A tile as a Dask task: computed and written by the worker, or (``writer="client"``) only computed."""
+    if writer == "workers":
+        return client.submit(run_tile, tile, store, run_id, key=key, retries=retries, pure=False)
+    return client.submit(compute_tile, tile, key=key, retries=retries, pure=False)
+
+
+def _tile_counts(future, tile: Tile, store: str, run_id: str, writer: str) -> list[int]:
+    """The status counts of a finished tile task; with ``writer="client"`` its values are written here."""
+    from ..store import write_tile
+
+    if writer == "workers":
+        return future.result()
+    values = future.result()
+    write_tile(store, tile, values, run_id)
+    return _report(values)
+
+
+def _tile_error(tile: Tile, exc: BaseException) -> str:
+    return f"tile {tile.name} ({tile.law}): {type(exc).__name__}: {exc}".splitlines()[0]
+
+
 def run_tile(tile: Tile, store: str, run_id: str) -> list[int]:
     """Worker task: compute a tile and write it into its chunk of the store."""
     from ..models import get_model
@@ -359,8 +381,6 @@ def _run_here(workflow, path: Path, run_id: str, done, statuses, errors, progres
     """
     import os
 
-    from ..store import write_tile
-
     store = str(path.resolve())
     processes = workers or os.cpu_count() or 1
     remaining = workflow.n_points - int(np.count_nonzero(done))
@@ -374,7 +394,7 @@ def _run_here(workflow, path: Path, run_id: str, done, statuses, errors, progres
         nonlocal computed, failed
         if exc is not None:
             failed += tile.n_todo
-            errors.append(f"tile {tile.name} ({tile.law}): {type(exc).__name__}: {exc}".splitlines()[0])
+            errors.append(_tile_error(tile, exc))
         else:
             statuses[:] += np.asarray(counts, dtype=np.int64)
             computed += tile.n_todo
@@ -389,12 +409,7 @@ def _run_here(workflow, path: Path, run_id: str, done, statuses, errors, progres
         for key in [k for k, (future, _) in pending.items() if future.done()]:
             future, tile = pending.pop(key)
             try:
-                if writer == "workers":
-                    counts = future.result()
-                else:
-                    values = future.result()
-                    write_tile(store, tile, values, run_id)
-                    counts = _report(values)
+                counts = _tile_counts(future, tile, store, run_id, writer)
             except Exception as exc:  # noqa: BLE001 — a failed tile is reported, the rest goes on
                 record(tile, exc=exc)
             else:
@@ -414,10 +429,8 @@ def _run_here(workflow, path: Path, run_id: str, done, statuses, errors, progres
                     if tile is None:
                         break
                     n_tiles += 1
-                    key = f"bifurcation-tile-{tile.name}-{token}"
-                    task = run_tile if writer == "workers" else compute_tile
-                    args = (tile, store, run_id) if writer == "workers" else (tile,)
-                    future = client.submit(task, *args, key=key, retries=retries, pure=False)
+                    future = _submit_tile(client, tile, store, run_id, writer,
+                                          f"bifurcation-tile-{tile.name}-{token}", retries)
                     pending[future.key] = (future, tile)
             tile = next(tiles, None)
             if tile is None:
@@ -470,8 +483,6 @@ def _window(client) -> int:
 def _run(client, workflow, path: Path, run_id: str, done, statuses, errors, progress, writer, retries):
     from distributed import as_completed
 
-    from ..store import write_tile
-
     store = str(path.resolve())
     token = uuid.uuid4().hex[:8]
     tiles = iter_tiles(workflow, done)
@@ -486,11 +497,8 @@ def _run(client, workflow, path: Path, run_id: str, done, statuses, errors, prog
             tile = next(tiles, None)
             if tile is None:
                 return
-            key = f"bifurcation-tile-{tile.name}-{token}"
-            if writer == "workers":
-                future = client.submit(run_tile, tile, store, run_id, key=key, retries=retries, pure=False)
-            else:
-                future = client.submit(compute_tile, tile, key=key, retries=retries, pure=False)
+            future = _submit_tile(client, tile, store, run_id, writer, f"bifurcation-tile-{tile.name}-{token}",
+                                  retries)
             pending[future.key] = (future, tile)
             stream.add(future)
             n_tiles += 1
@@ -500,15 +508,10 @@ def _run(client, workflow, path: Path, run_id: str, done, statuses, errors, prog
         for future in stream:
             _, tile = pending.pop(future.key)
             try:
-                if writer == "workers":
-                    counts = future.result()
-                else:
-                    values = future.result()
-                    write_tile(store, tile, values, run_id)
-                    counts = _report(values)
+                counts = _tile_counts(future, tile, store, run_id, writer)
             except Exception as exc:  # noqa: BLE001 — a failed tile is reported, the rest goes on
                 failed += tile.n_todo
-                errors.append(f"tile {tile.name} ({tile.law}): {type(exc).__name__}: {exc}".splitlines()[0])
+                errors.append(_tile_error(tile, exc))
             else:
                 statuses += np.asarray(counts, dtype=np.int64)
                 computed += tile.n_todo
