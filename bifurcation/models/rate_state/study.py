@@ -99,22 +99,24 @@ MAX_HOPF_VALUES = 100
 MAX_ETA = 1e3
 
 
-def _eta(key, value) -> float:
-    """η = M V_lp²/(a Dc) ≥ 0 (0: quasi-static)."""
+def _bounded(key, value, meaning: str, fix: str) -> float:
+    """A coefficient in [0, MAX_ETA]: ``meaning`` says what 0 means, ``fix`` what to write."""
     value = _num(key, value)
     if not 0 <= value <= MAX_ETA:
-        raise InputError(key, value, f"must be in [0, {MAX_ETA:g}] (η = M V_lp²/(a Dc); 0 is quasi-static)",
-                         "give eta >= 0, e.g. 0.1, or 0 for the quasi-static slider")
+        raise InputError(key, value, f"must be in [0, {MAX_ETA:g}] ({meaning})", fix)
     return value
+
+
+def _eta(key, value) -> float:
+    """η = M V_lp²/(a Dc) ≥ 0 (0: quasi-static)."""
+    return _bounded(key, value, "η = M V_lp²/(a Dc); 0 is quasi-static",
+                    "give eta >= 0, e.g. 0.1, or 0 for the quasi-static slider")
 
 
 def _damping(key, value) -> float:
     """Radiation damping ETA ≥ 0, friction per unit slip rate (docs/rate-state.md, "Radiation damping")."""
-    value = _num(key, value)
-    if not 0 <= value <= MAX_ETA:
-        raise InputError(key, value, f"must be in [0, {MAX_ETA:g}] (friction per unit slip rate; 0 is none)",
-                         "give damping >= 0, e.g. 0.002, or 0 for no radiation damping")
-    return value
+    return _bounded(key, value, "friction per unit slip rate; 0 is none",
+                    "give damping >= 0, e.g. 0.002, or 0 for no radiation damping")
 
 
 def _points(key, value) -> int:
