@@ -218,3 +218,19 @@ def test_cli_engine_and_verify():
         res = CliRunner().invoke(cli, base + bad)
         assert res.exit_code == 2 and "Traceback" not in res.output
         assert len(res.output.strip().splitlines()) == 1, res.output
+
+
+def test_compiled_engine_refuses_a_large_drop_on_friction_that_fades():
+    """Found at review: with exp(-x - 4x^2) (N = 5, ν_f = 0.05) the compiled engine was 1.3e-7 (σ = 0.9)
+    and 1.9e-6 (σ = 0.98) off the exact engine, which agreed with quad to 2e-15, while its error estimate
+    said ~1e-11: DOP853 steps over the steep onset of fading friction, which the exact engine's rungs
+    prevent. Up to σ = 0.5 it agreed to 1.2e-11 (checked here), so only larger drops are refused."""
+    args = dict(n=5, ell=1.0, nu=1e-4, nu_f=0.05, u0=[0, -0.1, -0.2, -0.3, -0.4], events=3)
+    with pytest.raises(InputError) as err:
+        bf.chain("exp(-x-4*x^2)", engine="compiled", sigma=0.9, **args)
+    assert err.value.argument == "sigma" and "engine='exact'" in str(err.value)
+    fast = bf.chain("exp(-x-4*x^2)", engine="compiled", sigma=0.5, **args)
+    quad = bf.chain("exp(-x-4*x^2)", sigma=0.5, precision="quad", **args)
+    assert np.max(np.abs(fast.potency - quad.potency) / quad.potency) < 1e-10   # tol 1e-11 (docs/chain.md)
+    # an algebraic law has no rungs and keeps the compiled engine at any drop
+    assert bf.chain("carlson-langer", engine="compiled", sigma=0.98, **args).status == 1
