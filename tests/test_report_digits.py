@@ -55,7 +55,7 @@ def _committed():
                                         ("extrapolations", "| law | ν_f | regime |"),
                                         ("ensemble", "| model | ν ≤ |")])
 def test_committed_tables_are_what_the_engine_gives_here(tables, name, head):
-    assert [[str(c) for c in row] for row in tables[name][1]] == _rows(_committed(), head)
+    assert [[str(c) for c in row] for row in tables[name].rows] == _rows(_committed(), head)
 
 
 def _another_cpu(ds, seed: int):
@@ -82,8 +82,8 @@ def test_tables_hold_when_the_data_change_as_on_another_cpu(data, tables):
         moved = _another_cpu(data, seed)
         extrapolations, fits = fit_results([moved])
         again = fit_tables(extrapolations, fits, stability_reruns([moved], extrapolations))
-        assert again["period_fits"][1] == tables["period_fits"][1], seed
-        assert again["extrapolations"][1] == tables["extrapolations"][1], seed
+        assert again["period_fits"].rows == tables["period_fits"].rows, seed
+        assert again["extrapolations"].rows == tables["extrapolations"].rows, seed
 
 
 def test_stable_cuts_the_digits_a_change_can_move():

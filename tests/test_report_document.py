@@ -3,7 +3,7 @@
 import pytest
 
 from bifurcation.report.document import Figure, Heading, Items, Paragraph, Section, Table, flatten
-from bifurcation.report.render import _html, _markdown
+from bifurcation.report.document import to_html as _html, to_markdown as _markdown
 
 
 def _tree():
@@ -20,7 +20,7 @@ def test_a_section_reads_as_its_heading_then_its_blocks():
 
 
 def test_the_renderer_writes_the_same_markdown_for_typed_blocks_and_the_older_tuples():
-    # the paper's report still builds tuples: both forms must give one text, byte for byte
+    # the chain's store section still builds tuples: both forms must give one text, byte for byte
     tuples = [("h1", "Study report: 'x'"), ("p", "units: $\\nu$ in V0."), ("h2", "Store s"),
               ("table", ["law", "points"], [["carlson-langer", "3"]]), ("h3", "Law carlson-langer"),
               ("ul", ["one", "two"])]

@@ -2,19 +2,26 @@
 
 ``Section(title, blocks, level)`` holds its blocks (a store's section holds one ``Section`` per law);
 the leaves are ``Heading``, ``Paragraph``, ``Items`` (a bullet list), ``Table`` and ``Figure``. The
-renderer (``bifurcation.report.render``: ``_markdown``, ``_html``) reads ``flatten(blocks)``: a section
-is its heading, then its blocks. Text may hold the inline math of ``report._math`` ($...$, x_i, ...).
+renderer (``to_markdown``, ``to_html``) reads ``flatten(blocks)``: a section is its heading, then its
+blocks. Text may hold the inline math of ``report._math`` ($...$, x_i, ...).
 
-The paper's report (``render._blocks``), the common part of ``report --store`` (``report.study``) and
-the chain's store section still build the older tuples (``("table", head, rows)``); ``flatten`` reads
-those too, so every report goes through the one renderer (rate-state's store section is typed).
+Every report is built of these blocks: the paper's (``report.render``), the one of any store
+(``report.study``), the rate-state study's (``models.rate_state.report``) and the models' store
+sections. ``flatten`` still reads the older tuples (``("table", head, rows)``) for a section that has
+not moved over yet (the chain's store section).
 """
 
 from __future__ import annotations
 
+import base64
+import html
 from dataclasses import dataclass, field
+from pathlib import Path
 
-__all__ = ["Block", "Figure", "Heading", "Items", "Paragraph", "Section", "Table", "flatten"]
+from ._math import inline_html
+
+__all__ = ["Block", "Figure", "Heading", "Items", "Paragraph", "Section", "Table", "flatten", "to_html",
+           "to_markdown"]
 
 
 @dataclass(frozen=True)
@@ -59,10 +66,16 @@ class Table:
 
 @dataclass(frozen=True)
 class Figure:
-    """An image file written beside the report (its name relative to the report) and its caption."""
+    """An image file written beside the report (its name relative to the report) and its caption (none if
+    empty); ``alt``, its text for readers who cannot see it, is the file's name in words unless given."""
 
     file: str
-    caption: str
+    caption: str = ""
+    alt: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.alt:
+            object.__setattr__(self, "alt", self.file.rsplit(".", 1)[0].replace("_", " "))
 
 
 @dataclass(frozen=True)
@@ -99,3 +112,86 @@ def flatten(blocks) -> list:
         else:
             raise TypeError(f"not a report block: {block!r}")
     return out
+
+
+# -- the renderer ---------------------------------------------------------------------------------------
+def _md_cell(text: str) -> str:
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def to_markdown(blocks) -> str:
+    """``blocks`` (typed blocks and sections, or the older tuples) as Markdown: one blank line between blocks."""
+    out = []
+    for block in flatten(blocks):
+        if isinstance(block, Heading):
+            out.append(f"{'#' * block.level} {block.text}\n")
+        elif isinstance(block, Paragraph):
+            out.append(f"{block.text}\n")
+        elif isinstance(block, Items):
+            out.append("\n".join(f"- {item}" for item in block.items) + "\n")
+        elif isinstance(block, Table):
+            lines = ["| " + " | ".join(_md_cell(h) for h in block.head) + " |",
+                     "|" + "|".join("---" for _ in block.head) + "|"]
+            lines += ["| " + " | ".join(_md_cell(c) for c in r) + " |" for r in block.rows]
+            out.append("\n".join(lines) + "\n")
+        elif isinstance(block, Figure):
+            out.append(f"![{block.alt}]({block.file})\n" + (f"\n*{block.caption}*\n" if block.caption else ""))
+    return "\n".join(out)
+
+
+_CSS = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;line-height:1.45;"
+        "color:#222}"
+        "table{border-collapse:collapse;font-size:0.85em;margin:0.6em 0}"
+        "td,th{border:1px solid #ccc;padding:3px 6px;vertical-align:top}th{background:#f2f2f2}"
+        "figure{margin:1.2em 0}img{max-width:100%}figcaption{font-size:0.9em;color:#444}"
+        ".card{border:1px solid #ddd;border-radius:4px;padding:0.5em 0.9em;margin:0.7em 0}"
+        ".card h3{font-size:1em;margin:0.1em 0 0.4em}.card dl{margin:0;display:grid;"
+        "grid-template-columns:10em 1fr;gap:0.25em 0.8em;font-size:0.92em}.card dt{color:#555}"
+        ".card dd{margin:0}.tag{font-size:0.8em;border-radius:3px;padding:1px 6px;margin-left:0.6em;"
+        "background:#eee}")
+
+#: A table whose cells average more characters than this reads better as one card per row.
+_CARD_CELL_CHARS = 45
+
+
+def _table_html(head, rows) -> str:
+    m = inline_html
+    cells = [str(c) for r in rows for c in r]
+    if len(head) < 4 or not cells or sum(map(len, cells)) / len(cells) < _CARD_CELL_CHARS:
+        return ("<table><tr>" + "".join(f"<th>{m(h)}</th>" for h in head) + "</tr>"
+                + "".join("<tr>" + "".join(f"<td>{m(c)}</td>" for c in r) + "</tr>" for r in rows)
+                + "</table>")
+    # one card per row: the first column as its title, a verdict-like last column as a tag
+    tagged = head[-1].lower() in ("verdict", "cause")
+    out = []
+    for r in rows:
+        title = f"<h3>{m(r[0])}" + (f'<span class="tag">{m(r[-1])}</span>' if tagged else "") + "</h3>"
+        body = head[1:-1] if tagged else head[1:]
+        items = "".join(f"<dt>{m(h)}</dt><dd>{m(c)}</dd>" for h, c in zip(body, r[1:]))
+        out.append(f'<div class="card">{title}<dl>{items}</dl></div>')
+    return "".join(out)
+
+
+def to_html(blocks, figure_dir) -> str:
+    """``blocks`` as one self-contained HTML page: its title is the first heading, each figure is read from
+    ``figure_dir`` and embedded (base64), so the page needs no file beside it."""
+    e, m = html.escape, inline_html
+    blocks = flatten(blocks)
+    title = next(b.text for b in blocks if isinstance(b, Heading))
+    parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+             f"<title>{e(title)}</title><style>{_CSS}</style></head><body>"]
+    for block in blocks:
+        if isinstance(block, Heading):
+            parts.append(f"<h{block.level}>{m(block.text)}</h{block.level}>")
+        elif isinstance(block, Paragraph):
+            parts.append(f"<p>{m(block.text)}</p>")
+        elif isinstance(block, Items):
+            parts.append("<ul>" + "".join(f"<li>{m(i)}</li>" for i in block.items) + "</ul>")
+        elif isinstance(block, Table):
+            parts.append(_table_html(block.head, block.rows))
+        elif isinstance(block, Figure):
+            data = base64.b64encode((Path(figure_dir) / block.file).read_bytes()).decode("ascii")
+            caption = f"<figcaption>{m(block.caption)}</figcaption>" if block.caption else ""
+            parts.append(f'<figure><img alt="{e(block.alt)}" src="data:image/png;base64,{data}">{caption}</figure>')
+    parts.append("</body></html>")
+    return "\n".join(parts) + "\n"

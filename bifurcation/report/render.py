@@ -1,15 +1,13 @@
 """Build the report: analysis of the stores → figures (PNG) → ``REPORT.md`` and a self-contained
 ``report.html`` (figures embedded as base64, no external references).
 
-The document is assembled once as a list of blocks (headings, paragraphs, tables, figures, lists) and
-rendered twice, to Markdown and to HTML, so the two always say the same thing. Nothing in it depends on
+The document is assembled once as typed blocks (``report.document``: sections, paragraphs, tables,
+figures, lists) and rendered twice, to Markdown and to HTML, so the two always say the same thing. Nothing in it depends on
 the wall clock, so the same stores give the same report.
 """
 
 from __future__ import annotations
 
-import base64
-import html
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -17,10 +15,10 @@ from pathlib import Path
 import numpy as np
 
 from . import figures as F
-from ._math import inline_html
-from .document import Figure, Heading, Items, Paragraph, Table, flatten
+from .document import Figure, Heading, Items, Paragraph, Section, Table, to_html, to_markdown
 
-__all__ = ["ReportData", "analyse", "fit_results", "fit_tables", "stability_reruns", "write_report"]
+__all__ = ["ReportData", "analyse", "fit_results", "fit_tables", "paper_claims_table", "stability_reruns",
+           "write_report"]
 
 LAWS = ("piecewise-linear", "carlson-langer")
 FIT_NU_F = (0.2, 0.3, 0.4)
@@ -291,6 +289,7 @@ def _findings(data: ReportData, ex_cl, ex_pl, errata) -> list[str]:
 
 
 def _blocks(data: ReportData, files) -> list:
+    """The paper's report as typed blocks (``report.document``): the summary, then one section each."""
     from .. import __version__
     from ..analysis.extrapolate import CRITICAL_ORDERS, CRITICAL_WINDOWS, PAPER_CL_HALF
     from ..analysis.period_fit import DEFAULT_RELATIVE_ERROR, DEFAULT_WINDOWS
@@ -298,51 +297,30 @@ def _blocks(data: ReportData, files) -> list:
 
     ex_cl = data.extrapolations.get(("carlson-langer", 0.5))
     ex_pl = data.extrapolations.get(("piecewise-linear", 0.5))
-    b: list = [("h1", "Vasconcelos, PRL 76, 4865 (1996), reproduced and checked")]
-    b.append(("p", "A spring-block model with velocity-weakening friction Φ: Ü = νt − U + 1 − Φ(U̇/ν_f). "
-                   "The paper claims a first-order (discontinuous) transition from stick-slip to creep at ν_f = 1/2 as "
-                   "ν → 0. Each number below is computed by this package (engine, direct ν → 0 limit, fits); "
-                   "units: Δ in F0/k, ν and ν_f in V0 = F0/√(mk), times in √(m/k)."))
-    b.append(("ul", _findings(data, ex_cl, ex_pl, ERRATA)))
-    b.append(("h2", "Claims"))
-    b.append(("table", ["where", "the paper says", "we measure", "agreement", "verdict"],
-              [[c.where, f"{c.statement}: {c.paper}", c.measured, c.agreement, c.verdict]
-               for c in data.claims]))
-    b.append(("h2", "Errata"))
-    b.append(("table", ["equation", "printed", "corrected", "cause", "evidence"],
-              [[e.equation, e.printed, e.corrected, e.cause, e.evidence] for e in ERRATA]))
-    b.append(("h2", "Δ(ν → 0): extrapolated from finite ν vs the direct limit"))
-    b.append(("p", f"At ν_f = 1/2: polynomials of order {min(CRITICAL_ORDERS)}–{max(CRITICAL_ORDERS)} in "
-                   "ε = 1/W(1/(2eν)) (+ ν/ε, ν) over the windows ν ≤ "
-                   + ", ".join(_sci(w) for w in CRITICAL_WINDOWS)
-                   + "; the estimate is the median, the uncertainty the largest deviation "
-                   "from it combined with the largest covariance error. Below 1/2: the expansion of the "
-                   "recurrence-time section with Δ0 free. The direct limit is the engine's ν = 0 orbit (quad; "
-                   "its error is |quad − double|)."))
     tables = fit_tables(data.extrapolations, data.period_fits, data.reruns)
-    b.append(("table", *tables["extrapolations"]))
+    limit = [Paragraph(f"At ν_f = 1/2: polynomials of order {min(CRITICAL_ORDERS)}–{max(CRITICAL_ORDERS)} in "
+                       "ε = 1/W(1/(2eν)) (+ ν/ε, ν) over the windows ν ≤ "
+                       + ", ".join(_sci(w) for w in CRITICAL_WINDOWS)
+                       + "; the estimate is the median, the uncertainty the largest deviation "
+                       "from it combined with the largest covariance error. Below 1/2: the expansion of the "
+                       "recurrence-time section with Δ0 free. The direct limit is the engine's ν = 0 orbit (quad; "
+                       "its error is |quad − double|)."),
+             tables["extrapolations"]]
     if ex_cl is not None:
-        b.append(("p", "Carlson–Langer at ν_f = 1/2, every model of the ensemble:"))
-        b.append(("table", *tables["ensemble"]))
         naive = "; ".join(f"{k}: {v:.4g}" for k, v in ex_cl.naive.items())
-        b.append(("p", f"How a value like {PAPER_CL_HALF:g} arises — extrapolations that assume faster than "
-                       "logarithmic "
-                       f"convergence, or no extrapolation: {naive}."))
-    b.append(("h2", "Recurrence time: T − Δ0/ν = (α − ω) ln(1/ν) + C0 + K ν^−r + …"))
-    b.append(("p", "r = (α − ω)² = λ−/λ+. The slow mode of the start grows to ~ν^(1−r) by the time the fast "
-                   "mode has carried the block out, so the expansion holds the powers ν^(j(1−r)+k−1) (with ln(1/ν) "
-                   "companions where the eigenvalues depend on ν, and at the resonances λ+ = 9λ− (ν_f = 0.3) "
-                   "and 4λ− (ν_f = 0.4), which add ν^(m−1) ln(1/ν), below the data precision for ν ≤ 1e-5). "
-                   f"Linear least squares, r fixed, weights 1/({_sci(DEFAULT_RELATIVE_ERROR)} T); the higher terms "
-                   "are chosen by the data (smallest model whose residuals are at the data precision) in each "
-                   "window ν ≤ " + ", ".join(_sci(w) for w in DEFAULT_WINDOWS)
-                   + "; the uncertainty includes the spread over windows."))
-    b.append(("table", *tables["period_fits"]))
-    b.append(("p", _STABLE_NOTE))
-    b.append(("h2", "Figures"))
-    for name, caption in files:
-        b.append(("figure", name, caption))
-    b.append(("h2", "Provenance"))
+        limit += [Paragraph("Carlson–Langer at ν_f = 1/2, every model of the ensemble:"), tables["ensemble"],
+                  Paragraph(f"How a value like {PAPER_CL_HALF:g} arises — extrapolations that assume faster than "
+                            f"logarithmic convergence, or no extrapolation: {naive}.")]
+    recurrence = [
+        Paragraph("r = (α − ω)² = λ−/λ+. The slow mode of the start grows to ~ν^(1−r) by the time the fast "
+                  "mode has carried the block out, so the expansion holds the powers ν^(j(1−r)+k−1) (with ln(1/ν) "
+                  "companions where the eigenvalues depend on ν, and at the resonances λ+ = 9λ− (ν_f = 0.3) "
+                  "and 4λ− (ν_f = 0.4), which add ν^(m−1) ln(1/ν), below the data precision for ν ≤ 1e-5). "
+                  f"Linear least squares, r fixed, weights 1/({_sci(DEFAULT_RELATIVE_ERROR)} T); the higher terms "
+                  "are chosen by the data (smallest model whose residuals are at the data precision) in each "
+                  "window ν ≤ " + ", ".join(_sci(w) for w in DEFAULT_WINDOWS)
+                  + "; the uncertainty includes the spread over windows."),
+        tables["period_fits"], Paragraph(_STABLE_NOTE)]
     prov = [f"bifurcation {__version__}; " + ", ".join(f"{p} {v}" for p, v in _versions().items())]
     for ds in data.sources:
         a = ds.attrs
@@ -354,8 +332,27 @@ def _blocks(data: ReportData, files) -> list:
     prov.append("Direct ν → 0 limits: bifurcation.limit (engine), quad precision; closed forms: "
                 "bifurcation.theory; paper: G. L. Vasconcelos, First-order phase transition in a model for "
                 "earthquakes, Phys. Rev. Lett. 76, 4865 (1996), equation numbers as printed there.")
-    b.append(("ul", prov))
-    return b
+    return [
+        Heading("Vasconcelos, PRL 76, 4865 (1996), reproduced and checked", 1),
+        Paragraph("A spring-block model with velocity-weakening friction Φ: Ü = νt − U + 1 − Φ(U̇/ν_f). "
+                  "The paper claims a first-order (discontinuous) transition from stick-slip to creep at ν_f = 1/2 "
+                  "as ν → 0. Each number below is computed by this package (engine, direct ν → 0 limit, fits); "
+                  "units: Δ in F0/k, ν and ν_f in V0 = F0/√(mk), times in √(m/k)."),
+        Items(_findings(data, ex_cl, ex_pl, ERRATA)),
+        Section("Claims", [paper_claims_table(data.claims)]),
+        Section("Errata", [Table(["equation", "printed", "corrected", "cause", "evidence"],
+                                 [[e.equation, e.printed, e.corrected, e.cause, e.evidence] for e in ERRATA])]),
+        Section("Δ(ν → 0): extrapolated from finite ν vs the direct limit", limit),
+        Section("Recurrence time: T − Δ0/ν = (α − ω) ln(1/ν) + C0 + K ν^−r + …", recurrence),
+        Section("Figures", [Figure(name, caption) for name, caption in files]),
+        Section("Provenance", [Items(prov)]),
+    ]
+
+
+def paper_claims_table(claims) -> Table:
+    """The paper's claims against what we measure (the paper's report and a store report that holds its laws)."""
+    return Table(["where", "the paper says", "we measure", "agreement", "verdict"],
+                 [[c.where, f"{c.statement}: {c.paper}", c.measured, c.agreement, c.verdict] for c in claims])
 
 
 _STABLE_NOTE = ("Digits: heyoka compiles for the host CPU, so the engine's results differ between machines in "
@@ -368,7 +365,7 @@ _STABLE_NOTE = ("Digits: heyoka compiles for the host CPU, so the engine's resul
 
 
 def fit_tables(extrapolations, period_fits, reruns) -> dict:
-    """The extrapolation, ensemble and recurrence-time tables as ``{name: (head, rows)}``, each fitted
+    """The extrapolation, ensemble and recurrence-time tables as ``{name: Table}``, each fitted
     number cut to its CPU-independent digits (``_stable``) using the perturbed ``reruns``."""
     from ._stable import spread, stable
 
@@ -389,13 +386,13 @@ def fit_tables(extrapolations, period_fits, reruns) -> dict:
                      f"{ex.delta0_direct:.15f}", f"{ex.delta0_direct_error:.0e}",
                      _fmt(ex.paper_value, ".6g") if ex.paper_value is not None else "—",
                      stable(ex.deviation, c, "+.1e"), "yes" if ex.consistent else "NO"])
-    tables = {"extrapolations": (["law", "ν_f", "regime", "extrapolated Δ0", "uncertainty", "direct Δ0",
-                                  "direct error", "paper", "extrap. − direct", "consistent"], rows)}
+    tables = {"extrapolations": Table(["law", "ν_f", "regime", "extrapolated Δ0", "uncertainty", "direct Δ0",
+                                       "direct error", "paper", "extrap. − direct", "consistent"], rows)}
     key = ("carlson-langer", 0.5)
     if key in extrapolations:
         ex = extrapolations[key]
         same = all(len(ex_p[key].models) == len(ex.models) for ex_p, _ in reruns)
-        tables["ensemble"] = (["model", "ν ≤", "points", "Δ0", "std. error", "max residual"],
+        tables["ensemble"] = Table(["model", "ν ≤", "points", "Δ0", "std. error", "max residual"],
                               [[m.model, f"{m.nu_max:g}", str(m.n_points),
                                 stable(m.delta0, change("ex", key, "delta0", i) if same else math.inf, ".8f"),
                                 stable(m.stderr, change("ex", key, "stderr", i) if same else math.inf, ".1e"),
@@ -415,8 +412,8 @@ def fit_tables(extrapolations, period_fits, reruns) -> dict:
                      f"{f.log_coefficient_expected:.8f}", st("relative_deviation", "+.1e"), st("C0", ".6g"),
                      st("K", ".6g"), st("K2", ".4g"), str(len(f.model)) + (" (machine-dependent)" if terms_moved else ""),
                      f"{f.nu_max:g}", st("residual_max", ".1e"), st("chi_max", ".2f")])
-    tables["period_fits"] = (["law", "ν_f", "r", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "K2",
-                              "terms", "ν ≤", "max |residual|", "max residual/error"], rows)
+    tables["period_fits"] = Table(["law", "ν_f", "r", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "K2",
+                                   "terms", "ν ≤", "max |residual|", "max residual/error"], rows)
     return tables
 
 
@@ -430,88 +427,6 @@ def _versions() -> dict:
         except PackageNotFoundError:
             pass
     return out
-
-
-def _md_cell(text: str) -> str:
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
-def _markdown(blocks) -> str:
-    """The report ``blocks`` (``report.document``: typed blocks and sections, or the older tuples) as Markdown."""
-    out = []
-    for block in flatten(blocks):
-        if isinstance(block, Heading):
-            out.append(f"{'#' * block.level} {block.text}\n")
-        elif isinstance(block, Paragraph):
-            out.append(f"{block.text}\n")
-        elif isinstance(block, Items):
-            out.append("\n".join(f"- {item}" for item in block.items) + "\n")
-        elif isinstance(block, Table):
-            lines = ["| " + " | ".join(_md_cell(h) for h in block.head) + " |",
-                     "|" + "|".join("---" for _ in block.head) + "|"]
-            lines += ["| " + " | ".join(_md_cell(c) for c in r) + " |" for r in block.rows]
-            out.append("\n".join(lines) + "\n")
-        elif isinstance(block, Figure):
-            alt = block.file.rsplit(".", 1)[0].replace("_", " ")
-            out.append(f"![{alt}]({block.file})\n\n*{block.caption}*\n")
-    return "\n".join(out)
-
-
-_CSS = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;line-height:1.45;"
-        "color:#222}"
-        "table{border-collapse:collapse;font-size:0.85em;margin:0.6em 0}"
-        "td,th{border:1px solid #ccc;padding:3px 6px;vertical-align:top}th{background:#f2f2f2}"
-        "figure{margin:1.2em 0}img{max-width:100%}figcaption{font-size:0.9em;color:#444}"
-        ".card{border:1px solid #ddd;border-radius:4px;padding:0.5em 0.9em;margin:0.7em 0}"
-        ".card h3{font-size:1em;margin:0.1em 0 0.4em}.card dl{margin:0;display:grid;"
-        "grid-template-columns:10em 1fr;gap:0.25em 0.8em;font-size:0.92em}.card dt{color:#555}"
-        ".card dd{margin:0}.tag{font-size:0.8em;border-radius:3px;padding:1px 6px;margin-left:0.6em;"
-        "background:#eee}")
-
-#: A table whose cells average more characters than this reads better as one card per row.
-_CARD_CELL_CHARS = 45
-
-
-def _table_html(head, rows) -> str:
-    m = inline_html
-    cells = [str(c) for r in rows for c in r]
-    if len(head) < 4 or not cells or sum(map(len, cells)) / len(cells) < _CARD_CELL_CHARS:
-        return ("<table><tr>" + "".join(f"<th>{m(h)}</th>" for h in head) + "</tr>"
-                + "".join("<tr>" + "".join(f"<td>{m(c)}</td>" for c in r) + "</tr>" for r in rows)
-                + "</table>")
-    # one card per row: the first column as its title, a verdict-like last column as a tag
-    tagged = head[-1].lower() in ("verdict", "cause")
-    out = []
-    for r in rows:
-        title = f"<h3>{m(r[0])}" + (f'<span class="tag">{m(r[-1])}</span>' if tagged else "") + "</h3>"
-        body = head[1:-1] if tagged else head[1:]
-        items = "".join(f"<dt>{m(h)}</dt><dd>{m(c)}</dd>" for h, c in zip(body, r[1:]))
-        out.append(f'<div class="card">{title}<dl>{items}</dl></div>')
-    return "".join(out)
-
-
-def _html(blocks, out: Path) -> str:
-    """The report ``blocks`` as one HTML page (figures embedded); its title is the first heading."""
-    e, m = html.escape, inline_html
-    blocks = flatten(blocks)
-    title = next(b.text for b in blocks if isinstance(b, Heading))
-    parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
-             f"<title>{e(title)}</title><style>{_CSS}</style></head><body>"]
-    for block in blocks:
-        if isinstance(block, Heading):
-            parts.append(f"<h{block.level}>{m(block.text)}</h{block.level}>")
-        elif isinstance(block, Paragraph):
-            parts.append(f"<p>{m(block.text)}</p>")
-        elif isinstance(block, Items):
-            parts.append("<ul>" + "".join(f"<li>{m(i)}</li>" for i in block.items) + "</ul>")
-        elif isinstance(block, Table):
-            parts.append(_table_html(block.head, block.rows))
-        elif isinstance(block, Figure):
-            data = base64.b64encode((out / block.file).read_bytes()).decode("ascii")
-            parts.append(f'<figure><img alt="{e(block.file)}" src="data:image/png;base64,{data}">'
-                         f"<figcaption>{m(block.caption)}</figcaption></figure>")
-    parts.append("</body></html>")
-    return "\n".join(parts) + "\n"
 
 
 def write_report(sources, out, *, data: ReportData | None = None) -> dict:
@@ -530,6 +445,6 @@ def write_report(sources, out, *, data: ReportData | None = None) -> dict:
     files = _make_figures(data, out)
     blocks = _blocks(data, files)
     md, page = out / "REPORT.md", out / "report.html"
-    md.write_text(_markdown(blocks), encoding="utf-8")
-    page.write_text(_html(blocks, out), encoding="utf-8")
+    md.write_text(to_markdown(blocks), encoding="utf-8")
+    page.write_text(to_html(blocks, out), encoding="utf-8")
     return {"markdown": md, "html": page, "figures": [out / n for n, _ in files], "data": data}

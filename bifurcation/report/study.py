@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from . import figures as F
+from .document import Figure, Items, Paragraph, Section, Table, to_html, to_markdown
 
 __all__ = ["MIN_SERIES", "block_section", "single_block_section", "write_store_report"]
 
@@ -167,8 +168,8 @@ def _single_block_fits(ds, law: str):
     return extrapolations, fits, skipped, not_applicable
 
 
-def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
-    """The blocks of one store's section: what every store has, then the model's own (its ``report`` hook)."""
+def _store_section(ds, out: Path, figures: list, stem: str) -> Section:
+    """One store's section: what every store has, then the model's own blocks (its ``report`` hook)."""
     from ..models import get_model
     from ..outcome import Status
     from ..store.layout import store_model
@@ -176,8 +177,7 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
     model = get_model(store_model(ds.attrs))
     a = ds.attrs
     laws = _labels(ds, model.labels.name)
-    b: list = [("h2", f"Store {a.get('store_path', '(in memory)')}: study {a.get('title', '?')!r}")]
-    b.append(("p", f"Model {model.name}: {model.title}. {model.description}. Source: {model.source}."))
+    b: list = [Paragraph(f"Model {model.name}: {model.title}. {model.description}. Source: {model.source}.")]
     describe = model.hook("describe_label")
     rows = []
     for law in laws:
@@ -189,19 +189,21 @@ def _store_blocks(ds, out: Path, figures: list, stem: str) -> list:
             rows.append([law, spec.equation, spec.source])
         except Exception as exc:  # noqa: BLE001 — a label this version cannot read is still listed
             rows.append([law, "(cannot be read by this version)", str(exc)])
-    b.append(("table", ["law", "equation", "source"], rows))
-    b.append(("table", ["axis", "symbol", "from", "to", "points", "units", "spacing"],
-              [[ax.name, ax.symbol, _fmt_value(ax.shown(_labels(ds, ax.name)[0])),
-                _fmt_value(ax.shown(_labels(ds, ax.name)[-1])),
-                str(ds.sizes[ax.name]), ax.units, ax.scale] for ax in model.axes]))
+    b.append(Table(["law", "equation", "source"], rows))
+    b.append(Table(["axis", "symbol", "from", "to", "points", "units", "spacing"],
+                   [[ax.name, ax.symbol, _fmt_value(ax.shown(_labels(ds, ax.name)[0])),
+                     _fmt_value(ax.shown(_labels(ds, ax.name)[-1])),
+                     str(ds.sizes[ax.name]), ax.units, ax.scale] for ax in model.axes]))
     status = np.asarray(ds["status"].values)
     statuses = (Status.NOT_COMPUTED, *(s for s in model.statuses if int(s) != int(Status.NOT_COMPUTED)))
-    b.append(("p", "Points per status:"))
-    b.append(("table", ["law", *(str(s) for s in statuses)],
-              [[law, *(str(int(np.count_nonzero(status[i] == int(s)))) for s in statuses)]
-               for i, law in enumerate(laws)]))
-    section = model.hook("report")
-    return b + (section(ds, model, out, figures, stem) if section is not None else [])
+    b.append(Paragraph("Points per status:"))
+    b.append(Table(["law", *(str(s) for s in statuses)],
+                   [[law, *(str(int(np.count_nonzero(status[i] == int(s)))) for s in statuses)]
+                    for i, law in enumerate(laws)]))
+    own = model.hook("report")
+    if own is not None:
+        b += own(ds, model, out, figures, stem)
+    return Section(f"Store {a.get('store_path', '(in memory)')}: study {a.get('title', '?')!r}", b)
 
 
 def block_section(ds, model, out: Path, figures: list, stem: str) -> list:
@@ -220,58 +222,57 @@ def _slip_blocks(ds, model, out: Path, figures: list, stem: str, *, fits: bool) 
     from .render import _fmt
 
     laws = _labels(ds, model.labels.name)
-    b: list = []
+    per_law = []   # (title, blocks): each law's blocks are filled below, then made a section
     for i, law in enumerate(laws):
-        b.append(("h3", f"Law {law}"))
+        b: list = []
+        per_law.append((f"Law {law}", b))
         fig, _ = _figure_law(ds, model, i, law)
         name = f"{stem}_law{i}_delta.png"
         F.save(fig, out / name)
         figures.append(out / name)
-        b.append(("figure", name, f"Slip Δ of {law} against each axis of the store ({model.name}); only finished "
-                                   "stick-slip and creep points are drawn."))
+        b.append(Figure(name, f"Slip Δ of {law} against each axis of the store ({model.name}); only finished "
+                              "stick-slip and creep points are drawn."))
         transitions = _transitions(ds, model, i)
         if transitions:
-            b.append(("p", "Transition between stick-slip and creep along each axis (the grid's neighbouring "
-                           "labels either side: the finite-grid rounding of the transition):"))
-            b.append(("table", ["along", "at", "between", "Δ either side"], transitions))
+            b.append(Paragraph("Transition between stick-slip and creep along each axis (the grid's neighbouring "
+                               "labels either side: the finite-grid rounding of the transition):"))
+            b.append(Table(["along", "at", "between", "Δ either side"], transitions))
         else:
-            b.append(("p", "No neighbouring points of this law change between stick-slip and creep on this grid."))
+            b.append(Paragraph("No neighbouring points of this law change between stick-slip and creep on this grid."))
         if not fits:
-            b.append(("p", f"The ν → 0 extrapolation and the recurrence-time fit use the single block's theory; "
-                           f"they are not made for model {model.name}."))
+            b.append(Paragraph(f"The ν → 0 extrapolation and the recurrence-time fit use the single block's theory; "
+                               f"they are not made for model {model.name}."))
             continue
         extrapolations, fitted, skipped, not_applicable = _single_block_fits(ds, law)
         if extrapolations:
-            b.append(("p", "Δ(ν → 0) extrapolated from the finite-ν points at every ν_f whose series along ν "
-                           f"allows it ({MIN_SERIES}+ points at ν ≤ 1e-6), against the direct limit (the engine's "
-                           "ν = 0 orbit; 0 in creep):"))
-            b.append(("table", ["ν_f", "regime", "points", "extrapolated Δ0", "uncertainty", "direct Δ0",
-                                "consistent"],
-                      [[f"{e.nu_f:g}", e.regime, str(e.nu.size), f"{e.delta0_extrapolated:.8g}",
-                        f"{e.uncertainty:.1e}", f"{e.delta0_direct:.12g}", "yes" if e.consistent else "NO"]
-                       for e in extrapolations]))
+            b.append(Paragraph("Δ(ν → 0) extrapolated from the finite-ν points at every ν_f whose series along ν "
+                               f"allows it ({MIN_SERIES}+ points at ν ≤ 1e-6), against the direct limit (the "
+                               "engine's ν = 0 orbit; 0 in creep):"))
+            b.append(Table(["ν_f", "regime", "points", "extrapolated Δ0", "uncertainty", "direct Δ0", "consistent"],
+                           [[f"{e.nu_f:g}", e.regime, str(e.nu.size), f"{e.delta0_extrapolated:.8g}",
+                             f"{e.uncertainty:.1e}", f"{e.delta0_direct:.12g}", "yes" if e.consistent else "NO"]
+                            for e in extrapolations]))
         else:
-            b.append(("p", f"No ν → 0 extrapolation: no ν_f of this store has {MIN_SERIES} finished points "
-                           "along ν at ν ≤ 1e-6."))
+            b.append(Paragraph(f"No ν → 0 extrapolation: no ν_f of this store has {MIN_SERIES} finished points "
+                               "along ν at ν ≤ 1e-6."))
         if fitted:
-            b.append(("p", "Recurrence time T − Δ0/ν = (α − ω) ln(1/ν) + C0 + K ν^−(α−ω)² + … at every such "
-                           "ν_f below 1/2 (the fitted ln coefficient against α − ω):"))
-            b.append(("table", ["ν_f", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "terms",
-                                "max |residual|"],
-                      [[f"{f.nu_f:g}", f"{f.log_coefficient:.8f} ± {f.log_coefficient_uncertainty:.0e}",
-                        f"{f.log_coefficient_expected:.8f}", f"{f.relative_deviation:+.1e}", _fmt(f.C0), _fmt(f.K),
-                        str(len(f.model)), f"{f.residual_max:.1e}"] for f in fitted]))
+            b.append(Paragraph("Recurrence time T − Δ0/ν = (α − ω) ln(1/ν) + C0 + K ν^−(α−ω)² + … at every such "
+                               "ν_f below 1/2 (the fitted ln coefficient against α − ω):"))
+            b.append(Table(["ν_f", "ln coefficient (fit)", "α − ω", "rel. dev.", "C0", "K", "terms", "max |residual|"],
+                           [[f"{f.nu_f:g}", f"{f.log_coefficient:.8f} ± {f.log_coefficient_uncertainty:.0e}",
+                             f"{f.log_coefficient_expected:.8f}", f"{f.relative_deviation:+.1e}", _fmt(f.C0),
+                             _fmt(f.K), str(len(f.model)), f"{f.residual_max:.1e}"] for f in fitted]))
         if not_applicable:
             where = (f"ν_f = {not_applicable[0]:g}" if len(not_applicable) == 1 else
                      f"ν_f = {not_applicable[0]:g} … {not_applicable[-1]:g} ({len(not_applicable)} labels)")
-            b.append(("p", f"The stick-slip extrapolation and the recurrence-time fit do not apply at {where}: "
-                           "there r = (α − ω)² ≥ 1/2 (ν_f ≥ √2/3 ≈ 0.4714), the term ν^(1−2r) grows as ν → 0 "
-                           "and the expansion's terms crowd together as ν_f → 1/2; at ν_f = 1/2 itself the "
-                           "critical expansion in ε applies (the row above, where the store holds it)."))
+            b.append(Paragraph(f"The stick-slip extrapolation and the recurrence-time fit do not apply at {where}: "
+                               "there r = (α − ω)² ≥ 1/2 (ν_f ≥ √2/3 ≈ 0.4714), the term ν^(1−2r) grows as ν → 0 "
+                               "and the expansion's terms crowd together as ν_f → 1/2; at ν_f = 1/2 itself the "
+                               "critical expansion in ε applies (the row above, where the store holds it)."))
         _fit_figures(b, figures, out, f"{stem}_law{i}", law, extrapolations, fitted)
         if skipped:
-            b.append(("ul", skipped))
-    return b
+            b.append(Items(skipped))
+    return [Section(title, b, level=3) for title, b in per_law]
 
 
 #: Recurrence-time series drawn per law (evenly spread over the fitted ν_f): more is unreadable.
@@ -286,17 +287,17 @@ def _fit_figures(b: list, figures: list, out: Path, stem: str, law: str, extrapo
         name = f"{stem}_critical.png"
         F.save(F.figure_critical({law: critical[0]}), out / name)
         figures.append(out / name)
-        b.append(("figure", name, f"{law} at ν_f = 1/2: Δ against ε = 1/W(1/(2eν)) (≈ 1/ln(1/ν)), the polynomial "
-                                   "fit in ε, its extrapolation to ε = 0 and the direct ν → 0 limit."))
+        b.append(Figure(name, f"{law} at ν_f = 1/2: Δ against ε = 1/W(1/(2eν)) (≈ 1/ln(1/ν)), the polynomial "
+                              "fit in ε, its extrapolation to ε = 0 and the direct ν → 0 limit."))
     if fits:
         drawn = [fits[i] for i in _pick(len(fits), _MAX_FITS_DRAWN)]
         name = f"{stem}_period.png"
         F.save(F.figure_period(drawn), out / name)
         figures.append(out / name)
-        b.append(("figure", name, f"{law}: T − Δ0/ν against ν at ν_f = "
-                                   f"{', '.join(f'{f.nu_f:g}' for f in drawn)} with the fitted expansion (solid) "
-                                   "and (α − ω) ln(1/ν) alone (dashed); below, the residuals over the data error "
-                                   "(±1 shaded; these move on another CPU: the data error is the rounding)."))
+        b.append(Figure(name, f"{law}: T − Δ0/ν against ν at ν_f = "
+                              f"{', '.join(f'{f.nu_f:g}' for f in drawn)} with the fitted expansion (solid) "
+                              "and (α − ω) ln(1/ν) alone (dashed); below, the residuals over the data error "
+                              "(±1 shaded; these move on another CPU: the data error is the rounding)."))
 
 
 def _holds_paper_laws(stores) -> bool:
@@ -312,7 +313,10 @@ def write_store_report(sources, out) -> dict:
     """
     from .. import __version__
     from ..analysis import claims_table, load_stores
-    from .render import _html, _markdown, _versions
+    from ..models import get_model
+    from ..store.layout import store_model
+    from .document import Heading
+    from .render import _versions, paper_claims_table
 
     sources = list(sources) if isinstance(sources, (list, tuple)) else [sources]
     stores = []
@@ -322,30 +326,24 @@ def write_store_report(sources, out) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     figures: list = []
     titles = ", ".join(repr(ds.attrs.get("title", "?")) for ds in stores)
-    blocks: list = [("h1", f"Study report: {titles}")]
-    from ..models import get_model
-    from ..store.layout import store_model
-
     notes = [get_model(store_model(ds.attrs)).units_note for ds in stores]
     units = "units: " + ("; ".join(dict.fromkeys(n for n in notes if n))
                          or "those the model declares on its axes and outputs")
-    blocks.append(("p", f"Every number below is read from the stores or computed from them by this package; {units}."))
-    for k, ds in enumerate(stores):
-        blocks += _store_blocks(ds, out, figures, f"store{k}")
+    blocks: list = [Heading(f"Study report: {titles}", 1),
+                    Paragraph(f"Every number below is read from the stores or computed from them by this package; "
+                              f"{units}.")]
+    blocks += [_store_section(ds, out, figures, f"store{k}") for k, ds in enumerate(stores)]
     if _holds_paper_laws(stores):
-        claims = claims_table(stores)
-        blocks.append(("h2", "The paper's claims (the stores hold its two laws)"))
-        blocks.append(("table", ["where", "the paper says", "we measure", "agreement", "verdict"],
-                       [[c.where, f"{c.statement}: {c.paper}", c.measured, c.agreement, c.verdict] for c in claims]))
-    blocks.append(("h2", "Provenance"))
+        blocks.append(Section("The paper's claims (the stores hold its two laws)",
+                              [paper_claims_table(claims_table(stores))]))
     prov = [f"bifurcation {__version__}; " + ", ".join(f"{p} {v}" for p, v in _versions().items())]
     for ds in stores:
         a = ds.attrs
         prov.append(f"store {a.get('store_path', '(in memory)')}: model {a.get('model', 'single-block')}, workflow "
                     f"sha256 {str(a.get('workflow_sha256', '?'))[:16]}, precision {a.get('precision', '?')}, "
                     f"{math.prod(ds['status'].shape)} points, written by bifurcation {a.get('version_bifurcation', '?')}")
-    blocks.append(("ul", prov))
+    blocks.append(Section("Provenance", [Items(prov)]))
     md, page = out / "REPORT.md", out / "report.html"
-    md.write_text(_markdown(blocks), encoding="utf-8")
-    page.write_text(_html(blocks, out), encoding="utf-8")
+    md.write_text(to_markdown(blocks), encoding="utf-8")
+    page.write_text(to_html(blocks, out), encoding="utf-8")
     return {"markdown": md, "html": page, "figures": figures}
