@@ -1,4 +1,5 @@
-"""The rate-state study's store (Zarr v3 via xarray), bifurcation diagram and REPORT.md (see study.py)."""
+"""The rate-state study's store (Zarr v3 via xarray), bifurcation diagram and report (REPORT.md, report.html;
+see study.py)."""
 
 from __future__ import annotations
 
@@ -156,87 +157,94 @@ def _figure(path, results) -> None:
 
 
 def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="workflows/rate-state.toml") -> None:
+    """``REPORT.md``, ``report.html`` (the same typed blocks, ``report.document``) and the bifurcation diagram."""
+    from ...report.document import Figure, Heading, Paragraph, Section, Table, to_html, to_markdown
+
     _figure(out / "bifurcation-diagram.png", results)
-    lines = [f"# Rate-and-state spring-slider: Hopf bifurcation and cycles ({spec.name})", "",
-             f"Produced by `bifurcation continue {workflow}` "
-             f"in {seconds:.0f} s on {platform.machine()} (one process). Model and equations: docs/rate-state.md.",
-             "Slider a = 0.01, b = 0.015, Dc = 0.01, V_lp = 1 unless stated; η = M V_lp²/(a Dc); κ = k/k_c.", "",
-             "Numbers that change between runs and CPUs (heyoka compiles for the host; the load sets the "
-             "times), and only these changed between two runs of this workflow: the seconds; the simulated "
-             "l1 of the degenerate branches (~1e-12: rounding, not a coefficient); the period checks "
-             "|T_direct/T − 1| (rounding, ≤ 1e-11); Floquet multipliers below ~1e-9 (finite-difference "
-             "noise of the trivial direction). Every other printed digit was the same.", "",
-             "## The verdict: is the loss of stick-slip first order?", "",
-             "| branch | l1 (normal form) | l1 (direct simulation, ε = 5e-3) | criticality | fold κ | verdict |",
-             "|---|---|---|---|---|---|"]
     in_v = [r for r in results if r["branch"].meta.get("parameter", "kappa") == "v_lp"]
     results = [r for r in results if r not in in_v]
+    rows = []
     for r in results:
         v = verdict(r, fates)
         b = r["branch"]
         fold = f"{v['fold_kappa']:.6g}" if not math.isnan(v["fold_kappa"]) else "—"
-        lines.append(f"| {r['spec'].label} | {b.hopf.lyapunov_coefficient:.4g} | {r['l1_simulation']:.4g} | "
-                     f"{v['criticality']} | {fold} | {v['order']} |")
-    lines += ["", "Quasi-static fate below k_c (start 1 % off steady state, 400 linear periods):", "",
-              "| law | κ | status | max ln V reached |", "|---|---|---|---|"]
-    for f in fates:
-        lines.append(f"| {f['state_law']} | {f['kappa']} | {f['status']} | {f['ln_v_max']:.3g} |")
+        rows.append([r["spec"].label, f"{b.hopf.lyapunov_coefficient:.4g}", f"{r['l1_simulation']:.4g}",
+                     v["criticality"], fold, v["order"]])
     bl = ", ".join(f"{law}: {('η = %.6g' % e) if not math.isnan(e) else 'none in [1e-3, 3]'}"
                    for law, e in bautin.items())
     bl = (f"Bautin points (l1 changes sign with inertia; subcritical below, supercritical above): {bl}."
           if bautin else "Bautin points: not searched (the workflow sets `[hopf] bautin = false`).")
-    lines += ["", bl, "", "![bifurcation diagram](bifurcation-diagram.png)", "",
-              "## Hopf point: numerical vs closed forms", "",
-              "k_c found from the eigenvalues alone (mpmath, 30 digits; deviations at that precision, before rounding "
-              "to double — as doubles both are the same number) against k_c = (b − a)/Dc·[1 + M V²/(a Dc)] "
-              "and ω_c = (V/Dc)√((b − a)/a); b/a ∈ "
-              f"{list(spec.hopf_b_over_a)}, V_lp ∈ {list(spec.hopf_v_lp)}, η ∈ {list(spec.hopf_eta)}.", "",
-              "| law | η | cases | max rel. dev. k_c | max rel. dev. ω_c |", "|---|---|---|---|---|"]
-    for s in sweep:
-        lines.append(f"| {s['state_law']} | {s['eta']:g} | {s['cases']} | {s['max_rel_dev_k_c']:.1e} | "
-                     f"{s['max_rel_dev_omega_c']:.1e} |")
-    lines += ["", "## Branches", "",
-              "| branch | points | κ range | period range | max |T_direct/T − 1| (double 2nd turn; quad where |multiplier| > 10) | "
-              "max (quad, every 10th + folds) | largest |multiplier| | stop | seconds |",
-              "|---|---|---|---|---|---|---|---|---|"]
+    verdicts = Section("The verdict: is the loss of stick-slip first order?", [
+        Table(["branch", "l1 (normal form)", "l1 (direct simulation, ε = 5e-3)", "criticality", "fold κ", "verdict"],
+              rows),
+        Paragraph("Quasi-static fate below k_c (start 1 % off steady state, 400 linear periods):"),
+        Table(["law", "κ", "status", "max ln V reached"],
+              [[f["state_law"], f"{f['kappa']}", f["status"], f"{f['ln_v_max']:.3g}"] for f in fates]),
+        Paragraph(bl),
+        Figure("bifurcation-diagram.png", alt="bifurcation diagram")])
+    hopf = Section("Hopf point: numerical vs closed forms", [
+        Paragraph("k_c found from the eigenvalues alone (mpmath, 30 digits; deviations at that precision, before "
+                  "rounding to double — as doubles both are the same number) against k_c = (b − a)/Dc·[1 + M V²/(a "
+                  "Dc)] and ω_c = (V/Dc)√((b − a)/a); b/a ∈ "
+                  f"{list(spec.hopf_b_over_a)}, V_lp ∈ {list(spec.hopf_v_lp)}, η ∈ {list(spec.hopf_eta)}."),
+        Table(["law", "η", "cases", "max rel. dev. k_c", "max rel. dev. ω_c"],
+              [[s["state_law"], f"{s['eta']:g}", f"{s['cases']}", f"{s['max_rel_dev_k_c']:.1e}",
+                f"{s['max_rel_dev_omega_c']:.1e}"] for s in sweep])])
+    rows = []
     for r in results:
         b = r["branch"]
         ks = [p.kappa for p in b.points]
         ts = [p.period for p in b.points]
         mm = max(max(abs(z) for z in p.multipliers) for p in b.points)
         q = max(r["period_check_quad"].values()) if r["period_check_quad"] else math.nan
-        lines.append(f"| {r['spec'].label} | {len(b.points)} | {min(ks):.6g} … {max(ks):.6g} | "
-                     f"{min(ts):.6g} … {max(ts):.6g} | {max(r['period_check']):.1e} | {q:.1e} | {mm:.4g} | "
-                     f"{b.meta['stop']} | {r['seconds']:.0f} |")
-    sub = [r for r in results if r["branch"].folds]
-    for r in sub:
+        rows.append([r["spec"].label, f"{len(b.points)}", f"{min(ks):.6g} … {max(ks):.6g}",
+                     f"{min(ts):.6g} … {max(ts):.6g}", f"{max(r['period_check']):.1e}", f"{q:.1e}", f"{mm:.4g}",
+                     f"{b.meta['stop']}", f"{r['seconds']:.0f}"])
+    branches = [Table(["branch", "points", "κ range", "period range",
+                       "max |T_direct/T − 1| (double 2nd turn; quad where |multiplier| > 10)",
+                       "max (quad, every 10th + folds)", "largest |multiplier|", "stop", "seconds"], rows)]
+    for r in (r for r in results if r["branch"].folds):
         b = r["branch"]
         i = b.folds[0]
-        lines += ["", f"### {r['spec'].label}: through the fold", "",
-                  "| point | κ | period | ln V max | ln V min | slip/cycle | Floquet multipliers | |T_direct/T − 1| |",
-                  "|---|---|---|---|---|---|---|---|"]
+        rows = []
         for j, p in enumerate(b.points):
             if j % 5 == 0 or abs(j - i) <= 2 or j == len(b.points) - 1:
-                mult = ", ".join(f"{abs(z):.6g}" for z in p.multipliers)
-                lines.append(f"| {j}{' (fold)' if j == i else ''} | {p.kappa:.10g} | {p.period:.12g} | "
-                             f"{p.ln_v_max:.5g} | {p.ln_v_min:.5g} | {p.slip:.6g} | {mult} | {r['period_check'][j]:.1e} |")
+                rows.append([f"{j}{' (fold)' if j == i else ''}", f"{p.kappa:.10g}", f"{p.period:.12g}",
+                             f"{p.ln_v_max:.5g}", f"{p.ln_v_min:.5g}", f"{p.slip:.6g}",
+                             ", ".join(f"{abs(z):.6g}" for z in p.multipliers), f"{r['period_check'][j]:.1e}"])
+        branches.append(Section(f"{r['spec'].label}: through the fold", [
+            Table(["point", "κ", "period", "ln V max", "ln V min", "slip/cycle", "Floquet multipliers",
+                   "|T_direct/T − 1|"], rows)], level=3))
     for r in in_v:
         b = r["branch"]
-        v0 = b.v_lp
-        lines += ["", f"### {r['spec'].label}: a branch in V_lp at fixed k = {b.meta['k']:.10g}", "",
-                  f"From the cycle at V_lp = {v0:g} of the branch in κ; {b.meta['stop']}. κ = k/k_c(V_lp) with "
-                  "the closed-form k_c. Quasi-static, V_lp only rescales the cycle (V_lp·T and ln(V/V_lp) constant); "
-                  "with inertia k_c grows like 1 + M V_lp²/(a Dc), so a faster load point is a softer spring.", "",
-                  "| point | V_lp | κ | period T | V_lp·T | ln(V_max/V_lp) | ln(V_min/V_lp) | largest |multiplier| | "
-                  "|T_direct/T − 1| |", "|---|---|---|---|---|---|---|---|---|"]
-        for j, p in enumerate(b.points):
-            lines.append(f"| {j} | {p.v_lp:.6g} | {p.kappa:.8g} | {p.period:.12g} | {p.v_lp * p.period:.12g} | "
-                         f"{p.ln_v_max - math.log(p.v_lp):.10g} | {p.ln_v_min - math.log(p.v_lp):.10g} | "
-                         f"{max(abs(z) for z in p.multipliers):.6g} | {r['period_check'][j]:.1e} |")
-    lines += ["", "Stick-slip-like cycles (V dropping by more than 10 decades below V_lp, ln V_min < −23) are not "
-              "reached on these branches: on the quasi-static ones V blows up first; on the inertial ones the fast "
-              "mode of ln V relaxes at a rate a/(M V), and below ln V ≈ −9 the explicit Taylor steps reach its "
-              "stability limit (the continuation stops there with its reason, see `stop`). With b/a = 5 and "
-              "η = 100 the slip law's attracting cycles do pass 10 decades over a cycle (κ < 0.044; "
-              "docs/rate-state.md, \"Where cycles become stick-slip-like\").", ""]
-    (out / "REPORT.md").write_text("\n".join(lines), encoding="utf-8")
+        branches.append(Section(f"{r['spec'].label}: a branch in V_lp at fixed k = {b.meta['k']:.10g}", [
+            Paragraph(f"From the cycle at V_lp = {b.v_lp:g} of the branch in κ; {b.meta['stop']}. κ = k/k_c(V_lp) "
+                      "with the closed-form k_c. Quasi-static, V_lp only rescales the cycle (V_lp·T and ln(V/V_lp) "
+                      "constant); with inertia k_c grows like 1 + M V_lp²/(a Dc), so a faster load point is a "
+                      "softer spring."),
+            Table(["point", "V_lp", "κ", "period T", "V_lp·T", "ln(V_max/V_lp)", "ln(V_min/V_lp)",
+                   "largest |multiplier|", "|T_direct/T − 1|"],
+                  [[f"{j}", f"{p.v_lp:.6g}", f"{p.kappa:.8g}", f"{p.period:.12g}", f"{p.v_lp * p.period:.12g}",
+                    f"{p.ln_v_max - math.log(p.v_lp):.10g}", f"{p.ln_v_min - math.log(p.v_lp):.10g}",
+                    f"{max(abs(z) for z in p.multipliers):.6g}", f"{r['period_check'][j]:.1e}"]
+                   for j, p in enumerate(b.points)])], level=3))
+    branches.append(Paragraph(
+        "Stick-slip-like cycles (V dropping by more than 10 decades below V_lp, ln V_min < −23) are not "
+        "reached on these branches: on the quasi-static ones V blows up first; on the inertial ones the fast "
+        "mode of ln V relaxes at a rate a/(M V), and below ln V ≈ −9 the explicit Taylor steps reach its "
+        "stability limit (the continuation stops there with its reason, see `stop`). With b/a = 5 and "
+        "η = 100 the slip law's attracting cycles do pass 10 decades over a cycle (κ < 0.044; "
+        "docs/rate-state.md, \"Where cycles become stick-slip-like\")."))
+    blocks = [
+        Heading(f"Rate-and-state spring-slider: Hopf bifurcation and cycles ({spec.name})", 1),
+        Paragraph(f"Produced by `bifurcation continue {workflow}` in {seconds:.0f} s on {platform.machine()} (one "
+                  "process). Model and equations: docs/rate-state.md.\n"
+                  "Slider a = 0.01, b = 0.015, Dc = 0.01, V_lp = 1 unless stated; η = M V_lp²/(a Dc); κ = k/k_c."),
+        Paragraph("Numbers that change between runs and CPUs (heyoka compiles for the host; the load sets the "
+                  "times), and only these changed between two runs of this workflow: the seconds; the simulated "
+                  "l1 of the degenerate branches (~1e-12: rounding, not a coefficient); the period checks "
+                  "|T_direct/T − 1| (rounding, ≤ 1e-11); Floquet multipliers below ~1e-9 (finite-difference "
+                  "noise of the trivial direction). Every other printed digit was the same."),
+        verdicts, hopf, Section("Branches", branches)]
+    (out / "REPORT.md").write_text(to_markdown(blocks), encoding="utf-8")
+    (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")
