@@ -87,6 +87,10 @@ def test_continue_writes_a_store_and_a_report(tmp_path):
     assert (ds.status.values == 1).all() and np.all(ds.period_check.values < 1e-10)
     assert ds.k_c.values[0] == pytest.approx(0.5, rel=1e-12)
     assert "subcritical" in (out / "REPORT.md").read_text()
+    from _report_outline import from_html, from_markdown   # REPORT.md and report.html: one document
+
+    outline = from_markdown((out / "REPORT.md").read_text(), out)   # (every table row as wide as its header)
+    assert outline == from_html((out / "report.html").read_text()) and any(k[0] == "figure" for k in outline)
 
 
 @pytest.mark.parametrize("edit,message", [

@@ -57,6 +57,20 @@ def test_report_files(report):
     assert data.computed_in_process == []
 
 
+def test_markdown_and_html_are_one_document(report):
+    # both formats read back to the outline of the typed blocks the report was built from (_blocks)
+    from _report_outline import from_blocks, from_html, from_markdown
+    from bifurcation.report.render import _blocks
+
+    data, files, _ = report
+    out = files["markdown"].parent
+    expected = from_blocks(_blocks(data, [(png.name, "caption") for png in files["figures"]]), out)
+    assert expected.count(("h", 2)) == 6 and sum(k[0] == "table" for k in expected) == 5
+    assert sum(k[0] == "figure" for k in expected) == 5
+    assert from_markdown(files["markdown"].read_text(encoding="utf-8"), out) == expected
+    assert from_html(files["html"].read_text(encoding="utf-8")) == expected
+
+
 def test_pngs_are_deterministic(report):
     _, first, second = report
     for a, b in zip(first["figures"], second["figures"]):

@@ -44,3 +44,46 @@ def test_blocks_check_themselves():
         Heading("x", 4)
     with pytest.raises(TypeError, match="not a report block"):
         flatten(["a bare string"])
+
+
+def _every_kind_of_block(tmp_path):
+    """A document with each kind of block: nested sections, a narrow table and a wide one (drawn as cards
+    in HTML, with a verdict tag), a cell holding '|', a list, a figure with and one without a caption."""
+    from bifurcation.report import figures as F
+
+    fig, axes = F._figure(2.0, 1.5)
+    axes[0][0].plot([0, 1], [1, 0])
+    F.save(fig, tmp_path / "a_figure.png")
+    (tmp_path / "b.png").write_bytes((tmp_path / "a_figure.png").read_bytes() + b"\0")   # other bytes
+    wide = "a cell long enough that the table reads better as one card per row, " * 2
+    return [Heading("Report of every kind of block: ν_f and $x^2$", 1), Paragraph("two lines\nof one paragraph"),
+            Items(["one", "two", "three"]),
+            Section("Tables", [Table(["law", "max |T/T0 − 1|"], [["aging", "1e-13"], ["slip", "2e-13"]]),
+                               Section("Cards", [Table(["claim", "paper", "measured", "verdict"],
+                                                       [["Eq. 12", wide, wide, "confirmed"],
+                                                        ["Eq. 19", wide, wide, "refuted"]])], level=3)]),
+            Section("Figures", [Figure("a_figure.png", "Δ against ν_f"), Figure("b.png", alt="no caption")])]
+
+
+def test_markdown_and_html_of_one_document_have_the_outline_of_its_blocks(tmp_path):
+    from _report_outline import from_blocks, from_html, from_markdown
+
+    blocks = _every_kind_of_block(tmp_path)
+    expected = from_blocks(blocks, tmp_path)
+    assert [k[0] for k in expected] == ["h", "p", "ul", "h", "table", "h", "table", "h", "figure", "figure"]
+    assert from_markdown(_markdown(blocks), tmp_path) == expected
+    assert from_html(_html(blocks, tmp_path)) == expected
+    page = _html(blocks, tmp_path)
+    assert page.count('<div class="card">') == 2 and '<span class="tag">refuted</span>' in page
+    assert '<img alt="no caption"' in page and '<img alt="a figure"' in page
+
+
+def test_a_cell_with_a_bar_stays_one_cell(tmp_path):
+    # a raw '|' inside a cell gave the rate-state report header rows of 13 cells over 9 columns
+    md = _markdown([Table(["x", "|T − 1|"], [["1", "|a|"]])])
+    assert md == "| x | \\|T − 1\\| |\n|---|---|\n| 1 | \\|a\\| |\n"
+    from _report_outline import from_markdown
+
+    assert from_markdown(md, tmp_path) == [("table", 2, 1)]
+    with pytest.raises(AssertionError, match="other than 2 cells"):
+        from_markdown("| x | |T − 1| |\n|---|---|\n", tmp_path)

@@ -59,6 +59,18 @@ def test_report_names_the_users_laws_with_their_figures(user_report):
     assert "| nu | ν | 1e-09 | 0.001 | 13 |" in md and "| nu_f | ν_f | 0.3 | 0.7 | 5 |" in md
 
 
+def test_report_markdown_and_html_are_one_document(user_report):
+    from _report_outline import from_html, from_markdown
+
+    _, out, result = user_report
+    assert result.exit_code == 0, result.output
+    outline = from_markdown((out / "REPORT.md").read_text(), out)
+    assert outline == from_html((out / "report.html").read_text())
+    # title, the store's section with one subsection per law (each with its figure), the provenance
+    assert [k for k in outline if k[0] == "h"] == [("h", 1), ("h", 2), ("h", 3), ("h", 3), ("h", 2)]
+    assert sum(k[0] == "figure" for k in outline) == 2
+
+
 def test_report_finds_the_transition_between_the_labels_either_side(user_report):
     _, out, _ = user_report
     md = (out / "REPORT.md").read_text()
