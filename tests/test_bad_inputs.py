@@ -301,7 +301,7 @@ CASES = [
     "submit {loop} ## WORKFLOW",
     "submit {wf_fig} --store {newstore} --scheduler {fifo} ## --scheduler",
     "submit {wf_rs} ## bifurcation continue",                                        # the other command's file
-    "submit {root}/workflows/chain-report.toml ## chain.report",
+    "submit {root}/workflows/chain-report.toml ## bifurcation study chain",
     *[f"submit {{wf_{name}}} --store {{newstore}} ## {needle}" for name, needle in [
         ("fig_nu_nan", "grid.nu.values[0]"), ("fig_nu_inf", "grid.nu.values[0]"), ("fig_nu_zero", "grid.nu"),
         ("fig_nu_big", "grid.nu"), ("fig_nu_str", "grid.nu.values[0]"), ("fig_nu_empty", "grid.nu"),
@@ -354,7 +354,7 @@ CASES = [
     "continue {loop} ## WORKFLOW",
     "continue {wf_fig} ## bifurcation submit",
     "continue {wf_chain} ## bifurcation submit",
-    "continue {root}/workflows/chain-report.toml ## chain.report",
+    "continue {root}/workflows/chain-report.toml ## bifurcation study chain",
     "continue {wf_rs} --out /proc/x ## --out",
     "continue {wf_rs} --out {text} ## --out",
     "continue {wf_rs} --out {text}/sub ## --out",

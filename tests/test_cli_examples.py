@@ -68,7 +68,9 @@ _TINY = {
 
 
 #: Examples longer than a few seconds (each command keeps fast coverage in its own test file).
-_SLOW = {"continue": "6 s: a continuation; tests/test_rate_state_cycles.py runs continue fast"}
+_SLOW = {"continue": "6 s: a continuation; tests/test_rate_state_cycles.py runs continue fast",
+         "study": "3-13 s: re-renders the chain study's figures; tests/test_bad_inputs.py and test_chain_study.py "
+                  "check the command fast"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in _SLOW else n for n in _order()])
@@ -85,6 +87,8 @@ def test_examples_run(name, scratch, monkeypatch):
             (tiny / file).write_text(textwrap.dedent(text))
         monkeypatch.setattr(_analysis, "PAPER_WORKFLOWS", tuple(_TINY))
         monkeypatch.setattr(_analysis, "_workflow_dir", lambda: tiny)
+    if name == "study":   # its example re-renders the committed chain study from its data
+        shutil.copytree(REPO / "results" / "chain", scratch / "results" / "chain", dirs_exist_ok=True)
     for line in _examples(name):
         args = shlex.split(line)[1:]
         result = CliRunner().invoke(cli, args)

@@ -24,12 +24,16 @@ def _register() -> None:
 
     from ..models import get_model, model_names
 
-    for name in ("_engine", "_service", "_analysis", "_verify", "_status"):
+    from ._study import study
+
+    for name in ("_engine", "_service", "_analysis", "_verify", "_status", "_study"):
         for command in importlib.import_module(f"{__name__}.{name}").COMMANDS:
             cli.add_command(command)
-    for name in model_names():   # a model's own commands: its declaration's commands hook
+    for name in model_names():   # a model's own commands: its declaration's commands and study hooks
         for command in get_model(name).hook("commands") or ():
             cli.add_command(command)
+        if (command := get_model(name).hook("study")) is not None:
+            study.add_command(command, name=name)
 
 
 _register()

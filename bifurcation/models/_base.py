@@ -272,6 +272,8 @@ class Hooks:
       handed those of the CLI's options (``points``, ``subset``, ``pipeline_points``) its signature
       names. ``bench_needs``: modules its baselines import (checked before any work starts).
     - ``commands``: a list of click commands the CLI adds (``bifurcation <command>``).
+    - ``study``: a click command that runs the model's own study from its workflow (a report beyond what
+      ``submit`` computes); the CLI adds it as ``bifurcation study <model name>``.
     - ``presets(name)`` → (axis values, (label,)): a workflow's ``[model] preset = "NAME"`` (published
       parameter sets); raises ``InputError`` for an unknown name.
     """
@@ -282,9 +284,10 @@ class Hooks:
     bench_needs: tuple[str, ...] = ()
     commands: str = ""
     presets: str = ""
+    study: str = ""
 
     def __post_init__(self) -> None:
-        for name in ("describe_label", "report", "bench", "commands", "presets"):
+        for name in ("describe_label", "report", "bench", "commands", "presets", "study"):
             value = getattr(self, name)
             module, _, attribute = value.partition(":")
             if value and not (module and attribute.isidentifier()

@@ -19,9 +19,9 @@ _KINDS = (
     ("continue", ("slider", "branch", "hopf"),
      "a rate-state continuation workflow of `bifurcation continue` ([slider], [[branch]], [hopf])",
      "run it with `bifurcation continue FILE`"),
-    ("chain-report", ("chain", "sweep", "catalog", "threshold", "near_half"),
-     "a chain report workflow ([chain], [sweep])",
-     "run it with `python -m bifurcation.models.chain.report FILE`"),
+    ("study chain", ("chain", "sweep", "catalog", "threshold", "near_half"),
+     "a chain study workflow of `bifurcation study chain` ([chain], [sweep])",
+     "run it with `bifurcation study chain FILE`"),
 )
 
 

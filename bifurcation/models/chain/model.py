@@ -171,6 +171,7 @@ CHAIN = Model(
                 report="bifurcation.models.chain.store_report:chain_store_blocks",
                 bench="bifurcation.models.chain._bench:run_chain_bench",
                 commands="bifurcation.cli._chain:COMMANDS",
-                presets="bifurcation.models.chain.presets:workflow_preset"),
+                presets="bifurcation.models.chain.presets:workflow_preset",
+                study="bifurcation.cli._chain_study:chain_study_cmd"),
     units_note=BLOCK_UNITS,
 )

@@ -1,0 +1,63 @@
+"""``bifurcation study chain WORKFLOW``: the chain study (the chain model's ``study`` hook; docs/chain.md).
+
+Runs ``bifurcation.models.chain.report`` on a checked workflow: the lone-block threshold, order
+parameter and hysteresis with finite-size scaling, magnitude–frequency statistics and a verdict table,
+into ``REPORT.md``, ``data.json`` and the figures.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from ..errors import InputError
+from ._common import examples
+
+__all__ = ["chain_study_cmd"]
+
+_MARKS = ("data.json", "REPORT.md")   # what a chain study leaves in its directory
+
+
+@click.command("chain", epilog=examples(
+    "bifurcation study chain workflows/chain-report.toml --from-data --out results/chain"))
+@click.argument("workflow")
+@click.option("--out", metavar="DIR", default=None,
+              help="Where REPORT.md, data.json and the figures go (default: the workflow's [study] out, "
+                   "results/local/chain for workflows/chain-report.toml). The committed reference is "
+                   "results/chain: `--from-data --out results/chain` rewrites it from its data.")
+@click.option("--from-data", "from_data", is_flag=True,
+              help="Run nothing: re-render REPORT.md and the figures from DIR/data.json (byte for byte).")
+@click.option("--force", is_flag=True, help="Run again into a DIR that holds a study (its data.json is replaced); "
+                                            "default: refuse.")
+def chain_study_cmd(workflow: str, out, from_data: bool, force: bool) -> None:
+    """The chain study of WORKFLOW: lone-block threshold, order parameter and hysteresis with finite-size
+    scaling, magnitude–frequency statistics, a verdict table (≤ 10 minutes on 2 cores for
+    workflows/chain-report.toml)."""
+    import json
+
+    from ..models.chain.study_spec import load_chain_study
+    from ._common import check_writable_dir
+
+    cfg = load_chain_study(workflow)   # the whole workflow, before anything runs or is written
+    out = Path(out if out is not None else cfg["study"].get("out", f"results/local/{cfg['study']['name']}"))
+    check_writable_dir(out)
+    data = out / "data.json"
+    if from_data:
+        if not data.is_file():
+            raise InputError("--from-data", str(data), "does not exist",
+                             "run the study once (without --from-data), or give --out results/chain (the "
+                             "committed data)")
+        try:
+            json.loads(data.read_bytes())
+        except (ValueError, OSError) as exc:
+            raise InputError("--from-data", str(data), f"cannot be read as a study's data ({exc})",
+                             "run the study again without --from-data (with --force) to rewrite it") from None
+    elif not force and any((out / mark).exists() for mark in _MARKS):
+        raise InputError("--out", str(out), "already holds a chain study (REPORT.md or data.json), which a run "
+                         "replaces", "give --force to run it again, --from-data to re-render it, or another --out")
+    from ..models.chain.report import main
+
+    main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else [])])
+    if from_data:   # (a run says where it wrote, and in how long, itself)
+        click.echo(f"wrote {out / 'REPORT.md'} and its figures from {data}")
