@@ -575,7 +575,7 @@ def test_the_table_is_large_and_has_no_duplicates():
 
 def test_every_command_has_bad_inputs_in_the_table():
     commands = set(cli.commands)
-    covered = {shlex.split(_split(c)[0])[0] for c in CASES if not _split(c)[0].startswith("-")}
+    covered = {shlex.split(_split(c)[0])[0] for c in CASES + STUDY_CASES if not _split(c)[0].startswith("-")}
     assert commands - {"laws"} <= covered, commands - covered   # laws takes no value (only --json)
 
 
@@ -606,3 +606,86 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, mo
     assert list(cwd.iterdir()) == [], "written into the working directory"
     assert not (tmp_path / "new").exists() and list(outdir.iterdir()) == [], "an output was created"
     assert _snapshot(root) == before, "a fixture was changed"
+
+
+# -- study chain (kept as one block at the end of the file) -------------------------------------------
+#: The shipped chain study workflow, and variants with one bad value (name -> (old, new)).
+STUDY = (ROOT / "workflows" / "chain-report.toml").read_text()
+STUDY_WORKFLOWS = {
+    "law": ('law = "carlson-langer"', 'law = "nope"'),
+    "law_code": ('law = "carlson-langer"', 'law = "__import__(\'os\')"'),
+    "nu_nan": ("nu = 1e-3", "nu = nan"),
+    "ell": ("ell = 1.0", "ell = -1.0"),
+    "ends": ('ends = "free"', 'ends = "open"'),
+    "sizes_short": ("sizes = [1, 4, 16, 64, 256]", "sizes = [1, 4, 16, 64]"),
+    "sizes_zero": ("sizes = [1, 4, 16, 64, 256]", "sizes = [0, 4, 16, 64, 256]"),
+    "nu_f_str": ("nu_f = [0.15, 0.2,", 'nu_f = ["0.15", 0.2,'),
+    "skip": ("skip = 300", "skip = 5000"),
+    "workers": ("workers = 2", "workers = 0"),
+    "unknown_key": ('ends = "free"', 'ends = "free"\nextra = 1'),
+    "unknown_table": ("[study]", "[extra]\nx = 1\n[study]"),
+    "cycles": ("cycles = [[60, 24, 10], [15, 5, 2]]", "cycles = [[60, 24], [15, 5, 2]]"),
+    "scan_points": ("scan_points = 41", "scan_points = 1"),
+    "no_threshold": (STUDY[STUDY.index("[threshold]"):STUDY.index("[near_half]")], ""),
+}
+STUDY_CASES = [
+    "study chain {missing} ## WORKFLOW",
+    "study chain {text} ## WORKFLOW",
+    "study chain {adir} ## WORKFLOW",
+    "study chain {fifo} ## WORKFLOW",
+    "study chain {big} ## WORKFLOW",
+    "study chain {binary} ## WORKFLOW",
+    "study chain {loop} ## WORKFLOW",
+    "study chain {empty} ## study",
+    "study chain {wf_fig} ## `bifurcation submit",
+    "study chain {wf_chain} ## `bifurcation submit",
+    "study chain {wf_rs} ## `bifurcation continue",
+    "study chain {study_law} ## chain.law",
+    "study chain {study_law_code} ## chain.law",
+    "study chain {study_nu_nan} ## chain.nu",
+    "study chain {study_ell} ## chain.ell",
+    "study chain {study_ends} ## chain.ends",
+    "study chain {study_sizes_short} ## sweep.seeds",
+    "study chain {study_sizes_zero} ## sweep.sizes[0]",
+    "study chain {study_nu_f_str} ## sweep.nu_f[0]",
+    "study chain {study_skip} ## catalog.skip",
+    "study chain {study_workers} ## study.workers",
+    "study chain {study_unknown_key} ## chain.extra",
+    "study chain {study_unknown_table} ## extra",
+    "study chain {study_cycles} ## near_half.cycles[0]",
+    "study chain {study_scan_points} ## threshold.scan_points",
+    "study chain {study_no_threshold} ## threshold=None: is missing",
+    "study chain {study} --out {text} ## --out",
+    "study chain {study} --out /proc/x ## --out",
+    "study chain {study} --out {sb}/chain ## --out",                  # inside a store
+    "study chain {study} --out {study_done} ## --force",              # holds a study: refused without --force
+    "study chain {study} --from-data --out {outdir} ## --from-data",  # no data.json
+    "study chain {study} --from-data --out {study_bad_data} ## --from-data",
+    "study chain {study} --out {outdir} --out {newdir} ## --out is given twice",
+    "study chain ## Missing argument 'WORKFLOW'",
+    "study nope {study} ## nope",
+]
+
+
+@pytest.fixture(scope="module")
+def study_env(env):
+    """``env`` with the chain study's workflows and output directories (in the same checked root)."""
+    root, paths = env
+    d = root / "study"
+    d.mkdir(exist_ok=True)
+    (d / "study.toml").write_text(STUDY)
+    extra = {"study": str(d / "study.toml")}
+    for name, (old, new) in STUDY_WORKFLOWS.items():
+        (d / f"{name}.toml").write_text(_edit(STUDY, old, new))
+        extra[f"study_{name}"] = str(d / f"{name}.toml")
+    (d / "done").mkdir(exist_ok=True)                    # a directory a study already wrote into
+    (d / "done" / "REPORT.md").write_text("# the chain study\n")
+    (d / "bad-data").mkdir(exist_ok=True)                # data.json that is not the study's data
+    (d / "bad-data" / "data.json").write_text("{ not json")
+    extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"))
+    return root, {**paths, **extra}
+
+
+@pytest.mark.parametrize("case", STUDY_CASES, ids=[_split(c)[0][:90] for c in STUDY_CASES])
+def test_bad_study_input_is_one_line_exit_2_and_writes_nothing(case, study_env, tmp_path, monkeypatch):
+    test_bad_input_is_one_line_exit_2_and_writes_nothing(case, study_env, tmp_path, monkeypatch)

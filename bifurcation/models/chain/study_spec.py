@@ -41,10 +41,11 @@ def _number(key: str, value, axis: str | None = None, *, positive: bool = False)
 def _integer(key: str, value, axis: str | None = None, *, low: int = 0) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
         raise InputError(key, value, "is not an integer", "write a whole number without a decimal point")
-    high = None
+    high, fix = None, f"give a whole number >= {low}"
     if axis is not None:
         low, high = (int(b) for b in _bounds(axis))
-    check_range(key, value, low, high)
+        fix = f"give a whole number in [{low}, {high}], the chain model's bounds of {axis}"
+    check_range(key, value, low, high, fix)
     return value
 
 
