@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from . import figures as F
-from .document import Figure, Items, Paragraph, Section, Table, to_html, to_markdown
+from .document import Figure, Heading, Items, Paragraph, Section, Table, to_html, to_markdown
 
 __all__ = ["MIN_SERIES", "block_section", "single_block_section", "write_store_report"]
 
@@ -315,7 +315,6 @@ def write_store_report(sources, out) -> dict:
     from ..analysis import claims_table, load_stores
     from ..models import get_model
     from ..store.layout import store_model
-    from .document import Heading
     from .render import _versions, paper_claims_table
 
     sources = list(sources) if isinstance(sources, (list, tuple)) else [sources]
