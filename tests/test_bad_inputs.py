@@ -661,6 +661,7 @@ STUDY_CASES = [
     "study chain {study} --out {study_done} ## --force",              # holds a study: refused without --force
     "study chain {study} --from-data --out {outdir} ## --from-data",  # no data.json
     "study chain {study} --from-data --out {study_bad_data} ## --from-data",
+    "study chain {study} --from-data --out {study_big_data} ## --from-data",       # 300 MB (sparse)
     "study chain {study} --out {outdir} --out {newdir} ## --out is given twice",
     "study chain ## Missing argument 'WORKFLOW'",
     "study nope {study} ## nope",
@@ -682,7 +683,10 @@ def study_env(env):
     (d / "done" / "REPORT.md").write_text("# the chain study\n")
     (d / "bad-data").mkdir(exist_ok=True)                # data.json that is not the study's data
     (d / "bad-data" / "data.json").write_text("{ not json")
-    extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"))
+    (d / "big-data").mkdir(exist_ok=True)
+    with open(d / "big-data" / "data.json", "wb") as fh:   # sparse: no disk used
+        fh.truncate(300 << 20)
+    extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"), study_big_data=str(d / "big-data"))
     return root, {**paths, **extra}
 
 

@@ -17,6 +17,8 @@ from ._common import examples
 __all__ = ["chain_study_cmd"]
 
 _MARKS = ("data.json", "REPORT.md")   # what a chain study leaves in its directory
+#: data.json is read whole (twice): a study's is well under a megabyte (the large workflow's a few).
+_MAX_DATA_BYTES = 256 << 20
 
 
 @click.command("chain", epilog=examples(
@@ -48,6 +50,9 @@ def chain_study_cmd(workflow: str, out, from_data: bool, force: bool) -> None:
             raise InputError("--from-data", str(data), "does not exist",
                              "run the study once (without --from-data), or give --out results/chain (the "
                              "committed data)")
+        if data.stat().st_size > _MAX_DATA_BYTES:
+            raise InputError("--from-data", str(data), f"is larger than {_MAX_DATA_BYTES >> 20} MB: not a study's "
+                             "data (results/chain/data.json is 0.35 MB)", "give the --out of a chain study")
         try:
             json.loads(data.read_bytes())
         except (ValueError, OSError) as exc:
