@@ -31,7 +31,7 @@ import mpmath
 import numpy as np
 
 from ...laws import FrictionLaw
-from ._integrator import COMPACT_ABOVE, ENERGY_SCALE, N_GLOBAL, window_integrator
+from ._integrator import COMPACT_ABOVE, ENERGY_SCALE, window_integrator
 from .result import ChainStatus
 
 __all__ = ["ChainLoop"]
@@ -121,7 +121,9 @@ class ChainLoop:
         # operation and round the same), the dtype's own scalars otherwise (real128 in quad)
         self._scalar = float if dtype is np.float64 else (lambda x: x)
         self._zero, self._one, self._pad = (self._scalar(dtype(x)) for x in (0, 1, -1e3))
+        #: (σ, 1 − σ), the values of the drop integrator's slots "sigma" and "c" (empty at σ = 0)
         self._drop_pars = tuple(self._scalar(x) for x in self._drop_pars)
+        self._drop_c = self._drop_pars[-1] if self._drop_on else None
 
     # -- chain geometry ---------------------------------------------------------------------------
     def _laplacian(self, a: np.ndarray) -> np.ndarray:
@@ -345,20 +347,13 @@ class ChainLoop:
         qinv = [one if (q := abs(x) / nu) < 1 else 1 / q for x in d]
         slip, vd, pcd = self._slip, self._v, self._pc
         p = [1.0 if j in slip else 0.0 for j in idx] + [0.0] * (m - k)
-        values = [nu, nu_f, l2] + p + d + qinv + bond + selfc
-        k_pieces = wi.n_pieces
         pieces = None                            # a one-piece law has no piece to track
-        if k_pieces > 1:
+        if wi.n_pieces > 1:
             # a stuck neighbour that has not started keeps the piece it had (never used while it is
             # stuck: its switch events cannot fire at V = 0; the start resets it)
             pieces = [pcd[j] if j in pcd else int(self.piece[j]) for j in idx] + [0] * (m - k)
-            onehot = [0.0] * (k_pieces * m)
-            for i, pc in enumerate(pieces):
-                onehot[pc * m + i] = 1.0
-            values += onehot
-        if self._drop_on:
-            values += self._drop_pars            # σ, 1 − σ: the drop integrator's last parameters
-        pars[:] = values
+        pars[:] = wi.params.pack(nu=nu, nu_f=nu_f, l2=l2, p=p, d=d, q=qinv, bond=bond, selfc=selfc,
+                                 pieces=pieces, drop=self._drop_pars)
         st = [0.0] * len(state)
         st[m:m + k] = [vd.get(j, 0.0) for j in idx]
         state[:] = st
@@ -446,16 +441,14 @@ class ChainLoop:
                 self.counts["overloaded"] += 1
                 continue
             p[i] = 0.0
-            pars[N_GLOBAL + i] = 0
+            pars[wi.params.at("p", i)] = 0
             stopped.append(idx[i])
             done += 1
         return done
 
     def _switch(self, wi, i, pieces, pc) -> None:
-        m = wi.m
-        base = N_GLOBAL + 5 * m
-        wi.pars[base + pieces[i] * m + i] = 0
-        wi.pars[base + pc * m + i] = 1
+        wi.pars[wi.params.selector(pieces[i], i)] = 0
+        wi.pars[wi.params.selector(pc, i)] = 1
         pieces[i] = pc
 
     def _side(self, ta, state, j, m, d, bond, selfc, nu, l2, b, pc) -> int:
@@ -484,7 +477,7 @@ class ChainLoop:
             if i != j and p[i]:
                 x = (nu * v[i]) / nu_f
                 if self._drop_on:                  # the law's argument x/(1 − σ) (its breakpoints)
-                    x = x / self._drop_pars[1]
+                    x = x / self._drop_c
                 pc = pieces[i]
                 if x < lower[pc] or x > upper[pc]:
                     new = self.law.piece_index(x)
