@@ -50,17 +50,18 @@ class _Segment:
     switch; ``stopped`` collects the blocks that stopped (they leave S at the commit)."""
 
     __slots__ = ("wi", "ta", "idx", "at", "k", "m", "sg", "d", "p", "pieces", "bond", "selfc",
-                 "nu", "l2", "nu_f", "stopped")
+                 "nu", "l2", "nu_f", "stopped", "velocities")
 
     def __init__(self, wi, idx, at, sg, d, p, pieces, bond, selfc, nu, l2, nu_f) -> None:
         self.wi, self.ta, self.idx, self.at, self.k, self.m = wi, wi.integrator, idx, at, len(idx), wi.m
         self.sg, self.d, self.p, self.pieces, self.bond, self.selfc = sg, d, p, pieces, bond, selfc
         self.nu, self.l2, self.nu_f = nu, l2, nu_f
         self.stopped = []
+        self.velocities = wi.layout.velocities(len(idx))   # the state slots of the blocks' v
 
     def load(self, j: int):
         """(σ_j − 1)/ν of position j now (scaled variables, the integrator's own expression)."""
-        # the whole state (w then v): the left neighbour of position 0 is w[m − 1], not state[−1]
+        # w_i is state slot i (``WindowState``); the left neighbour of position 0 is w[m − 1], not state[−1]
         w, m, bond = self.wi.state, self.m, self.bond
         coupling = bond[j - 1] * w[(j - 1) % m] + bond[j] * w[(j + 1) % m] + (self.selfc[j] - 2) * w[j]
         return self.d[j] / self.nu + self.l2 * coupling - w[j] + self.ta.time
@@ -384,7 +385,7 @@ class ChainLoop:
         pars[:] = wi.params.pack(nu=nu, nu_f=nu_f, l2=l2, p=p, d=d, q=qinv, bond=bond, selfc=selfc,
                                  pieces=pieces, drop=self._drop_pars)
         st = [0.0] * len(state)
-        st[m:m + k] = [vd.get(j, 0.0) for j in idx]
+        st[wi.layout.velocities(k)] = [vd.get(j, 0.0) for j in idx]
         state[:] = st
         ta.time = self._zero
         ta.reset_cooldowns()
@@ -460,12 +461,12 @@ class ChainLoop:
         shows no sign change in that step, so its stop would be missed and the block would slide
         backwards (tests/test_chain.py, test_equal_stresses_fail_together). A block with σ ≥ 1 at V = 0
         (only at rounding level) cannot stick and keeps slipping from V = 0."""
-        wi, p, m = seg.wi, seg.p, seg.m
-        state, pars = wi.state, wi.pars
-        v = state[m:m + seg.k].tolist()
+        wi, p = seg.wi, seg.p
+        state, pars, v0 = wi.state, wi.pars, wi.layout.v0
+        v = state[seg.velocities].tolist()
         done = 0
         for i in [j] + [i for i in range(seg.k) if i != j and p[i] and v[i] <= 0]:
-            state[m + i] = 0
+            state[v0 + i] = 0
             if seg.load(i) >= 0:   # σ_i ≥ 1 at V = 0 (only at rounding level): it cannot stick
                 self.counts["overloaded"] += 1
                 continue
@@ -494,8 +495,8 @@ class ChainLoop:
         time). A block just outside but moving back in (switched at this instant, x rounded past b)
         stays too (``_side``)."""
         lower, upper = self._bounds
-        p, pieces, nu, nu_f, m = seg.p, seg.pieces, seg.nu, seg.nu_f, seg.m
-        v = seg.wi.state[m:m + seg.k].tolist()
+        p, pieces, nu, nu_f = seg.p, seg.pieces, seg.nu, seg.nu_f
+        v = seg.wi.state[seg.velocities].tolist()
         for i in range(seg.k):
             if i != j and p[i]:
                 x = (nu * v[i]) / nu_f
@@ -531,9 +532,10 @@ class ChainLoop:
                                                    seg.bond, seg.selfc)
         nu, l2, tau, m, k = seg.nu, seg.l2, seg.ta.time, seg.m, seg.k
         st = wi.state.tolist()
-        w = st[:m]
+        w = st[wi.layout.slips(m)]
         # the window holds every slipping block: their velocities are the state's, the rest are stuck
-        self._v = {j: st[m + i] for i, j in enumerate(idx) if p[i]}
+        v0 = wi.layout.v0
+        self._v = {j: st[v0 + i] for i, j in enumerate(idx) if p[i]}
         self._slip.difference_update(seg.stopped)
         if wi.n_pieces > 1:
             pcd = self._pc
@@ -581,7 +583,7 @@ class ChainLoop:
             self.l2 * np.sum(self.bond * db + db * db / 2)
         unscale = m / self.dtype(ENERGY_SCALE)
         self.ev["work"] += nu * (np.sum(self.y) * tau + nu * self.n * tau * tau / 2
-                                 - nu * state[2 * m + 1] * unscale)
-        self.ev["diss"] += nu * state[2 * m] * unscale
+                                 - nu * state[wi.layout.disp] * unscale)
+        self.ev["diss"] += nu * state[wi.layout.diss] * unscale
         self.y += dy
         self.bond += db

@@ -1,8 +1,9 @@
-"""Named runtime parameters of a chain window integrator: one layout read by the builder
-(``_integrator``, which makes the heyoka ``par[i]`` expressions) and the event loop (``_loop``, which
-fills and flips the numbers), so no module computes a parameter index by hand.
+"""Named slots of a chain window integrator: its runtime parameters (``WindowParams``) and its state
+variables (``WindowState``), one layout read by the builder (``_integrator``, which makes the heyoka
+expressions) and the event loop (``_loop``, which fills and reads the numbers), so no module computes
+an index by hand.
 
-Order of the slots (heyoka ``par[i]``, docs/chain.md):
+Order of the parameters (heyoka ``par[i]``, docs/chain.md):
 
 * the globals ν, ν_f and ℓ² (``nu``, ``nu_f``, ``l2``);
 * per window position i = 0 … M − 1, group by group: ``p`` (1 slipping, 0 stuck), ``d`` = σ_i − 1 at
@@ -11,6 +12,9 @@ Order of the slots (heyoka ``par[i]``, docs/chain.md):
 * for a law of K > 1 pieces, the one-hot piece selectors, piece-major (K × M);
 * for a friction drop σ > 0 only, ``sigma`` and ``c`` = 1 − σ, after everything else: the σ = 0
   layout (and integrator) is the one without them, so its catalogs stay bit-identical.
+
+Order of the state: the scaled slips w_i of the M positions, their scaled velocities v_i, and with the
+energy integrals (tests) the scaled dissipation and the scaled displacement sum.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-__all__ = ["WindowParams"]
+__all__ = ["WindowParams", "WindowState"]
 
 
 @dataclass(frozen=True)
@@ -103,10 +107,41 @@ class WindowParams:
         on the loop's hot path."""
         values = [nu, nu_f, l2] + p + d + q + bond + selfc
         if self.n_pieces > 1:
-            onehot = [0.0] * (self.n_pieces * self.m)
+            m = self.m
+            onehot = [0.0] * (self.n_pieces * m)
             for i, pc in enumerate(pieces):
-                onehot[pc * self.m + i] = 1.0
+                onehot[pc * m + i] = 1.0
             values += onehot
         if self.drop:
             values += drop
         return values
+
+
+@dataclass(frozen=True)
+class WindowState:
+    """The state slots of a window of ``m`` positions: w_i at ``i``, v_i at ``v0 + i``, and with
+    ``energy`` the integrals at ``diss`` and ``disp`` (-1 without)."""
+
+    m: int
+    energy: bool = False
+    v0: int = field(init=False)
+    diss: int = field(init=False)
+    disp: int = field(init=False)
+    size: int = field(init=False)
+
+    def __post_init__(self) -> None:
+        if self.m < 1:
+            raise ValueError(f"a window needs m >= 1 positions, not m = {self.m}")
+        m = self.m
+        object.__setattr__(self, "v0", m)
+        object.__setattr__(self, "diss", 2 * m if self.energy else -1)
+        object.__setattr__(self, "disp", 2 * m + 1 if self.energy else -1)
+        object.__setattr__(self, "size", 2 * m + (2 if self.energy else 0))
+
+    def slips(self, k: int) -> slice:
+        """The w of the first ``k`` positions."""
+        return slice(0, k)
+
+    def velocities(self, k: int) -> slice:
+        """The v of the first ``k`` positions."""
+        return slice(self.v0, self.v0 + k)

@@ -1,9 +1,9 @@
-"""The chain window's runtime parameter layout (``models.chain._params``): the one place slot numbers
-are made. The builder and the loop both read it; these checks are pure Python (no compile)."""
+"""The chain window's layout (``models.chain._layout``): the one place its parameter and state slot
+numbers are made. The builder and the loop both read it; these checks are pure Python (no compile)."""
 
 import pytest
 
-from bifurcation.models.chain._params import WindowParams
+from bifurcation.models.chain._layout import WindowParams, WindowState
 
 
 @pytest.mark.parametrize("m, n_pieces, drop", [(1, 1, False), (4, 1, True), (4, 3, False), (8, 2, True)])
@@ -43,3 +43,12 @@ def test_a_per_position_group_is_not_a_global():
         WindowParams(2).index("p")
     with pytest.raises(ValueError, match="m >= 1"):
         WindowParams(0)
+
+
+def test_state_slots_are_slips_then_velocities_then_the_energy_integrals():
+    for m, energy in ((1, False), (4, True), (8, False)):
+        lay = WindowState(m, energy)
+        order = list(range(lay.size))
+        slots = order[lay.slips(m)] + order[lay.velocities(m)] + ([lay.diss, lay.disp] if energy else [])
+        assert slots == order                        # every slot named once, in the builder's order
+        assert order[lay.velocities(1)] == [lay.v0]
