@@ -16,14 +16,13 @@ import math
 import heyoka as hy
 import numpy as np
 
-from ._integrator import Compiled, EventKind
+from ._actions import LaneRecords, Run, act, limit
+from ._integrator import Compiled
 from .result import Status
 
 __all__ = ["run_batch"]
 
-_NONFINITE = hy.taylor_outcome.err_nf_state
 _SUCCESS = hy.taylor_outcome.success
-_STOP, _SET, _STEP = EventKind.STOP, EventKind.SET, EventKind.RUNG
 
 
 def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_steps: int) -> dict:
@@ -31,9 +30,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     ``values`` (slot name → values)."""
     ta = c.integrator
     lanes = c.batch_size
-    n_pieces = c.n_pieces
     slots = c.slots
-    first_piece = slots.piece0
     names = list(c.state_names)
     out_time = np.full(n_points, math.nan)
     out_state = {name: np.full(n_points, math.nan) for name in names}
@@ -46,7 +43,6 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     # Python lists and live views in the loop: at ~0.4 returns per point, numpy's per-call cost on
     # 8-element arrays (where, flatnonzero, any, copies of dtime) was ~40 % of a batch run's time.
     point = [-1] * lanes
-    piece = [0] * lanes
     steps = [0] * lanes
     hi, lo = ta.dtime            # read-only views of the lanes' double-length times, live
     new_hi, new_lo = np.zeros(lanes), np.zeros(lanes)   # what set_dtime gets when lanes are reloaded
@@ -56,8 +52,13 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     queue = iter(range(n_points))
     initial = np.asarray(c.initial, dtype=float)
     slot_values = [(slots.index(name), values[name]) for name in slots.names]
-    alias_record, alias = c.first_alias
     reset_recorder = c.recorder.reset
+    # each lane as one run of the event actions (``_actions``): column views of the batch's parameters
+    # and state (heyoka never reallocates them), its entries of the recorder's arrays, its time
+    runs = []
+    for lane in range(lanes):
+        records = LaneRecords(recorded, lane)
+        runs.append(Run(pars[:, lane], state[:, lane], records, records, lambda lane=lane: hi[lane]))
 
     def load(lane: int) -> bool:
         """Next point into ``lane`` (time 0); False when the queue is empty (the lane idles)."""
@@ -73,10 +74,8 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         ta.reset_cooldowns(lane)  # the previous point's cooldowns must not reach this one
         for index, column in slot_values:
             pars[index, lane] = column[i]
-        if n_pieces > 1:
-            pars[first_piece:first_piece + n_pieces, lane] = 0.0
-            pars[first_piece, lane] = 1.0
-        piece[lane], steps[lane] = 0, 0
+        runs[lane].start(c)
+        steps[lane] = 0
         reset_recorder(lane)
         return True
 
@@ -90,8 +89,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         if message:
             messages[i] = message
 
-    kinds, breakpoint_of = c.kinds, c.breakpoint_of
-    n_events = len(kinds)
+    n_events = len(c.kinds)
     # A lane that never gets a point (fewer points than lanes) must still have a finite right side:
     # ν = ν_f = 0 gave 0/0, a NaN time step and a ValueError from heyoka for the whole batch.
     pars[:, :] = 1.0
@@ -112,30 +110,13 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
                     done.append(lane)
                 continue
             index = -code - 1  # terminal event i comes back as −(i + 1)
-            if 0 <= index < n_events:
-                kind = kinds[index]
-                if kind is _STOP:
-                    finish(lane, Status.STICK_SLIP)
+            if 0 <= index < n_events:   # only ends, sets, switches and rungs are terminal in batch mode
+                status = act(c, index, runs[lane])
+                if status is not None:
+                    finish(lane, status, runs[lane].message)
                     done.append(lane)
-                elif kind is _STEP:  # this lane's step ended on a rung: nothing to do
-                    pass
-                elif kind is _SET:
-                    for slot, value in c.sets_of[index]:
-                        pars[slot, lane] = value
-                else:  # only the end, the sets and the switches are terminal in batch mode
-                    j = breakpoint_of[index]
-                    up = j == piece[lane]
-                    pars[first_piece + piece[lane], lane] = 0.0
-                    piece[lane] += 1 if up else -1
-                    pars[first_piece + piece[lane], lane] = 1.0
-                    if up and j == alias and recorded[alias_record][lane] != recorded[alias_record][lane]:
-                        recorded[alias_record][lane] = hi[lane]
             else:
-                if outcome == _NONFINITE:
-                    finish(lane, Status.NONFINITE, f"non-finite state at t = {hi[lane]:.17g}")
-                else:
-                    finish(lane, Status.NO_STOP, f"no stop before t_max = {t_max:g} / max_steps = "
-                                                 f"{max_steps} (t = {hi[lane]:.6g}, steps = {steps[lane]})")
+                finish(lane, *limit(outcome, hi[lane], steps[lane], t_max, max_steps))
                 done.append(lane)
         if done:
             new_hi[:] = hi

@@ -16,9 +16,10 @@ import numpy as np
 
 from ..laws import FrictionLaw, resolve_law
 from ..models.single_block import SINGLE_BLOCK
-from ._integrator import Compiled, EventKind, compiled
+from ._actions import Run, act, limit
+from ._integrator import Compiled, compiled
 from ._validate import check_batch, check_nu, check_nu_f, check_precision, check_work
-from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult, Status
+from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult
 
 __all__ = ["AUTO_BATCH_MIN_POINTS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "auto_batch", "batch_lanes", "run_cycle",
            "run_model", "slip"]
@@ -27,10 +28,6 @@ __all__ = ["AUTO_BATCH_MIN_POINTS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "auto_
 #: this machine, after the first call): at 16 points a batch of 8 is 1.1-1.8x faster than the scalar
 #: loop for Carlson-Langer, piecewise-linear and exp(-x); at 4 points it is slower for piecewise-linear.
 AUTO_BATCH_MIN_POINTS = 16
-
-_NONFINITE = hy.taylor_outcome.err_nf_state
-_STOP, _MAXIMUM, _FIRST, _SET, _STEP = (EventKind.STOP, EventKind.MAX_VELOCITY, EventKind.REACH_NU_F,
-                                        EventKind.SET, EventKind.RUNG)
 
 
 def run_cycle(c: Compiled, values, *, state0=None, t_max: float = DEFAULT_T_MAX,
@@ -53,10 +50,11 @@ def run_cycle(c: Compiled, values, *, state0=None, t_max: float = DEFAULT_T_MAX,
     return out
 
 
-def _run(c: Compiled, values, state0, t_max: float, max_steps: int) -> tuple:
+def _run(c: Compiled, values, state0, t_max: float, max_steps: int, run: Run | None = None) -> tuple:
     """``run_cycle`` without the dict: (time, state, first records, maxima, crossings, steps, status,
     message), all in its precision, ``state`` the integrator's own buffer (read it before the next run).
-    ``values`` in slot order."""
+    ``values`` in slot order. ``run``: the ``Run`` of ``_runner(c)`` to reuse (a loop over points
+    makes one: ~1 µs per point of a ~30 µs run)."""
     ta = c.integrator
     dtype = c.dtype
     ta.time = dtype(0)
@@ -70,64 +68,34 @@ def _run(c: Compiled, values, state0, t_max: float, max_steps: int) -> tuple:
     ta.reset_cooldowns()
     for i, value in enumerate(values):   # the slots in order: parameters[0], parameters[1], ...
         pars[i] = value
-    piece, first_piece = 0, c.slots.piece0  # every start is on piece 0 (rest at x = 0, the manifold below b1)
-    if c.n_pieces > 1:
-        pars[first_piece:] = 0
-        pars[first_piece] = 1
-    kinds, breakpoint_of, records, state_of = c.kinds, c.breakpoint_of, c.records, c.state_of
-    alias_record, alias = c.first_alias
-    found = dict.fromkeys(c.first_records, math.nan)
+    if run is None:
+        run = _runner(c)
+    run.found = dict.fromkeys(c.first_records, math.nan)
     # a running maximum starts at the start's value (the initial state of the model, or state0)
-    maxima = dict(c.max_start) if state0 is None else {name: start[index] for name, index in c.max_records}
-    crossings = []  # later crossings of the breakpoint that carries a "first" record (τ1 of Eq. 16)
-    n_events = len(kinds)
+    run.maxima = dict(c.max_start) if state0 is None else {name: start[index] for name, index in c.max_records}
+    run.start(c)   # crossings: later crossings of the breakpoint that carries a "first" record (τ1 of Eq. 16)
+    n_events = len(c.kinds)
     propagate = ta.propagate_until
     t_end = dtype(t_max)
     steps = 0
-    status = Status.NO_STOP
-    message = ""
     while True:
         outcome, _, _, n, *_ = propagate(t_end, max_steps=max(max_steps - steps, 1))
         steps += n
         index = -int(outcome) - 1  # terminal event i comes back as the outcome −(i + 1)
         if not 0 <= index < n_events:  # time or step limit, or a non-finite state
-            if outcome == _NONFINITE:
-                status, message = Status.NONFINITE, f"non-finite state at t = {float(ta.time):.17g}"
-            else:
-                message = (f"no stop before t_max = {t_max:g} / max_steps = {max_steps} "
-                           f"(t = {float(ta.time):.6g}, steps = {steps})")
+            status, message = limit(outcome, ta.time, steps, t_max, max_steps)
             break
-        kind = kinds[index]
-        if kind is _STOP:
-            status = Status.STICK_SLIP
+        status = act(c, index, run)
+        if status is not None:
+            message = run.message
             break
-        if kind is _MAXIMUM:
-            value = state[state_of[index]]
-            if value > maxima[records[index]]:
-                maxima[records[index]] = value
-        elif kind is _FIRST:
-            if found[records[index]] != found[records[index]]:  # NaN: the first time only
-                found[records[index]] = ta.time
-        elif kind is _STEP:   # the step ended on a rung: nothing to record
-            pass
-        elif kind is _SET:
-            for slot, value in c.sets_of[index]:
-                pars[slot] = value
-        else:  # a switch at breakpoint j: the upper end of this piece means up, the lower means down
-            j = breakpoint_of[index]
-            up = j == piece
-            if not up and j != piece - 1:  # cannot happen with ordered breakpoints; be explicit
-                status, message = Status.NONFINITE, f"switch event {j} seen in piece {piece}"
-                break
-            pars[first_piece + piece] = 0
-            piece = piece + 1 if up else piece - 1
-            pars[first_piece + piece] = 1
-            if j == alias:
-                if up and found[alias_record] != found[alias_record]:
-                    found[alias_record] = ta.time
-                else:
-                    crossings.append(ta.time)
-    return ta.time, state, found, maxima, crossings, steps, status, message   # state: the live view
+    return ta.time, state, run.found, run.maxima, run.crossings, steps, status, message   # state: the live view
+
+
+def _runner(c: Compiled) -> Run:
+    """The event actions' view of a run on the scalar integrator of ``c``."""
+    ta = c.integrator
+    return Run(ta.pars, ta.state, None, None, lambda: ta.time)
 
 
 def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps: int, exact=None) -> dict:
@@ -159,8 +127,9 @@ def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps
             for i in range(size):
                 if float(given[i]) == float(values[name][i]):   # the slot takes the axis value as it is
                     rows[i][k] = at_precision(given[i], dtype)
+    run = _runner(c)
     for i in range(size):
-        time, state, found, peaks, _, steps, status, message = _run(c, rows[i], None, t_max, max_steps)
+        time, state, found, peaks, _, steps, status, message = _run(c, rows[i], None, t_max, max_steps, run)
         time_out[i] = float(time)
         for column, value in zip(state_out, state):
             column[i] = float(value)

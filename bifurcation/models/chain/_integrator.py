@@ -26,8 +26,9 @@ Terminal events (all O(1) in the scaled state, exact, never smoothed):
   * per position and breakpoint of the law, ``x_i/b − 1`` either way (the piece is switched there).
 Non-terminal events record each velocity maximum (dx_i/dt = 0 from above) at its exact time.
 
-Runtime parameters: 0 ν, 1 ν_f, 2 ℓ², then per position p (M), d (M), q (M), b (M), s (M) and, for
-laws with K > 1 pieces, one-hot piece selectors (K × M, piece-major).
+Runtime parameters: ν, ν_f, ℓ², then per position p, d, q, b, s and, for laws with K > 1 pieces,
+one-hot piece selectors: named slots of ``_layout.WindowParams``, as the state's are of
+``_layout.WindowState`` (the builder and the loop share both).
 
 Friction drop σ > 0 (docs/chain.md, "Friction drop"): a separate integrator (``drop=True``) with two
 more runtime parameters at the end, σ and c = 1 − σ, and the law Φ_σ(x) = c·Φ(x/c): g_σ(x) = σ + c·g(y),
@@ -45,10 +46,10 @@ import numpy as np
 from ...laws import _fading
 from ...engine._integrator import COOLDOWN, fp_info
 from ...laws import FrictionLaw
+from ._layout import WindowParams, WindowState
 
-__all__ = ["COMPACT_ABOVE", "ENERGY_SCALE", "N_GLOBAL", "WindowIntegrator", "window_integrator"]
+__all__ = ["COMPACT_ABOVE", "ENERGY_SCALE", "WindowIntegrator", "window_integrator"]
 
-N_GLOBAL = 3
 #: windows up to this size are compiled in heyoka's full (non-compact) mode by default (see ``window_integrator``)
 COMPACT_ABOVE = 8
 #: the energy integrals are carried as ENERGY_SCALE/M times their value (see ``_build``)
@@ -59,8 +60,8 @@ _CACHE: dict = {}
 class VmaxRecorder:
     """Velocity maxima of the blocks of a window, recorded at their exact times by nt-event callbacks."""
 
-    def __init__(self, m: int) -> None:
-        self.m = m
+    def __init__(self, layout: WindowState) -> None:
+        self.layout = layout
         self.vmax = 0.0
         self.d_output = None   # the integrator's dense-output view, set once it exists
         #: per position, its largest velocity so far (only when the loop sets a list here: event
@@ -71,11 +72,11 @@ class VmaxRecorder:
         return self  # heyoka deep-copies callbacks; all of them must record here
 
     def callback(self, j: int):
-        m = self.m
+        slot = self.layout.v0 + j
 
         def on_max(ta, time, d_sgn) -> None:
             ta.update_d_output(time)
-            v = self.d_output[m + j]
+            v = self.d_output[slot]
             if v > self.vmax:
                 self.vmax = v
             vpos = self.vpos
@@ -103,6 +104,9 @@ class WindowIntegrator:
     #: a fresh view costs microseconds, and the event loop touches them several times per segment)
     pars: np.ndarray
     state: np.ndarray
+    #: the slots of ``pars`` and ``state`` by name (the loop reads and writes them through these)
+    params: WindowParams
+    layout: WindowState
 
 
 def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool,
@@ -110,17 +114,15 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
     fp_type, dtype, num = fp_info(precision)
     w = [hy.make_vars(f"w{j}") for j in range(m)]
     v = [hy.make_vars(f"v{j}") for j in range(m)]
-    par = hy.par
-    nu, nu_f, l2 = par[0], par[1], par[2]
-    p, d, q, bond, selfc = ([par[N_GLOBAL + k * m + j] for j in range(m)] for k in range(5))
     pieces = law.pieces
     k_pieces = len(pieces)
-    sel = [[par[N_GLOBAL + (5 + k) * m + j] for j in range(m)] for k in range(k_pieces)] if k_pieces > 1 else None
+    params = WindowParams(m, k_pieces, drop_on)
+    nu, nu_f, l2 = (params.par(name) for name in WindowParams.GLOBALS)
+    p, d, q, bond, selfc = (params.group(name) for name in WindowParams.PER_POSITION)
+    sel = params.selectors()
     zero, one = num(0), num(1)
-    npars = N_GLOBAL + 5 * m + (k_pieces * m if k_pieces > 1 else 0)
     if drop_on:   # σ and c = 1 − σ, after every other parameter (the σ = 0 layout is unchanged)
-        s_drop, c_drop = par[npars], par[npars + 1]
-        npars += 2
+        s_drop, c_drop = params.par("sigma"), params.par("c")
 
     def drop(j, x):
         if k_pieces == 1:
@@ -132,7 +134,8 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
         return out
 
     rhs_w, rhs_v, events, kinds, blocks, breaks, nt = [], [], [], [], [], [], []
-    recorder = VmaxRecorder(m)
+    layout = WindowState(m, energy)
+    recorder = VmaxRecorder(layout)
     fp = {"fp_type": fp_type} if fp_type is not None else {}
     cooldown = fp_type(COOLDOWN) if fp_type is not None else COOLDOWN
     neg, anyd = hy.event_direction.negative, hy.event_direction.any
@@ -174,19 +177,21 @@ def _build(law: FrictionLaw, m: int, precision: str, energy: bool, compact: bool
         if energy:
             diss_terms.append(hy.select(p[j], (one - g) * v[j], zero))
             disp_terms.append(w[j])
-    eqs = [(w[j], rhs_w[j]) for j in range(m)] + [(v[j], rhs_v[j]) for j in range(m)]
+    eqs = [None] * layout.size
+    for j in range(m):
+        eqs[j], eqs[layout.v0 + j] = (w[j], rhs_w[j]), (v[j], rhs_v[j])
     if energy:
         diss, disp = hy.make_vars("diss", "disp")
         # heyoka controls the error against the largest state component: unscaled, these integrals
         # (~10·M times a velocity or displacement) loosened the steps for every block, and a stop
         # was missed. ENERGY_SCALE/M keeps them of the size of one block's variables.
         c = num(ENERGY_SCALE / m)
-        eqs += [(diss, c * hy.sum(diss_terms)), (disp, c * hy.sum(disp_terms))]
-    ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs), dtype=dtype), pars=np.zeros(npars, dtype=dtype),
+        eqs[layout.diss], eqs[layout.disp] = (diss, c * hy.sum(diss_terms)), (disp, c * hy.sum(disp_terms))
+    ta = hy.taylor_adaptive(eqs, np.zeros(layout.size, dtype=dtype), pars=np.zeros(params.size, dtype=dtype),
                             t_events=events, nt_events=nt, compact_mode=compact, **fp)
     recorder.d_output = ta.d_output
     return WindowIntegrator(m, ta, tuple(kinds), tuple(blocks), tuple(breaks), k_pieces, energy, recorder, dtype,
-                            ta.pars, ta.state)
+                            ta.pars, ta.state, params, layout)
 
 
 def window_integrator(law: FrictionLaw, m: int, precision: str = "double", energy: bool = False,

@@ -31,7 +31,7 @@ import mpmath
 import numpy as np
 
 from ...laws import FrictionLaw
-from ._integrator import COMPACT_ABOVE, ENERGY_SCALE, N_GLOBAL, window_integrator
+from ._integrator import COMPACT_ABOVE, ENERGY_SCALE, window_integrator
 from .result import ChainStatus
 
 __all__ = ["ChainLoop"]
@@ -42,6 +42,36 @@ _TIME_LIMIT = hy.taylor_outcome.time_limit
 
 def _pow2_at_least(k: int) -> int:
     return 1 << max(k - 1, 0).bit_length()
+
+
+class _Segment:
+    """One segment of an event in one window: what its event handlers (``ChainLoop._stops``,
+    ``_side``, ``_switches``, ``_commit``) share. ``p`` and ``pieces`` change as blocks stop and
+    switch; ``stopped`` collects the blocks that stopped (they leave S at the commit)."""
+
+    __slots__ = ("wi", "ta", "idx", "at", "k", "m", "sg", "d", "p", "pieces", "bond", "selfc",
+                 "nu", "l2", "nu_f", "stopped", "velocities")
+
+    def __init__(self, wi, idx, at, sg, d, p, pieces, bond, selfc, nu, l2, nu_f) -> None:
+        self.wi, self.ta, self.idx, self.at, self.k, self.m = wi, wi.integrator, idx, at, len(idx), wi.m
+        self.sg, self.d, self.p, self.pieces, self.bond, self.selfc = sg, d, p, pieces, bond, selfc
+        self.nu, self.l2, self.nu_f = nu, l2, nu_f
+        self.stopped = []
+        self.velocities = wi.layout.velocities(len(idx))   # the state slots of the blocks' v
+
+    def load(self, j: int):
+        """(σ_j − 1)/ν of position j now (scaled variables, the integrator's own expression)."""
+        # w_i is state slot i (``WindowState``); the left neighbour of position 0 is w[m − 1], not state[−1]
+        w, m, bond = self.wi.state, self.m, self.bond
+        coupling = bond[j - 1] * w[(j - 1) % m] + bond[j] * w[(j + 1) % m] + (self.selfc[j] - 2) * w[j]
+        return self.d[j] / self.nu + self.l2 * coupling - w[j] + self.ta.time
+
+    def switch(self, i: int, pc: int) -> None:
+        """Move position i to piece ``pc`` (its one-hot selector)."""
+        wi, pieces = self.wi, self.pieces
+        wi.pars[wi.params.selector(pieces[i], i)] = 0
+        wi.pars[wi.params.selector(pc, i)] = 1
+        pieces[i] = pc
 
 
 class ChainLoop:
@@ -121,7 +151,9 @@ class ChainLoop:
         # operation and round the same), the dtype's own scalars otherwise (real128 in quad)
         self._scalar = float if dtype is np.float64 else (lambda x: x)
         self._zero, self._one, self._pad = (self._scalar(dtype(x)) for x in (0, 1, -1e3))
+        #: (σ, 1 − σ), the values of the drop integrator's slots "sigma" and "c" (empty at σ = 0)
         self._drop_pars = tuple(self._scalar(x) for x in self._drop_pars)
+        self._drop_c = self._drop_pars[-1] if self._drop_on else None
 
     # -- chain geometry ---------------------------------------------------------------------------
     def _laplacian(self, a: np.ndarray) -> np.ndarray:
@@ -345,22 +377,15 @@ class ChainLoop:
         qinv = [one if (q := abs(x) / nu) < 1 else 1 / q for x in d]
         slip, vd, pcd = self._slip, self._v, self._pc
         p = [1.0 if j in slip else 0.0 for j in idx] + [0.0] * (m - k)
-        values = [nu, nu_f, l2] + p + d + qinv + bond + selfc
-        k_pieces = wi.n_pieces
         pieces = None                            # a one-piece law has no piece to track
-        if k_pieces > 1:
+        if wi.n_pieces > 1:
             # a stuck neighbour that has not started keeps the piece it had (never used while it is
             # stuck: its switch events cannot fire at V = 0; the start resets it)
             pieces = [pcd[j] if j in pcd else int(self.piece[j]) for j in idx] + [0] * (m - k)
-            onehot = [0.0] * (k_pieces * m)
-            for i, pc in enumerate(pieces):
-                onehot[pc * m + i] = 1.0
-            values += onehot
-        if self._drop_on:
-            values += self._drop_pars            # σ, 1 − σ: the drop integrator's last parameters
-        pars[:] = values
+        pars[:] = wi.params.pack(nu=nu, nu_f=nu_f, l2=l2, p=p, d=d, q=qinv, bond=bond, selfc=selfc,
+                                 pieces=pieces, drop=self._drop_pars)
         st = [0.0] * len(state)
-        st[m:m + k] = [vd.get(j, 0.0) for j in idx]
+        st[wi.layout.velocities(k)] = [vd.get(j, 0.0) for j in idx]
         state[:] = st
         ta.time = self._zero
         ta.reset_cooldowns()
@@ -389,8 +414,7 @@ class ChainLoop:
         n_events = len(kinds)
         slipping = int(sum(p))
         steps = self.ev["steps"]
-        stopped = []
-        commit = (wi, idx, at, sg, p, pieces, bond, selfc, stopped)
+        seg = _Segment(wi, idx, at, sg, d, p, pieces, bond, selfc, nu, l2, nu_f)
         while True:
             outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=max(self.max_steps - steps, 1))
             steps += nsteps
@@ -403,7 +427,7 @@ class ChainLoop:
                 # heyoka keeps time in double-length and ta.time can read one ulp below t_end (a far start
                 # was reported as no-stop after 74 steps; tests/test_chain_adversarial.py)
                 if outcome == _TIME_LIMIT and tau_far <= t_left:
-                    self._commit(*commit)
+                    self._commit(seg)
                     return self._back_slip(idx) or ("far", far)
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
                         f"or max_steps = {self.max_steps} (steps = {steps})")
@@ -412,23 +436,23 @@ class ChainLoop:
                 continue
             if kinds[index] == "block":
                 if p[j]:                         # a stop (and any stop at the same instant)
-                    slipping -= self._stops(ta, wi, idx, k, j, p, d, bond, selfc, nu, l2, stopped)
+                    slipping -= self._stops(seg, j)
                     if slipping == 0:
                         self.ev["steps"] = steps
-                        self._commit(*commit)
+                        self._commit(seg)
                         return self._back_slip(idx)
                 else:                            # a stuck block of S starts
                     self.ev["steps"] = steps
-                    self._commit(*commit)
+                    self._commit(seg)
                     return self._back_slip(idx) or ("window", idx[j])
             else:                                # a switch of the friction piece (and any coincident one)
                 b = breaks[index]                # between pieces b and b + 1
-                pc = self._side(ta, wi.state, j, m, d, bond, selfc, nu, l2, b, pieces[j])
+                pc = self._side(seg, j, b, pieces[j])
                 if pc != pieces[j]:
-                    self._switch(wi, j, pieces, pc)
-                self._switches(ta, wi, k, j, p, pieces, nu, nu_f, d, bond, selfc, l2)
+                    seg.switch(j, pc)
+                self._switches(seg, j)
 
-    def _stops(self, ta, wi, idx, k, j, p, d, bond, selfc, nu, l2, stopped) -> int:
+    def _stops(self, seg: _Segment, j: int) -> int:
         """Stop block j (its stop event fired) and every other slipping block of the window whose
         velocity is ≤ 0 at this instant; return how many stopped.
 
@@ -436,29 +460,23 @@ class ChainLoop:
         heyoka reports one of the coincident events; a root that lies at or before the next step's start
         shows no sign change in that step, so its stop would be missed and the block would slide
         backwards (tests/test_chain.py, test_equal_stresses_fail_together). A block with σ ≥ 1 at V = 0
-        (only at rounding level: ``_overloaded``) cannot stick and keeps slipping from V = 0."""
-        state, pars, m = wi.state, wi.pars, wi.m
-        v = state[m:m + k].tolist()
+        (only at rounding level) cannot stick and keeps slipping from V = 0."""
+        wi, p = seg.wi, seg.p
+        state, pars, v0 = wi.state, wi.pars, wi.layout.v0
+        v = state[seg.velocities].tolist()
         done = 0
-        for i in [j] + [i for i in range(k) if i != j and p[i] and v[i] <= 0]:
-            state[m + i] = 0
-            if self._overloaded(ta, state, i, m, d, bond, selfc, nu, l2):
+        for i in [j] + [i for i in range(seg.k) if i != j and p[i] and v[i] <= 0]:
+            state[v0 + i] = 0
+            if seg.load(i) >= 0:   # σ_i ≥ 1 at V = 0 (only at rounding level): it cannot stick
                 self.counts["overloaded"] += 1
                 continue
             p[i] = 0.0
-            pars[N_GLOBAL + i] = 0
-            stopped.append(idx[i])
+            pars[wi.params.at("p", i)] = 0
+            seg.stopped.append(seg.idx[i])
             done += 1
         return done
 
-    def _switch(self, wi, i, pieces, pc) -> None:
-        m = wi.m
-        base = N_GLOBAL + 5 * m
-        wi.pars[base + pieces[i] * m + i] = 0
-        wi.pars[base + pc * m + i] = 1
-        pieces[i] = pc
-
-    def _side(self, ta, state, j, m, d, bond, selfc, nu, l2, b, pc) -> int:
+    def _side(self, seg: _Segment, j: int, b: int, pc: int) -> int:
         """The piece of block j at breakpoint b (x_j = b to rounding): b + 1 if x_j is rising there, b if
         falling (σ_j − Φ(b) > 0 or < 0; Φ is continuous), ``pc`` unchanged at a tangency.
 
@@ -466,10 +484,10 @@ class ChainLoop:
         a crossing x_j lands within an ulp of b on either side, and a block switched at one report was
         flipped back at the next coincident one (a pair of blocks of the three-piece law then slid at
         Φ = 0 below x = 1.5: potency 0.5 % high; tests/test_chain_adversarial.py)."""
-        rate = self._load(ta, state, j, m, d, bond, selfc, nu, l2) + self._g_break[b] / nu
+        rate = seg.load(j) + self._g_break[b] / seg.nu
         return b + 1 if rate > 0 else b if rate < 0 else pc
 
-    def _switches(self, ta, wi, k, j, p, pieces, nu, nu_f, d, bond, selfc, l2) -> None:
+    def _switches(self, seg: _Segment, j: int) -> None:
         """After block j switched piece: switch every other slipping block whose x = νv/ν_f already lies
         outside its piece's interval and moves away from it (a crossing at the same instant to rounding,
         missed otherwise as in ``_stops``). A block not yet across, or exactly at a breakpoint, stays:
@@ -477,21 +495,20 @@ class ChainLoop:
         time). A block just outside but moving back in (switched at this instant, x rounded past b)
         stays too (``_side``)."""
         lower, upper = self._bounds
-        state = wi.state
-        m = wi.m
-        v = state[m:m + k].tolist()
-        for i in range(k):
+        p, pieces, nu, nu_f = seg.p, seg.pieces, seg.nu, seg.nu_f
+        v = seg.wi.state[seg.velocities].tolist()
+        for i in range(seg.k):
             if i != j and p[i]:
                 x = (nu * v[i]) / nu_f
                 if self._drop_on:                  # the law's argument x/(1 − σ) (its breakpoints)
-                    x = x / self._drop_pars[1]
+                    x = x / self._drop_c
                 pc = pieces[i]
                 if x < lower[pc] or x > upper[pc]:
                     new = self.law.piece_index(x)
                     if abs(new - pc) == 1:         # across one breakpoint: which way is it going?
-                        new = self._side(ta, state, i, m, d, bond, selfc, nu, l2, min(new, pc), pc)
+                        new = self._side(seg, i, min(new, pc), pc)
                     if new != pc:
-                        self._switch(wi, i, pieces, new)
+                        seg.switch(i, new)
 
     def _back_slip(self, idx):
         """An error message if a slipping block moves backwards (a stop event was missed), else None.
@@ -504,34 +521,22 @@ class ChainLoop:
                     f"{float(self.t):.17g} without a stop event")
         return None
 
-    @staticmethod
-    def _load(ta, state, j, m, d, bond, selfc, nu, l2):
-        """(σ_j − 1)/ν of position j now (scaled variables, the integrator's own expression)."""
-        w = state   # the whole state (w then v): the left neighbour of position 0 is w[m − 1], not state[−1]
-        coupling = bond[j - 1] * w[(j - 1) % m] + bond[j] * w[(j + 1) % m] + (selfc[j] - 2) * w[j]
-        return d[j] / nu + l2 * coupling - w[j] + ta.time
-
-    @classmethod
-    def _overloaded(cls, ta, state, j, m, d, bond, selfc, nu, l2) -> bool:
-        """σ_j ≥ 1 at a stop (only at rounding level): the block cannot stick."""
-        return cls._load(ta, state, j, m, d, bond, selfc, nu, l2) >= 0
-
-    def _commit(self, wi, idx, at, sg, p, pieces, bond, selfc, stopped) -> None:
+    def _commit(self, seg: _Segment) -> None:
         """Fold the segment's scaled increments into the global state (exact up to rounding).
 
         Only the window's blocks moved, and their Laplacian is the window's own coupling (a block of
         the window next to one outside it is stuck, w = 0), so the stress of block j changes by
         ν(ℓ²·coupling_j − w_j + τ) in the window and by ντ elsewhere: O(M) work plus one O(N) add.
-        ``sg`` holds the window's stresses at the segment's start."""
-        nu, l2 = self._hot[:2]
-        ta, state = wi.integrator, wi.state
-        tau = ta.time
-        m, k = wi.m, len(idx)
-        st = state.tolist()
-        w = st[:m]
+        ``seg.sg`` holds the window's stresses at the segment's start."""
+        wi, idx, at, sg, p, pieces, bond, selfc = (seg.wi, seg.idx, seg.at, seg.sg, seg.p, seg.pieces,
+                                                   seg.bond, seg.selfc)
+        nu, l2, tau, m, k = seg.nu, seg.l2, seg.ta.time, seg.m, seg.k
+        st = wi.state.tolist()
+        w = st[wi.layout.slips(m)]
         # the window holds every slipping block: their velocities are the state's, the rest are stuck
-        self._v = {j: st[m + i] for i, j in enumerate(idx) if p[i]}
-        self._slip.difference_update(stopped)
+        v0 = wi.layout.v0
+        self._v = {j: st[v0 + i] for i, j in enumerate(idx) if p[i]}
+        self._slip.difference_update(seg.stopped)
         if wi.n_pieces > 1:
             pcd = self._pc
             for i, j in enumerate(idx):
@@ -578,7 +583,7 @@ class ChainLoop:
             self.l2 * np.sum(self.bond * db + db * db / 2)
         unscale = m / self.dtype(ENERGY_SCALE)
         self.ev["work"] += nu * (np.sum(self.y) * tau + nu * self.n * tau * tau / 2
-                                 - nu * state[2 * m + 1] * unscale)
-        self.ev["diss"] += nu * state[2 * m] * unscale
+                                 - nu * state[wi.layout.disp] * unscale)
+        self.ev["diss"] += nu * state[wi.layout.diss] * unscale
         self.y += dy
         self.bond += db
