@@ -274,6 +274,9 @@ class Hooks:
     - ``commands``: a list of click commands the CLI adds (``bifurcation <command>``).
     - ``presets(name)`` → (axis values, (label,)): a workflow's ``[model] preset = "NAME"`` (published
       parameter sets); raises ``InputError`` for an unknown name.
+    - ``workflow``: a ``bifurcation.workflow.validate.WorkflowKind`` (or a tuple of them): the model's own
+      workflows besides ``submit``'s (rate-state's ``continue``), so that every command names the right
+      one when given another's file; the model reads them with that module's ``read_toml`` and ``Table``.
     """
 
     describe_label: str = ""
@@ -282,9 +285,10 @@ class Hooks:
     bench_needs: tuple[str, ...] = ()
     commands: str = ""
     presets: str = ""
+    workflow: str = ""
 
     def __post_init__(self) -> None:
-        for name in ("describe_label", "report", "bench", "commands", "presets"):
+        for name in ("describe_label", "report", "bench", "commands", "presets", "workflow"):
             value = getattr(self, name)
             module, _, attribute = value.partition(":")
             if value and not (module and attribute.isidentifier()

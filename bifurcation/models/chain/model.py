@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...bounds import NU_BOUNDS, NU_F_BOUNDS
+from ...workflow.validate import WorkflowKind
 from .._base import Axis, Hooks, Model, Output
 from ..single_block import BLOCK_UNITS, LAW
 from .result import CATALOG_ATTRS, ChainStatus
@@ -171,6 +172,12 @@ CHAIN = Model(
                 report="bifurcation.models.chain.store_report:chain_store_blocks",
                 bench="bifurcation.models.chain._bench:run_chain_bench",
                 commands="bifurcation.cli._chain:COMMANDS",
-                presets="bifurcation.models.chain.presets:workflow_preset"),
+                presets="bifurcation.models.chain.presets:workflow_preset",
+                workflow="bifurcation.models.chain.model:REPORT_WORKFLOW"),
     units_note=BLOCK_UNITS,
 )
+
+#: The chain report's own workflows (``workflows/chain-report.toml``): named when another command is given one.
+REPORT_WORKFLOW = WorkflowKind("chain-report", ("chain", "sweep", "catalog", "threshold", "near_half"),
+                               "a chain report workflow ([chain], [sweep])",
+                               "run it with `python -m bifurcation.models.chain.report FILE`")
