@@ -64,7 +64,7 @@ def test_types_ranges_and_finite_numbers(tmp_path, change, key, problem):
 def test_table_bounds_are_open_or_closed_as_asked():
     t = Table({"x": 0.0, "n": 3, "xs": [1.0, 2.0], "flag": 1}, "t", ("x", "n", "xs", "flag"))
     assert t.number("x", low=0) == 0.0
-    with pytest.raises(InputError, match=r"t.x=0.0: is out of range: must be > 0"):
+    with pytest.raises(InputError, match=r"t.x=0.0: must be > 0; give a value > 0"):
         t.number("x", above=0)
     with pytest.raises(InputError, match=r"t.n=3: is out of range: must be <= 2"):
         t.integer("n", low=None, high=2)

@@ -19,7 +19,7 @@ __all__ = ["StudyStatus", "format_eta", "study_status"]
 
 #: Outcomes that are results, not failures (any other status of a done point is counted as a failure).
 _RESULTS = ("stick-slip", "creep", "complete", "steady-sliding", "limit-cycle", "unbounded-growth",
-            "no-hopf-point")
+            "no-hopf-point", "periodic-orbit", "past-end")
 #: The rate is measured over the tiles the current writer finished in the last this many seconds.
 _RATE_WINDOW = 300.0
 

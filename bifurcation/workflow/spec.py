@@ -120,7 +120,7 @@ class Workflow:
     def __init__(self, name, laws, *, model=None, grid=None, description="", precision="double",
                  t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS, batch=1, tiles=None, source=None,
                  catalog_chunk=None, **axes) -> None:
-        spec = get_model(model)
+        spec = _solvable(get_model(model))
         points = dict(grid or {})
         for key, value in axes.items():
             if key in points:
@@ -248,6 +248,14 @@ class Workflow:
         return "\n".join(lines)
 
 
+def _solvable(spec):
+    """``spec``, unless its stores are written whole by its own command (rate-state's branches of cycles)."""
+    if spec.written_by:
+        raise InputError("model.name", spec.name, f"is the store of `bifurcation {spec.written_by}`, not a model "
+                         "of a study grid", "name a model whose points are solved one by one, e.g. rate-state")
+    return spec
+
+
 def _engine_check(key: str, check, value, *args):
     """``check(value, *args)`` (a ``bifurcation.engine`` check), its error naming the workflow ``key``."""
     try:
@@ -356,6 +364,7 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
         spec = get_model(model_name)
     except InputError as exc:
         raise InputError("model.name", model_name, exc.problem, exc.fix) from None
+    _solvable(spec)   # before its grid tables are read
     preset_points, preset_laws = _preset(model_table, spec)
     key = spec.labels.workflow_key
     axis_names = tuple(a.name for a in spec.axes)

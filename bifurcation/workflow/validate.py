@@ -226,7 +226,7 @@ def _bounded(key: str, value, low, high, above, fix: str) -> float:
     value = as_number(key, value, fix)
     if above is not None and not value > above:
         span = f"> {above:g}" + (f" and <= {high:g}" if high is not None else "")
-        raise InputError(key, value, f"is out of range: must be {span}", fix or f"give a value {span}")
+        raise InputError(key, value, f"must be {span}", fix or f"give a value {span}")
     check_range(key, value, low, high, fix)
     return value
 
