@@ -25,7 +25,7 @@ import numpy as np
 
 from ...errors import InputError
 from .._base import Axis, Hooks, Labels, Model, Output
-from .model import CRITICALITY
+from .model import CRITICALITY, RATE_STATE
 from .study import MAX_POINTS
 
 __all__ = ["RATE_STATE_BRANCHES", "BranchStatus", "branch_values", "write_branch_store"]
@@ -78,8 +78,7 @@ RATE_STATE_BRANCHES = Model(
     description=("cycles continued from the Hopf point of steady sliding in κ = k/k_c or in V_lp, each a periodic "
                  "orbit found by Newton with its Floquet multipliers and its period checked by direct simulation "
                  "(docs/rate-state.md)"),
-    source=("Ruina, JGR 88, 10359 (1983); Rice & Ruina, J. Appl. Mech. 50, 343 (1983); "
-            "Gu, Rice, Ruina & Tse, JMPS 32, 167 (1984)"),
+    source=RATE_STATE.source,
     labels=Labels(name="branch", long_name="branch of cycles (its label in the workflow)", workflow_key="branch",
                   resolve=_label, identity=_label, example="prz, quasi-static"),
     axes=(Axis("point", "i", "index of the point along its branch (0: nearest the Hopf point)",
@@ -93,7 +92,7 @@ RATE_STATE_BRANCHES = Model(
     classify=None,
     written_by="continue",
     hooks=Hooks(report="bifurcation.models.rate_state.branches:blocks"),
-    units_note="those of the workflow's own V_lp, Dc and M (docs/rate-state.md)",
+    units_note=RATE_STATE.units_note,
 )
 
 

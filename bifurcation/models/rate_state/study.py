@@ -5,14 +5,10 @@ every key) is validated into frozen specs before anything is computed or written
 is one ``InputError`` line naming it.
 
 Output directory ``<out>``: ``--out``, default ``results/local/<study name>`` (ignored by git).
-Store (``<out>/branches.zarr``, Zarr v3 through xarray, written once at the end so an interrupted run
-leaves no half store): dimensions ``branch`` (labels in the attribute ``branch_labels``) × ``point`` (padded with NaN,
-``status`` 0 = no point),
-variables ``kappa``, ``k``, ``period``, ``period_check`` (relative difference to the direct-simulation
-period), ``ln_v_max``, ``ln_v_min``, ``slip``, ``multiplier_max`` (largest |Floquet multiplier|),
-``status`` (1 ok, 2 no-convergence) and per-branch ``k_c``, ``omega_c``, ``lyapunov_coefficient``,
-``mass``, ``fold_kappa``; attributes hold the workflow text, the criticality per branch and the
-stop reason of each continuation.
+Store ``<out>/branches.zarr``: a store of the model ``rate-state-branches`` (``branches``: its arrays,
+statuses and attributes), written through ``bifurcation.store`` once at the end, beside its path and renamed
+into place, so an interrupted run leaves no half store; ``status``, ``query``, ``verify`` and ``report
+--store`` read it like any store.
 """
 
 from __future__ import annotations
