@@ -206,6 +206,8 @@ def write_whole_store(path, model, labels, grid, values: dict, attrs: dict, *, t
     tiles = tuple(tiles or shape[1:])
     attrs = {**attrs, "tiles": list(tiles)}
     partial, old = path.with_name(path.name + ".partial"), path.with_name(path.name + ".old")
+    if old.is_dir() and not path.exists():   # a run killed between the two renames below: the store was that
+        old.rename(path)
     for leftover in (partial, old):
         shutil.rmtree(leftover, ignore_errors=True)
     path.parent.mkdir(parents=True, exist_ok=True)
