@@ -94,7 +94,9 @@ def test_verify_finds_a_flipped_byte_and_query_shows_nothing_of_it(store):
     assert [(d.chunk, d.problem) for d in damage] == [("period/c/1/0", "checksum mismatch")]
     r = CliRunner().invoke(cli, ["verify", "--store", str(store)])
     assert r.exit_code == 1 and "period/c/1/0: checksum mismatch" in r.output
-    with pytest.raises(StoreDamagedError, match="period/c/1/0"):
+    # no point of it can be recomputed alone: the advice is to write it again, not verify --repair
+    assert f"repair with: bifurcation continue WORKFLOW --out {store.parent}" in r.output
+    with pytest.raises(StoreDamagedError, match=r"period/c/1/0.*; run `bifurcation continue WORKFLOW --out"):
         query(store, law="aging, inertial")
     assert query(store, law="prz, quasi-static")[0]["period"] == 3.0   # the other branch's chunks are sound
     # its points cannot be recomputed one by one: --repair says what to do instead, and touches nothing
