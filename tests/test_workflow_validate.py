@@ -93,3 +93,45 @@ def test_another_commands_workflow_is_named_by_the_kind_its_model_declares(tmp_p
         read_toml(path, SUBMIT, argument="WORKFLOW", example="x")
     text, data = read_toml(path, continuation, argument="WORKFLOW", example="x")
     assert text == RS and data["slider"]["a"] == 0.01
+
+
+CHAIN_REPORT = (Path(__file__).resolve().parents[1] / "workflows" / "chain-report.toml").read_text()
+
+
+def test_the_chain_reports_workflow_is_read_through_the_same_validator(tmp_path):
+    import tomllib
+
+    from bifurcation.models.chain.report_workflow import load_report_workflow
+
+    for name in ("chain-report.toml", "chain-report-large.toml"):   # the shipped ones, as the report reads them
+        path = Path(__file__).resolve().parents[1] / "workflows" / name
+        assert load_report_workflow(path) == tomllib.loads(path.read_text())
+    path = tmp_path / "c.toml"
+    for old, new, match in [
+        ("transient_cycles = 3", "transient_cycles = 3\nsteps = 4", rf"sweep.steps=4: is not a known key of \[sweep\] in "
+                                                                   rf"{path}"),
+        ("seeds = [1, 6, 6, 4, 2]", "seeds = [1, 6, 6, 4]", r"sweep.seeds='4 values': has not the 5 values of sizes"),
+        ('ends = "free"', 'ends = "fixed"', r"chain.ends='fixed': is not a kind of ends; use one of free, periodic"),
+        ("skip = 300", "skip = 5000", r"catalog.skip=5000: leaves no event of the shortest catalog \(2000\)"),
+        ("cycles = [[60, 24, 10], [15, 5, 2]]", "cycles = [[60, 24], [15, 5, 2]]", r"near_half.cycles\[0\]"),
+        ("ell = 1.0", 'ell = "1"', r"chain.ell='1': is a string, not a number"),
+        ('law = "carlson-langer"', 'law = "coulomb"', r"chain.law='coulomb': is not a known law"),
+    ]:
+        assert old in CHAIN_REPORT, old
+        path.write_text(CHAIN_REPORT.replace(old, new, 1))
+        with pytest.raises(InputError, match=match):
+            load_report_workflow(path)
+
+
+def test_a_bad_chain_report_workflow_is_one_line_exit_2_and_writes_nothing(tmp_path, capsys):
+    from bifurcation.models.chain.report import main
+
+    path = tmp_path / "c.toml"
+    path.write_text(CHAIN_REPORT.replace('out = "results/local/chain"', f'out = "{tmp_path / "out"}"')
+                    .replace("nu = 1e-3", "nu = nan", 1))
+    with pytest.raises(SystemExit) as info:
+        main([str(path)])
+    assert info.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["bifurcation: error: chain.nu=nan: is not finite; give a finite number"]
+    assert not (tmp_path / "out").exists()

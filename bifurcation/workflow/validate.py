@@ -212,6 +212,20 @@ class Table:
                              fix or f"give at most {most}")
         return tuple(_bounded(self.path(name), v, low, high, above, fix) for v in values)
 
+    def integers(self, name: str, default=_MISSING, *, low: int | None = 1, high: int | None = None,
+                 most: int | None = None, fix: str = "") -> tuple[int, ...]:
+        """A non-empty array of at most ``most`` integers in [``low``, ``high``] (each named ``name[i]``)."""
+        values = self.array(name, default, fix=fix)
+        if most is not None and len(values) > most:
+            raise InputError(self.path(name), f"{len(values)} values", f"has more than {most} values",
+                             fix or f"give at most {most}")
+        for i, value in enumerate(values):
+            if isinstance(value, bool) or not isinstance(value, int):
+                raise InputError(f"{self.path(name)}[{i}]", value, f"is {_type_name(value)}, not an integer",
+                                 fix or "write whole numbers without a decimal point")
+            check_range(f"{self.path(name)}[{i}]", value, low, high, fix)
+        return tuple(values)
+
     def array(self, name: str, default=_MISSING, *, fix: str = "") -> list:
         value = self.raw(name, default, fix=fix)
         if not isinstance(value, list):
