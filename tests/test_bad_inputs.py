@@ -370,7 +370,7 @@ CASES = [
         ("rs_b_over_a_huge", "hopf.b_over_a"), ("rs_b_over_a_low", "hopf.b_over_a"),
         ("rs_hopf_vlp_neg", "hopf.v_lp"), ("rs_hopf_list_long", "hopf.v_lp"), ("rs_hopf_empty", "hopf.v_lp"),
         ("rs_bautin", "hopf.bautin"), ("rs_name", "study.name"), ("rs_no_branch", "branch"),
-        ("rs_branches_many", "branch"), ("rs_unknown_table", "workflow.output"), ("rs_syntax", "WORKFLOW")]],
+        ("rs_branches_many", "branch"), ("rs_unknown_table", "output="), ("rs_syntax", "WORKFLOW")]],
     "continue ## Missing argument 'WORKFLOW'",
     # -- export ----------------------------------------------------------------------------------------
     "export --store {sb} --out {existing_nc} ## --out",                               # no overwrite without --force

@@ -39,10 +39,10 @@ def test_the_study_group_holds_each_models_study_hook_under_its_name():
 
 @pytest.mark.parametrize("name", ["chain-report.toml", "chain-report-large.toml"])
 def test_the_shipped_workflows_pass_the_check_unchanged(name):
-    from bifurcation.models.chain.study_spec import load_chain_study
+    from bifurcation.models.chain.report_workflow import load_report_workflow
 
     path = REPO / "workflows" / name
-    assert load_chain_study(path) == tomllib.loads(path.read_text())
+    assert load_report_workflow(path) == tomllib.loads(path.read_text())
 
 
 def test_out_defaults_to_the_workflows_out_and_nothing_is_made_before_the_study(runs, tmp_path):

@@ -37,14 +37,33 @@ def test_default_out_of_reproduce_and_continue_is_not_a_committed_directory():
     assert 'out = "results/local/chain"' in text
 
 
-def test_continue_branch_store_is_named_for_what_it_is(tmp_path):
-    """status/query/report/export given continue's branches.zarr say what it is and how to read it."""
+def test_continue_branch_store_is_read_like_any_store(tmp_path):
+    """status/query/verify read continue's committed branches.zarr (a store of the model rate-state-branches
+    since issue 20; tests/test_branch_store.py reads a small one through report --store too)."""
     committed = REPO / "results" / "rate-state" / "branches.zarr"
-    for command in (["status"], ["query"], ["report", "--out", str(tmp_path / "r")],
+    r = CliRunner().invoke(cli, ["status", "--store", str(committed)])
+    assert r.exit_code == 0 and "531/531 points done (100.0%), 0 failed" in r.output, r.output   # 9 branches × 59
+    r = CliRunner().invoke(cli, ["query", "--store", str(committed), "--law", "prz, quasi-static", "--point", "0",
+                                 "--json"])
+    assert r.exit_code == 0 and '"criticality": "subcritical"' in r.output, r.output
+    r = CliRunner().invoke(cli, ["verify", "--store", str(committed)])
+    assert r.exit_code == 0 and "0 damaged" in r.output, r.output
+
+
+def test_an_older_branch_store_is_named_for_what_it_is(tmp_path):
+    """A branches.zarr of continue before it wrote through the store layer: one line saying what to do."""
+    import numpy as np
+    import xarray as xr
+
+    old = tmp_path / "branches.zarr"
+    xr.Dataset({"kappa": (("branch", "point"), np.ones((1, 2)))},
+               attrs={"model": "rate-state", "branch_labels": ["prz"]}).to_zarr(str(old), zarr_format=3,
+                                                                                 consolidated=False)
+    for command in (["status"], ["query"], ["verify"], ["report", "--out", str(tmp_path / "r")],
                     ["export", "--out", str(tmp_path / "x.nc")]):
-        r = CliRunner().invoke(cli, [*command, "--store", str(committed)])
+        r = CliRunner().invoke(cli, [*command, "--store", str(old)])
         assert r.exit_code == 2, r.output
-        assert "is the branch store of `bifurcation continue`" in r.output and "xarray.open_zarr" in r.output
+        assert "is a branch store of an older `bifurcation continue`" in r.output and "xarray.open_zarr" in r.output
         assert len(r.output.strip().splitlines()) == 1
 
 

@@ -83,9 +83,9 @@ def test_continue_writes_a_store_and_a_report(tmp_path):
     assert r.exit_code == 0, r.output
     assert (out / "REPORT.md").exists() and (out / "bifurcation-diagram.png").exists()
     ds = xr.open_zarr(out / "branches.zarr", consolidated=False)
-    assert ds.attrs["branch_labels"] == ["prz"] and ds.sizes["point"] == 4
+    assert ds.branch.values.tolist() == ["prz"] and ds.sizes["point"] == 4
     assert (ds.status.values == 1).all() and np.all(ds.period_check.values < 1e-10)
-    assert ds.k_c.values[0] == pytest.approx(0.5, rel=1e-12)
+    assert ds.k_c.values[0] == pytest.approx([0.5] * 4, rel=1e-12)   # a branch's k_c, at each of its points
     assert "subcritical" in (out / "REPORT.md").read_text()
     from _report_outline import from_html, from_markdown   # REPORT.md and report.html: one document
 

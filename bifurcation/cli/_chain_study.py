@@ -38,10 +38,10 @@ def chain_study_cmd(workflow: str, out, from_data: bool, force: bool) -> None:
     workflows/chain-report.toml)."""
     import json
 
-    from ..models.chain.study_spec import load_chain_study
+    from ..models.chain.report_workflow import load_report_workflow
     from ._common import check_writable_dir
 
-    cfg = load_chain_study(workflow)   # the whole workflow, before anything runs or is written
+    cfg = load_report_workflow(workflow)   # the whole workflow, before anything runs or is written
     out = Path(out if out is not None else cfg["study"].get("out", f"results/local/{cfg['study']['name']}"))
     check_writable_dir(out)
     data = out / "data.json"

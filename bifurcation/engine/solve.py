@@ -27,6 +27,9 @@ def solve(model, label: str, points: dict, *, precision: str = "double", t_max: 
     from .cycle import run_model
 
     spec = _declared(model)
+    if spec.written_by:
+        raise TypeError(f"model {spec.name}: its points are written by `bifurcation {spec.written_by}`, not solved "
+                        "one by one")
     # an axis with a default (as in a workflow without its [grid] table) takes it
     points = {**{a.name: a.default for a in spec.axes if a.default is not None and a.name not in points}, **points}
     missing = [a.name for a in spec.axes if a.name not in points]

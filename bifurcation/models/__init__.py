@@ -38,6 +38,7 @@ _REGISTRY = {
     "single-block": "single_block:SINGLE_BLOCK",
     "damped-block": "damped_block:DAMPED_BLOCK",
     "rate-state": "rate_state.model:RATE_STATE",
+    "rate-state-branches": "rate_state.branches:RATE_STATE_BRANCHES",
     "chain": "chain.model:CHAIN",
     "rs-chain": "rs_chain.model:RS_CHAIN",
 }

@@ -276,6 +276,9 @@ class Hooks:
       ``submit`` computes); the CLI adds it as ``bifurcation study <model name>``.
     - ``presets(name)`` → (axis values, (label,)): a workflow's ``[model] preset = "NAME"`` (published
       parameter sets); raises ``InputError`` for an unknown name.
+    - ``workflow``: a ``bifurcation.workflow.validate.WorkflowKind`` (or a tuple of them): the model's own
+      workflows besides ``submit``'s (rate-state's ``continue``), so that every command names the right
+      one when given another's file; the model reads them with that module's ``read_toml`` and ``Table``.
     """
 
     describe_label: str = ""
@@ -285,9 +288,10 @@ class Hooks:
     commands: str = ""
     presets: str = ""
     study: str = ""
+    workflow: str = ""
 
     def __post_init__(self) -> None:
-        for name in ("describe_label", "report", "bench", "commands", "presets", "study"):
+        for name in ("describe_label", "report", "bench", "commands", "presets", "study", "workflow"):
             value = getattr(self, name)
             module, _, attribute = value.partition(":")
             if value and not (module and attribute.isidentifier()
@@ -353,18 +357,23 @@ class Model:
     hooks: Hooks = field(default_factory=Hooks)
     #: One line for reports: the units its numbers are in.
     units_note: str = ""
+    #: The command that writes this declaration's stores whole (``"continue"``: rate-state's branches of
+    #: cycles, each point continued from the one before): no engine runs its points one by one, so it
+    #: declares neither equations nor a runner, and a ``submit`` workflow cannot name it.
+    written_by: str = ""
 
     def __post_init__(self) -> None:
-        if self.runner is None and (self.equations is None or self.classify is None):
-            raise ValueError(f"model {self.name}: declare equations and classify, or a runner")
+        if self.runner is None and (self.equations is None or self.classify is None) and not self.written_by:
+            raise ValueError(f"model {self.name}: declare equations and classify, or a runner (or written_by)")
         names = [self.labels.name, *(a.name for a in self.axes)]
         if len(set(names)) != len(names):
             raise ValueError(f"model {self.name}: dimension names {names} repeat")
         slots = set(self.parameters)
+        generic = self.runner is None and not self.written_by   # the generic engine sets its runtime slots
         for axis in self.axes:
-            if self.runner is None and not axis.structural and axis.slot not in slots:
+            if generic and not axis.structural and axis.slot not in slots:
                 raise ValueError(f"model {self.name}: axis {axis.name} sets no runtime parameter")
-        unset = set() if self.runner is not None else slots - {a.slot for a in self.axes if not a.structural} - set(self.fixed)
+        unset = set() if not generic else slots - {a.slot for a in self.axes if not a.structural} - set(self.fixed)
         if unset:
             raise ValueError(f"model {self.name}: runtime parameters {sorted(unset)} set by no axis")
         outputs = [o.name for o in self.outputs]

@@ -77,7 +77,18 @@ def verify(store, *, repair: bool = False, scheduler=None, workers=None, progres
     from .cluster import check_scheduler, check_workers
 
     path = Path(store)
-    check_store(path)
+    attrs = check_store(path)
+    if repair:
+        from ..models import get_model
+        from ..store.layout import store_model
+
+        written_by = get_model(store_model(attrs)).written_by
+        if written_by:   # no point of it can be recomputed alone: each is continued from the one before
+            from ..store.integrity import repair_fix
+
+            raise InputError("--repair", str(path), f"cannot recompute points of a store that `bifurcation "
+                             f"{written_by}` writes whole (each point is continued from the one before)",
+                             repair_fix(path))
     target = check_scheduler(scheduler)   # checked with or without damage to repair
     check_workers(workers, embedded=target is None)
     if not repair and (scheduler is not None or workers is not None):

@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["DONE", "Damage", "StoreDamagedError", "TileReader", "broken_metadata", "clear_tiles", "damaged_tiles",
-           "repair_command", "restore_metadata", "scan"]
+           "repair_command", "repair_fix", "restore_metadata", "scan"]
 
 #: The resume mask: True where a point's values are written.
 DONE = "done"
@@ -51,15 +51,39 @@ class Damage:
 
 
 def repair_command(path) -> str:
+    """The command that makes a damaged store whole again: ``verify --repair`` (it recomputes the damaged
+    tiles), or, for a store that its model's command writes whole (``Model.written_by``: no point of it can
+    be recomputed alone), that command."""
+    written_by = _written_by(path)
+    if written_by:
+        return f"bifurcation {written_by} WORKFLOW --out {Path(path).parent}"
     return f"bifurcation verify --store {path} --repair"
+
+
+def repair_fix(path) -> str:
+    """What to do about damage in the store at ``path``: the fix of an error message."""
+    if _written_by(path):
+        return (f"run `{repair_command(path)}` to write it again (its workflow is the store's attribute "
+                "workflow_toml)")
+    return f"run `{repair_command(path)}` to recompute the damaged tiles"
+
+
+def _written_by(path) -> str:
+    from ..models import get_model
+    from .layout import store_model
+    from .zarr_store import read_attrs
+
+    try:
+        return get_model(store_model(read_attrs(path))).written_by
+    except Exception:  # noqa: BLE001 — unreadable attributes or an unknown model: the usual repair
+        return ""
 
 
 class StoreDamagedError(InputError):
     """A read met a damaged chunk: one line naming the chunk and the repair command."""
 
     def __init__(self, path, damage: Damage) -> None:
-        super().__init__("--store", str(path), f"chunk {damage} (no value of it is shown)",
-                         f"run `{repair_command(path)}` to recompute the damaged tiles")
+        super().__init__("--store", str(path), f"chunk {damage} (no value of it is shown)", repair_fix(path))
         self.damage = damage
 
 

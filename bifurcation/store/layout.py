@@ -36,7 +36,7 @@ from ..engine.result import FIELDS
 from ..outcome import Status
 
 __all__ = ["DIMS", "FILL", "STORE_FORMAT", "VARIABLES", "command_line", "coordinate_attrs", "fills",
-           "provenance", "store_model", "variable_attrs", "variables"]
+           "provenance", "store_attrs", "store_model", "variable_attrs", "variables"]
 
 DIMS = ("law", "nu_f", "nu")
 #: Bumped when the layout changes; a store of another format is refused.
@@ -105,25 +105,37 @@ def _version(package: str) -> str:
 def provenance(workflow, command: str | None = None) -> dict:
     """Group attributes of a new store for ``workflow``."""
     return {
-        "bifurcation_store": STORE_FORMAT,
-        "model": workflow.model,
-        "title": workflow.name,
-        "description": workflow.description,
-        "source": workflow.spec.source,
-        "references": workflow.spec.source,   # CF: the published description of the model
-        "workflow_toml": workflow.text,
-        "workflow_sha256": workflow.sha256,
-        "workflow_fingerprint": workflow.fingerprint,
+        **store_attrs(workflow.spec, title=workflow.name, description=workflow.description, text=workflow.text,
+                      fingerprint=workflow.fingerprint, command=command),
         "precision": workflow.precision,
         "t_max": workflow.t_max,
         "max_steps": workflow.max_steps,
         "tiles": list(workflow.tiles),
+        "submits": [],
+    }
+
+
+def store_attrs(model, *, title: str, description: str, text: str, fingerprint: str,
+                command: str | None = None) -> dict:
+    """The group attributes every store has: format, model, study, its workflow (text, sha256 and the
+    fingerprint of what determines its numbers), package versions, command line, time and run id."""
+    import hashlib
+
+    return {
+        "bifurcation_store": STORE_FORMAT,
+        "model": model.name,
+        "title": title,
+        "description": description,
+        "source": model.source,
+        "references": model.source,   # CF: the published description of the model
+        "workflow_toml": text,
+        "workflow_sha256": hashlib.sha256(text.encode()).hexdigest(),
+        "workflow_fingerprint": fingerprint,
         **{f"version_{p}": _version(p) for p in _PACKAGES},
         "python": sys.version.split()[0],
         "command": command if command is not None else command_line(),
         "created_utc": utc_now(),
         "run_id": uuid.uuid4().hex,
-        "submits": [],
     }
 
 

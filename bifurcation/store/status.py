@@ -19,7 +19,7 @@ __all__ = ["StudyStatus", "format_eta", "study_status"]
 
 #: Outcomes that are results, not failures (any other status of a done point is counted as a failure).
 _RESULTS = ("stick-slip", "creep", "complete", "steady-sliding", "limit-cycle", "unbounded-growth",
-            "no-hopf-point")
+            "no-hopf-point", "periodic-orbit", "past-end")
 #: The rate is measured over the tiles the current writer finished in the last this many seconds.
 _RATE_WINDOW = 300.0
 
@@ -116,15 +116,15 @@ def _read(path: Path, group, name: str):
     """The whole array ``name``; a chunk that does not decode (checksum, truncation) or a lost array is
     one line naming it and the repair command, never a traceback."""
     from ..errors import InputError
-    from .integrity import repair_command
+    from .integrity import repair_fix
 
     try:
         return group[name][...]
     except Exception as exc:  # noqa: BLE001 — whatever zarr raises for a damaged or missing array
         raise InputError("--store", str(path), f"has a damaged {name} array ({type(exc).__name__}: "
                          f"{str(exc).splitlines()[0] if str(exc) else 'unreadable'})",
-                         f"run `bifurcation verify --store {path}` to see the damage and "
-                         f"`{repair_command(path)}` to recompute it") from None
+                         f"see the damage with `bifurcation verify --store {path}`, then "
+                         f"{repair_fix(path)}") from None
 
 
 def study_status(path) -> StudyStatus:

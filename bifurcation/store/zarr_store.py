@@ -20,7 +20,7 @@ from .layout import (STORE_FORMAT, coordinate_attrs, fills, provenance, store_mo
                      variables)
 
 __all__ = ["StoreReplacedError", "check_store", "chunk_codecs", "create_store", "open_store", "read_attrs",
-           "read_done", "record_submit", "store_kind", "write_tile"]
+           "read_done", "record_submit", "store_kind", "write_tile", "write_whole_store"]
 
 class StoreReplacedError(RuntimeError):
     """The store at a run's path is no longer the one the run created (its ``run_id`` changed)."""
@@ -99,10 +99,11 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
     if kind == "other":
         if _is_branch_store(path):
             raise InputError(argument, str(path),
-                             "is the branch store of `bifurcation continue` (cycles of the rate-state slider), "
-                             "not a study store of `bifurcation submit`",
-                             "read it with xarray.open_zarr(PATH, consolidated=False) (layout: docs/rate-state.md; its report is "
-                             "REPORT.md beside it), or give a store written by `bifurcation submit`")
+                             "is a branch store of an older `bifurcation continue` (written before continuation "
+                             "stores were bifurcation stores)",
+                             "run `bifurcation continue WORKFLOW --out DIR` again to rewrite it as a store that "
+                             "status, query, verify and report read, or read it with "
+                             "xarray.open_zarr(PATH, consolidated=False)")
         raise InputError(argument, str(path), "is not a bifurcation store (or of another format)",
                          "give the path of a store written by `bifurcation submit`, or another path")
     if workflow is not None and attrs.get("workflow_fingerprint") != workflow.fingerprint:
@@ -114,7 +115,8 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
 
 
 def _is_branch_store(path) -> bool:
-    """Whether ``path`` is the ``branches.zarr`` that ``bifurcation continue`` writes (rate_state.report)."""
+    """Whether ``path`` is a ``branches.zarr`` of an older ``bifurcation continue`` (its own Zarr layout, before
+    it wrote through ``write_whole_store``): refused with what to do, and replaced by a new one."""
     try:
         attrs = read_attrs(path)
     except Exception:
@@ -128,9 +130,6 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     No data chunk is written: every point reads as not computed. With ``overwrite`` an existing
     bifurcation store at ``path`` is deleted first (anything else at ``path`` is refused).
     """
-    import dask.array as da
-    import xarray as xr
-
     path = Path(path)
     kind = store_kind(path)
     if kind == "other":
@@ -141,31 +140,10 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     if kind == "store":
         _clear(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    model = workflow.spec
-    shape, chunks, dims = workflow.shape, (1, *workflow.tiles), model.dims
-    data_vars, encoding = {}, {}
-    fill = fills(model)
-    for name, dtype in variables(model).items():
-        # one lazy dask chunk: nothing is computed (compute=False), only the metadata is written
-        data_vars[name] = (dims, da.full(shape, fill[name], dtype=dtype, chunks=shape),
-                           variable_attrs(name, model))
-        encoding[name] = {"chunks": chunks, "compressors": chunk_codecs()}
-    coords_attrs = coordinate_attrs(model)
-    label = model.labels.name
-    coords = {label: (label, np.array(workflow.laws, dtype=object), coords_attrs[label])}
-    for axis, values in workflow.grid:
-        coords[axis] = (axis, np.array(values, dtype=model.axis(axis).dtype), coords_attrs[axis])
-    for name in coords:   # the coordinates carry a checksum too, and are written even when they equal the
-        # fill value (a chain's periodic = [0]): a coordinate chunk missing is damage (integrity)
-        encoding[name] = {"compressors": chunk_codecs(), "write_empty_chunks": True}
     attrs = provenance(workflow, command)
-    ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
-    # "a" into a directory that holds only the writer's lock (checked above: no store, nothing else)
-    mode = "a" if path.exists() else "w-"
     try:
-        with _quiet():
-            ds.to_zarr(str(path), mode=mode, compute=False, encoding=encoding, zarr_format=3, consolidated=True)
-        if model.catalog_outputs:   # the ragged per-event arrays (store.catalog), then one consolidation
+        _create(path, workflow.spec, workflow.laws, workflow.grid, workflow.tiles, attrs)
+        if workflow.spec.catalog_outputs:   # the ragged per-event arrays (store.catalog), then one consolidation
             import zarr
 
             from .catalog import create_catalog
@@ -176,6 +154,76 @@ def create_store(path, workflow, *, command: str | None = None, overwrite: bool 
     except OSError:   # disk full, quota: leave no half-made store behind (the lock stays with its holder)
         _clear(path)
         raise
+    return attrs
+
+
+def _create(path: Path, model, labels, grid, tiles, attrs: dict) -> None:
+    """Write the metadata of an empty store of ``model`` (labels × ``grid``, one chunk per tile)."""
+    import dask.array as da
+    import xarray as xr
+
+    shape = (len(labels), *(len(values) for _, values in grid))
+    chunks, dims = (1, *tiles), model.dims
+    data_vars, encoding = {}, {}
+    fill = fills(model)
+    for name, dtype in variables(model).items():
+        # one lazy dask chunk: nothing is computed (compute=False), only the metadata is written
+        data_vars[name] = (dims, da.full(shape, fill[name], dtype=dtype, chunks=shape),
+                           variable_attrs(name, model))
+        encoding[name] = {"chunks": chunks, "compressors": chunk_codecs()}
+    coords_attrs = coordinate_attrs(model)
+    label = model.labels.name
+    coords = {label: (label, np.array(labels, dtype=object), coords_attrs[label])}
+    for axis, values in grid:
+        coords[axis] = (axis, np.array(values, dtype=model.axis(axis).dtype), coords_attrs[axis])
+    for name in coords:   # the coordinates carry a checksum too, and are written even when they equal the
+        # fill value (a chain's periodic = [0]): a coordinate chunk missing is damage (integrity)
+        encoding[name] = {"compressors": chunk_codecs(), "write_empty_chunks": True}
+    ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
+    # "a" into a directory that holds only the writer's lock (checked above: no store, nothing else)
+    mode = "a" if path.exists() else "w-"
+    with _quiet():
+        ds.to_zarr(str(path), mode=mode, compute=False, encoding=encoding, zarr_format=3, consolidated=True)
+
+
+def write_whole_store(path, model, labels, grid, values: dict, attrs: dict, *, tiles=None,
+                      argument: str = "--out") -> dict:
+    """Write a complete store at once: for a model whose command computes all of it before writing
+    (``Model.written_by``: rate-state's branches of cycles). The layout, checksums, ``done`` mask and
+    consolidated metadata are a submit's (``status``, ``query``, ``verify`` and ``report`` read it like any
+    store); ``values`` holds every data variable over (labels, *grid), ``done`` included.
+
+    Built beside ``path`` (``<path>.partial``) and renamed into place: a killed run leaves the previous
+    store whole, never half a store. Only a bifurcation store (or an older branch store) is replaced.
+    """
+    import zarr
+
+    path = Path(path)
+    if store_kind(path) == "other" and not _is_branch_store(path):
+        raise InputError(argument, str(path), "exists and is not a bifurcation store",
+                         "choose another path (only a bifurcation store is ever replaced)")
+    shape = (len(labels), *(len(points) for _, points in grid))
+    tiles = tuple(tiles or shape[1:])
+    attrs = {**attrs, "tiles": list(tiles)}
+    partial, old = path.with_name(path.name + ".partial"), path.with_name(path.name + ".old")
+    if old.is_dir() and not path.exists():   # a run killed between the two renames below: the store was that
+        old.rename(path)
+    for leftover in (partial, old):
+        shutil.rmtree(leftover, ignore_errors=True)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _create(partial, model, labels, grid, tiles, attrs)
+    with _quiet():
+        group = zarr.open_group(str(partial), mode="r+", use_consolidated=False)
+        for name, dtype in variables(model).items():   # in write order: "done" last
+            data = np.asarray(values[name], dtype=dtype)
+            if data.shape != shape:
+                raise ValueError(f"write_whole_store: {name} has shape {data.shape}, not {shape}")
+            # every chunk written, also one that equals the fill value: a missing chunk is damage (verify)
+            group[name].with_config({"write_empty_chunks": True})[...] = data
+    if path.exists():
+        path.rename(old)
+    partial.rename(path)
+    shutil.rmtree(old, ignore_errors=True)
     return attrs
 
 

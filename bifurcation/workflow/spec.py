@@ -58,7 +58,6 @@ import hashlib
 import json
 import math
 import re
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -70,7 +69,7 @@ from ..errors import InputError
 from ..models import DEFAULT_MODEL, get_model
 from ._axes import linear_points, log_count, log_points, union
 from ._limits import MAX_POINTS, check_declared_size
-from ._toml import Table, as_number, check_range
+from .validate import Table, as_number, check_range
 
 __all__ = ["MAX_POINTS", "NU_BOUNDS", "NU_F_BOUNDS", "PRECISIONS", "TILE_MAX", "TILE_MAX_POINTS",
            "Workflow", "load_workflow", "parse_workflow"]
@@ -121,7 +120,7 @@ class Workflow:
     def __init__(self, name, laws, *, model=None, grid=None, description="", precision="double",
                  t_max=DEFAULT_T_MAX, max_steps=DEFAULT_MAX_STEPS, batch=1, tiles=None, source=None,
                  catalog_chunk=None, **axes) -> None:
-        spec = get_model(model)
+        spec = _solvable(get_model(model))
         points = dict(grid or {})
         for key, value in axes.items():
             if key in points:
@@ -249,6 +248,14 @@ class Workflow:
         return "\n".join(lines)
 
 
+def _solvable(spec):
+    """``spec``, unless its stores are written whole by its own command (rate-state's branches of cycles)."""
+    if spec.written_by:
+        raise InputError("model.name", spec.name, f"is the store of `bifurcation {spec.written_by}`, not a model "
+                         "of a study grid", "name a model whose points are solved one by one, e.g. rate-state")
+    return spec
+
+
 def _engine_check(key: str, check, value, *args):
     """``check(value, *args)`` (a ``bifurcation.engine`` check), its error naming the workflow ``key``."""
     try:
@@ -343,18 +350,12 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
 
     ``source`` (the file name) is only used in error messages.
     """
-    try:
-        data = tomllib.loads(text)
-    except RecursionError:   # tables or arrays nested thousands deep
-        raise InputError("workflow", source if source is not None else _short(text), "is nested too deeply",
-                         "a workflow needs only the tables of workflows/*.toml, nested two deep") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError("workflow", source if source is not None else _short(text),
-                         f"is not valid TOML ({exc})", "fix the syntax; see workflows/*.toml for examples") from None
-    from ._toml import other_command
+    from .validate import SUBMIT, other_command, parse_toml
 
-    other_command(data, "submit", "workflow", source if source is not None else _short(text))
-    root = Table(data, "", ("study", "model", "engine", "grid", "tiles"))
+    where = source if source is not None else _short(text)
+    data = parse_toml(text, "workflow", where, "workflows/*.toml")
+    other_command(data, SUBMIT, "workflow", where)
+    root = Table(data, "", ("study", "model", "engine", "grid", "tiles"), source=source)
     check_declared_size(data)   # before any point is made
     study = root.table("study", ("name", "description"))
     model_table = root.table("model", ("name", "preset"), required=False)
@@ -363,6 +364,7 @@ def parse_workflow(text: str, *, source: str | None = None) -> Workflow:
         spec = get_model(model_name)
     except InputError as exc:
         raise InputError("model.name", model_name, exc.problem, exc.fix) from None
+    _solvable(spec)   # before its grid tables are read
     preset_points, preset_laws = _preset(model_table, spec)
     key = spec.labels.workflow_key
     axis_names = tuple(a.name for a in spec.axes)
@@ -415,7 +417,7 @@ def _preset(model_table, spec) -> tuple[dict, tuple]:
 
 def load_workflow(path) -> Workflow:
     """The ``Workflow`` of the TOML file at ``path``."""
-    from ._toml import read_workflow_text
+    from .validate import read_workflow_text
 
     text = read_workflow_text(path, "workflow", "workflows/paper-fig2.toml")
     return parse_workflow(text, source=str(path))
@@ -442,19 +444,17 @@ def _axis_points(table: Table, axis) -> tuple[float, ...]:
     bounds = axis.bounds
     groups = [_values(table, bounds)] if table.has("values") else []
     if table.has("ranges"):
-        for i, item in enumerate(table.array("ranges", fix="write ranges = [{ start = 0.05, stop = 0.95, num = 19 }]")):
-            r = Table(item, f"{table.key}.ranges[{i}]", ("start", "stop", "num"))
-            start, stop = r.number("start"), r.number("stop")
-            check_range(r.path("start"), start, *bounds)
-            check_range(r.path("stop"), stop, *bounds)
+        for r in table.tables("ranges", ("start", "stop", "num"),
+                              fix="write ranges = [{ start = 0.05, stop = 0.95, num = 19 }]"):
+            start, stop = r.number("start", low=bounds[0], high=bounds[1]), r.number("stop", low=bounds[0],
+                                                                                     high=bounds[1])
             if not start < stop:
                 raise InputError(r.path("stop"), stop, f"is not above start = {start!r}", "give start < stop")
             groups.append(linear_points(start, stop, r.integer("num", low=2, high=_RANGE_POINTS_MAX)))
     log = table.table("log", ("start", "stop", "per_decade", "num"), required=False)
     if log is not None:
-        start, stop = log.number("start"), log.number("stop")
-        check_range(log.path("start"), start, *bounds)
-        check_range(log.path("stop"), stop, *bounds)
+        start, stop = log.number("start", low=bounds[0], high=bounds[1]), log.number("stop", low=bounds[0],
+                                                                                      high=bounds[1])
         for end, value in (("start", start), ("stop", stop)):
             if value <= 0:
                 raise InputError(log.path(end), value, "is not > 0", "a log axis needs positive ends")

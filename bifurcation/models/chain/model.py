@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...bounds import NU_BOUNDS, NU_F_BOUNDS
+from ...workflow.validate import WorkflowKind
 from .._base import Axis, Hooks, Model, Output
 from ..single_block import BLOCK_UNITS, LAW
 from .result import CATALOG_ATTRS, ChainStatus
@@ -172,6 +173,12 @@ CHAIN = Model(
                 bench="bifurcation.models.chain._bench:run_chain_bench",
                 commands="bifurcation.cli._chain:COMMANDS",
                 presets="bifurcation.models.chain.presets:workflow_preset",
-                study="bifurcation.cli._chain_study:chain_study_cmd"),
+                study="bifurcation.cli._chain_study:chain_study_cmd",
+                workflow="bifurcation.models.chain.model:REPORT_WORKFLOW"),
     units_note=BLOCK_UNITS,
 )
+
+#: The chain report's own workflows (``workflows/chain-report.toml``): named when another command is given one.
+REPORT_WORKFLOW = WorkflowKind("study chain", ("chain", "sweep", "catalog", "threshold", "near_half"),
+                               "a chain study workflow of `bifurcation study chain` ([chain], [sweep])",
+                               "run it with `bifurcation study chain FILE`")

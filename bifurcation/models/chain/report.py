@@ -17,7 +17,6 @@ import json
 import math
 import sys
 import time
-import tomllib
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -93,7 +92,14 @@ def main(argv=None) -> None:
         out_arg = argv[i + 1]
         del argv[i:i + 2]
     path = Path(argv[0])
-    cfg = tomllib.loads(path.read_text())
+    from ...errors import InputError
+    from .report_workflow import load_report_workflow
+
+    try:   # every key checked before anything runs or is written
+        cfg = load_report_workflow(path)
+    except InputError as exc:
+        print(f"bifurcation: error: {exc}", file=sys.stderr)
+        sys.exit(2)
     out = Path(out_arg or cfg["study"]["out"])
     if "--from-data" in argv[1:] and not (out / "data.json").is_file():
         sys.exit(f"bifurcation: error: --from-data: {out / 'data.json'} does not exist; run the report once "

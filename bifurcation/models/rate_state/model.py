@@ -187,6 +187,7 @@ RATE_STATE = Model(
     hooks=Hooks(describe_label="bifurcation.models.rate_state.store_report:describe_label",
                 report="bifurcation.models.rate_state.store_report:blocks",
                 bench="bifurcation.models.rate_state._bench:run_suite", bench_needs=("scipy", "numba", "numbalsoda"),
-                commands="bifurcation.cli._rate_state:COMMANDS"),
+                commands="bifurcation.cli._rate_state:COMMANDS",
+                workflow="bifurcation.models.rate_state.study:WORKFLOW"),
     units_note="those of the workflow's own V_lp, Dc and M (docs/rate-state.md)",
 )

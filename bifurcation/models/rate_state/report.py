@@ -1,5 +1,5 @@
-"""The rate-state study's store (Zarr v3 via xarray), bifurcation diagram and report (REPORT.md, report.html;
-see study.py)."""
+"""The rate-state study's store (``branches.RATE_STATE_BRANCHES``), bifurcation diagram and report (REPORT.md,
+report.html; see study.py)."""
 
 from __future__ import annotations
 
@@ -59,63 +59,10 @@ def verdict(result: dict, fates: list) -> dict:
 
 
 def write_store(path, spec, results) -> None:
-    import xarray as xr
+    """The study's store at ``path``, written through ``bifurcation.store`` (``branches.write_branch_store``)."""
+    from .branches import write_branch_store
 
-    n_b = len(results)
-    n_p = max(len(r["branch"].points) for r in results)
-    shape = (n_b, n_p)
-    fields = {k: np.full(shape, np.nan) for k in ("kappa", "k", "v_lp", "period", "period_check", "ln_v_max",
-                                                  "ln_v_min", "slip", "multiplier_max")}
-    status = np.zeros(shape, dtype=np.int8)
-    for i, r in enumerate(results):
-        for j, p in enumerate(r["branch"].points):
-            fields["kappa"][i, j] = p.kappa
-            fields["k"][i, j] = p.k
-            fields["v_lp"][i, j] = p.v_lp if np.isfinite(p.v_lp) else r["branch"].v_lp
-            fields["period"][i, j] = p.period
-            fields["period_check"][i, j] = r["period_check"][j]
-            fields["ln_v_max"][i, j] = p.ln_v_max
-            fields["ln_v_min"][i, j] = p.ln_v_min
-            fields["slip"][i, j] = p.slip
-            fields["multiplier_max"][i, j] = max(abs(z) for z in p.multipliers)
-            status[i, j] = 1 if p.status == "ok" else 2
-    attrs = {
-        "kappa": ("k / k_c", "1"), "k": ("spring stiffness", "1/length"), "v_lp": ("load-point velocity", "length/time"), "period": ("cycle period", "time"),
-        "period_check": ("|T(direct simulation)/T − 1|", "1"), "ln_v_max": ("max ln V over the cycle", "1"),
-        "ln_v_min": ("min ln V over the cycle", "1"), "slip": ("slip per cycle V_lp T", "length"),
-        "multiplier_max": ("largest |Floquet multiplier| (nontrivial)", "1"),
-    }
-    data = {k: (("branch", "point"), v, {"long_name": attrs[k][0], "units": attrs[k][1]}) for k, v in fields.items()}
-    data["status"] = (("branch", "point"), status,
-                      {"long_name": "point status", "flag_values": [0, 1, 2],
-                       "flag_meanings": "no_point ok no_convergence"})
-    per = {"k_c": [], "omega_c": [], "lyapunov_coefficient": [], "mass": [], "damping": [], "fold_kappa": []}
-    for r in results:
-        b = r["branch"]
-        per["k_c"].append(b.hopf.k_c)
-        per["omega_c"].append(b.hopf.omega_c)
-        per["lyapunov_coefficient"].append(b.hopf.lyapunov_coefficient)
-        per["mass"].append(b.spec.mass or 0.0)
-        per["damping"].append(b.spec.damping)
-        per["fold_kappa"].append(b.points[b.folds[0]].kappa if b.folds else np.nan)
-    for k, v in per.items():
-        data[k] = (("branch",), np.array(v, dtype=float))
-    # Branch labels live in the attributes: Zarr v3 has no stable string dtype yet.
-    ds = xr.Dataset(data, coords={"branch": np.arange(n_b), "point": np.arange(n_p)})
-    ds.attrs.update({"workflow": spec.text, "model": "rate-state", "branch_labels": [r["spec"].label for r in results],
-                     "criticality": [r["branch"].hopf.criticality for r in results],
-                     "stop": [r["branch"].meta["stop"] for r in results],
-                     "parameter": [r["branch"].meta.get("parameter", "kappa") for r in results]})
-    # Written beside the target and renamed into place: a killed run leaves the previous store whole.
-    import pathlib
-    import shutil
-
-    path = pathlib.Path(path)
-    tmp = path.with_name(path.name + ".partial")
-    shutil.rmtree(tmp, ignore_errors=True)
-    ds.to_zarr(str(tmp), mode="w", zarr_format=3, consolidated=False)
-    shutil.rmtree(path, ignore_errors=True)
-    tmp.rename(path)
+    write_branch_store(path, spec, results)
 
 
 def _figure(path, results) -> None:

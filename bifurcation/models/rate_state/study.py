@@ -5,33 +5,29 @@ every key) is validated into frozen specs before anything is computed or written
 is one ``InputError`` line naming it.
 
 Output directory ``<out>``: ``--out``, default ``results/local/<study name>`` (ignored by git).
-Store (``<out>/branches.zarr``, Zarr v3 through xarray, written once at the end so an interrupted run
-leaves no half store): dimensions ``branch`` (labels in the attribute ``branch_labels``) × ``point`` (padded with NaN,
-``status`` 0 = no point),
-variables ``kappa``, ``k``, ``period``, ``period_check`` (relative difference to the direct-simulation
-period), ``ln_v_max``, ``ln_v_min``, ``slip``, ``multiplier_max`` (largest |Floquet multiplier|),
-``status`` (1 ok, 2 no-convergence) and per-branch ``k_c``, ``omega_c``, ``lyapunov_coefficient``,
-``mass``, ``fold_kappa``; attributes hold the workflow text, the criticality per branch and the
-stop reason of each continuation.
+Store ``<out>/branches.zarr``: a store of the model ``rate-state-branches`` (``branches``: its arrays,
+statuses and attributes), written through ``bifurcation.store`` once at the end, beside its path and renamed
+into place, so an interrupted run leaves no half store; ``status``, ``query``, ``verify`` and ``report
+--store`` read it like any store.
 """
 
 from __future__ import annotations
 
 import math
+import re
 import time
-import tomllib
 from dataclasses import dataclass
 
-
 from ...errors import InputError
+from ...workflow.validate import WorkflowKind
 
-__all__ = ["BranchSpec", "MAX_POINTS", "StudySpec", "load_study", "run_study"]
+__all__ = ["BranchSpec", "MAX_POINTS", "StudySpec", "WORKFLOW", "load_study", "run_study"]
 
-_SLIDER_KEYS = {"a", "b", "dc", "v_lp"}
-_BRANCH_KEYS = {"label", "state_law", "eta", "damping", "points", "max_step", "kappa_min", "kappa_max", "parameter",
-                "start_point", "v_lp_min", "v_lp_max", *_SLIDER_KEYS}
+_SLIDER_KEYS = ("a", "b", "dc", "v_lp")
+_BRANCH_KEYS = ("label", "state_law", "eta", "damping", "points", "max_step", "kappa_min", "kappa_max", "parameter",
+                "start_point", "v_lp_min", "v_lp_max", *_SLIDER_KEYS)
 _PARAMETERS = ("kappa", "v_lp")
-_HOPF_KEYS = {"b_over_a", "v_lp", "eta", "bautin"}
+_HOPF_KEYS = ("b_over_a", "v_lp", "eta", "bautin")
 
 
 @dataclass(frozen=True)
@@ -73,22 +69,10 @@ class StudySpec:
     bautin: bool = True
 
 
-def _unknown(table: str, got, allowed) -> None:
-    extra = sorted(set(got) - set(allowed))
-    if extra:
-        raise InputError(f"{table}.{extra[0]}", got[extra[0]], "is not a known key",
-                         f"use one of {', '.join(sorted(allowed))}")
-
-
-def _num(key, value, lo=None, integer=False):
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(key, value, "is not a finite number", "give a number")
-    if lo is not None and not value > lo:
-        raise InputError(key, value, f"must be > {lo:g}", f"give a value above {lo:g}")
-    if integer and int(value) != value:
-        raise InputError(key, value, "is not an integer", "give a whole number")
-    return int(value) if integer else float(value)
-
+#: The workflows of ``bifurcation continue`` (the ``workflow`` hook of the rate-state model).
+WORKFLOW = WorkflowKind("continue", ("slider", "branch", "hopf"),
+                        "a rate-state continuation workflow of `bifurcation continue` ([slider], [[branch]], [hopf])",
+                        "run it with `bifurcation continue FILE`")
 
 #: Bounds of a study's size: each branch point is a periodic orbit solved and checked by simulation
 #: (seconds), so 10^3 points on a branch are already an hour; the closed-form check takes every
@@ -97,136 +81,81 @@ MAX_POINTS = 1000
 MAX_BRANCHES = 100
 MAX_HOPF_VALUES = 100
 MAX_ETA = 1e3
-
-
-def _bounded(key, value, meaning: str, fix: str) -> float:
-    """A coefficient in [0, MAX_ETA]: ``meaning`` says what 0 means, ``fix`` what to write."""
-    value = _num(key, value)
-    if not 0 <= value <= MAX_ETA:
-        raise InputError(key, value, f"must be in [0, {MAX_ETA:g}] ({meaning})", fix)
-    return value
-
-
-def _eta(key, value) -> float:
-    """η = M V_lp²/(a Dc) ≥ 0 (0: quasi-static)."""
-    return _bounded(key, value, "η = M V_lp²/(a Dc); 0 is quasi-static",
-                    "give eta >= 0, e.g. 0.1, or 0 for the quasi-static slider")
-
-
-def _damping(key, value) -> float:
-    """Radiation damping ETA ≥ 0, friction per unit slip rate (docs/rate-state.md, "Radiation damping")."""
-    return _bounded(key, value, "friction per unit slip rate; 0 is none",
-                    "give damping >= 0, e.g. 0.002, or 0 for no radiation damping")
-
-
-def _points(key, value) -> int:
-    value = _num(key, value, 2, integer=True)
-    if value > MAX_POINTS:
-        raise InputError(key, value, f"is more than {MAX_POINTS} points on one branch",
-                         "give at most 1000 (a branch point is a periodic orbit: seconds each), or a larger "
-                         "max_step to cover the branch with fewer points")
-    return value
+_ETA_FIX = "give eta >= 0, e.g. 0.1, or 0 for the quasi-static slider (η = M V_lp²/(a Dc))"
+_DAMPING_FIX = ("give damping >= 0, e.g. 0.002, or 0 for no radiation damping (friction per unit slip rate; "
+                "docs/rate-state.md, \"Radiation damping\")")
+_POINTS_FIX = ("give 3 to 1000 points (a branch point is a periodic orbit: seconds each), or a larger max_step "
+               "to cover the branch with fewer points")
+_NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
 def load_study(path) -> StudySpec:
-    """Read and validate a rate-state workflow (one ``InputError`` line on the first problem)."""
+    """Read and validate a rate-state workflow (one ``InputError`` line on the first problem), with the
+    workflows' one validator (``bifurcation.workflow.validate``)."""
+    from ...workflow.validate import Table, read_toml
     from .laws import resolve_state_law
 
-    from ...workflow._toml import other_command, read_workflow_text
-
-    text = read_workflow_text(path, "WORKFLOW", "workflows/rate-state.toml")
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError("WORKFLOW", str(path), f"is not valid TOML ({exc})", "fix the TOML syntax") from None
-    except RecursionError:   # tables or arrays nested thousands deep
-        raise InputError("WORKFLOW", str(path), "is nested too deeply", "see workflows/rate-state.toml") from None
-    other_command(doc, "continue", "WORKFLOW", path)
-    _unknown("workflow", doc, {"study", "slider", "branch", "hopf"})
-    study = doc.get("study", {})
-    _unknown("study", study, {"name", "description"})
-    name = study.get("name")
-    if not isinstance(name, str) or not name.replace("-", "").replace("_", "").isalnum():
+    text, doc = read_toml(path, WORKFLOW, argument="WORKFLOW", example="workflows/rate-state.toml")
+    root = Table(doc, "", ("study", "slider", "branch", "hopf"), source=path)
+    study = root.table("study", ("name", "description"), required=False)
+    name = study.raw("name", None) if study is not None else None
+    if not isinstance(name, str) or not _NAME.match(name):
         raise InputError("study.name", name, "is missing or not a plain name", "give e.g. name = \"rate-state\"")
-    slider = doc.get("slider", {})
-    _unknown("slider", slider, _SLIDER_KEYS)
-    branches = doc.get("branch", [])
-    if not isinstance(branches, list) or not branches:
-        raise InputError("branch", branches, "is empty", "give at least one [[branch]] table")
-    out = []
-    if len(branches) > MAX_BRANCHES:
-        raise InputError("branch", f"{len(branches)} tables", f"is more than {MAX_BRANCHES} branches",
-                         "split the study into several workflows")
-    for i, br in enumerate(branches):
-        if not isinstance(br, dict):
-            raise InputError(f"branch[{i}]", br, "is not a table", "write each branch as a [[branch]] table")
-        _unknown(f"branch[{i}]", br, _BRANCH_KEYS)
-        merged = {**slider, **br}
+    description = study.string("description", "")
+    slider = root.table("slider", _SLIDER_KEYS, required=False) or Table({}, "slider", _SLIDER_KEYS)
+    out, labels = [], {}
+    for i, br in enumerate(root.tables("branch", _BRANCH_KEYS, most=MAX_BRANCHES)):
+        def at(key, br=br):   # a slider key set in the branch is read (and named) there, else in [slider]
+            return br if br.has(key) else slider
 
-        def key_of(key, i=i, br=br):   # a value from [slider] is named there, not in the branch
-            return f"branch[{i}].{key}" if key in br else f"slider.{key}"
-
-        for key in ("a", "b", "dc", "v_lp"):
-            if key not in merged:
-                raise InputError(f"branch[{i}].{key}", None, "is missing", f"set {key} in [slider] or the branch")
-        law = resolve_state_law(merged.get("state_law", ""), argument=f"branch[{i}].state_law").name
-        a = _num(key_of("a"), merged["a"], 0)
-        b = _num(key_of("b"), merged["b"], a)
+        for key in sorted(_SLIDER_KEYS):
+            if not at(key).has(key):
+                raise InputError(br.path(key), None, "is missing", f"set {key} in [slider] or the branch")
+        law = resolve_state_law(br.string("state_law", ""), argument=br.path("state_law")).name
+        a = at("a").number("a", above=0)
+        label = br.string("label", f"{law} {i}")
+        if label.strip() in labels:   # a branch is found in the store by its label
+            raise InputError(br.path("label"), label, f"repeats branch[{labels[label.strip()]}].label",
+                             "give each branch its own label")
+        labels[label.strip()] = i
         out.append(BranchSpec(
-            label=str(merged.get("label", f"{law} {i}")), state_law=law, a=a, b=b,
-            dc=_num(key_of("dc"), merged["dc"], 0), v_lp=_num(key_of("v_lp"), merged["v_lp"], 0),
-            eta=_eta(f"branch[{i}].eta", merged.get("eta", 0.0)),
-            damping=_damping(f"branch[{i}].damping", merged.get("damping", 0.0)),
-            points=_points(f"branch[{i}].points", merged.get("points", 30)),
-            max_step=_num(f"branch[{i}].max_step", merged.get("max_step", 0.5), 0),
-            kappa_min=_num(f"branch[{i}].kappa_min", merged.get("kappa_min", 0.05), 0),
-            kappa_max=_num(f"branch[{i}].kappa_max", merged.get("kappa_max", 20.0), 1),
-            **_v_lp_keys(i, merged)))
-    hopf = doc.get("hopf", {})
-    _unknown("hopf", hopf, _HOPF_KEYS)
-
-    def lst(key, default, lo, hi=None):
-        v = hopf.get(key, default)
-        if not isinstance(v, list) or not v:
-            raise InputError(f"hopf.{key}", v, "is not a non-empty list", "give a list of numbers")
-        if len(v) > MAX_HOPF_VALUES:
-            raise InputError(f"hopf.{key}", f"{len(v)} values", f"is more than {MAX_HOPF_VALUES} values",
-                             "give fewer values (the closed-form check takes every combination)")
-        if key == "eta":
-            return tuple(_eta(f"hopf.{key}", x) for x in v)
-        out = tuple(_num(f"hopf.{key}", x, lo) for x in v)
-        for x in out:
-            if hi is not None and x > hi:
-                raise InputError(f"hopf.{key}", x, f"is more than {hi:g}", f"give values in ({lo:g}, {hi:g}]")
-        return out
-
-    bautin = hopf.get("bautin", True)
-    if not isinstance(bautin, bool):
-        raise InputError("hopf.bautin", bautin, "is not true or false", "give bautin = true or false")
-    return StudySpec(name, str(study.get("description", "")), tuple(out),
-                     lst("b_over_a", [1.1, 2.0, 10.0], 1, 1e3), lst("v_lp", [1e-3, 1.0, 1e3], 0, 1e6),
-                     lst("eta", [0.0, 1.0], None), text, bautin)
+            label=label, state_law=law, a=a, b=at("b").number("b", above=a, fix="give b > a (velocity weakening)"),
+            dc=at("dc").number("dc", above=0), v_lp=at("v_lp").number("v_lp", above=0),
+            eta=br.number("eta", 0.0, low=0, high=MAX_ETA, fix=_ETA_FIX),
+            damping=br.number("damping", 0.0, low=0, high=MAX_ETA, fix=_DAMPING_FIX),
+            points=br.integer("points", 30, low=3, high=MAX_POINTS, fix=_POINTS_FIX),
+            max_step=br.number("max_step", 0.5, above=0),
+            kappa_min=br.number("kappa_min", 0.05, above=0),
+            kappa_max=br.number("kappa_max", 20.0, above=1),
+            **_v_lp_keys(br, at("v_lp").number("v_lp"))))
+    hopf = root.table("hopf", _HOPF_KEYS, required=False) or Table({}, "hopf", _HOPF_KEYS)
+    fix = "give a list of at most 100 numbers (the closed-form check takes every combination)"
+    return StudySpec(name, description, tuple(out),
+                     hopf.numbers("b_over_a", [1.1, 2.0, 10.0], above=1, high=1e3, most=MAX_HOPF_VALUES, fix=fix),
+                     hopf.numbers("v_lp", [1e-3, 1.0, 1e3], above=0, high=1e6, most=MAX_HOPF_VALUES, fix=fix),
+                     hopf.numbers("eta", [0.0, 1.0], low=0, high=MAX_ETA, most=MAX_HOPF_VALUES, fix=_ETA_FIX),
+                     text, hopf.boolean("bautin", True))
 
 
-def _v_lp_keys(i: int, br: dict) -> dict:
+def _v_lp_keys(br, v_lp: float) -> dict:
     """The keys of a branch in V_lp (``parameter = "v_lp"``), checked."""
-    parameter = br.get("parameter", "kappa")
+    parameter = br.string("parameter", "kappa")
     if parameter not in _PARAMETERS:
-        raise InputError(f"branch[{i}].parameter", parameter, "is not a continuation parameter",
+        raise InputError(br.path("parameter"), parameter, "is not a continuation parameter",
                          f"use one of {', '.join(_PARAMETERS)}")
     if parameter == "kappa":
-        extra = sorted({"start_point", "v_lp_min", "v_lp_max"} & set(br))
+        extra = [key for key in ("start_point", "v_lp_min", "v_lp_max") if br.has(key)]
         if extra:
-            raise InputError(f"branch[{i}].{extra[0]}", br[extra[0]], "is only for a branch in V_lp",
+            raise InputError(br.path(extra[0]), br.raw(extra[0]), "is only for a branch in V_lp",
                              'add parameter = "v_lp", or remove the key')
         return {}
-    lo = _num(f"branch[{i}].v_lp_min", br.get("v_lp_min", 1e-6), 0)
-    hi = _num(f"branch[{i}].v_lp_max", br.get("v_lp_max", 1e6), lo)
-    if not lo < br["v_lp"] < hi:
-        raise InputError(f"branch[{i}].v_lp", br["v_lp"], f"is not inside [v_lp_min, v_lp_max] = [{lo:g}, {hi:g}]",
+    lo = br.number("v_lp_min", 1e-6, above=0)
+    hi = br.number("v_lp_max", 1e6, above=lo)
+    if not lo < v_lp < hi:
+        raise InputError(br.path("v_lp"), v_lp, f"is not inside [v_lp_min, v_lp_max] = [{lo:g}, {hi:g}]",
                          "start the branch inside its range")
     return {"parameter": parameter, "v_lp_min": lo, "v_lp_max": hi,
-            "start_point": _num(f"branch[{i}].start_point", br.get("start_point", 1), -1, integer=True)}
+            "start_point": br.integer("start_point", 1, low=0, high=MAX_POINTS)}
 
 
 def _closed_form_sweep(spec: StudySpec, echo) -> list:

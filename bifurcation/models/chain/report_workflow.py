@@ -1,0 +1,144 @@
+"""The chain report's workflow (``workflows/chain-report.toml``), read through the workflows' one validator.
+
+``load_report_workflow(path)`` checks every key, type, range and the lengths of the lists the report
+zips together (``bifurcation.workflow.validate``: one ``InputError`` line naming the key, the value and
+the fix) before any run starts, and returns the document as the report reads it. The bounds of the
+chain's parameters are those of the chain model's axes (``model.CHAIN``).
+"""
+
+from __future__ import annotations
+
+from ...errors import InputError
+from ...workflow.validate import Table, as_number, check_range, read_toml
+from ._validate import ENDS
+from .model import CHAIN, REPORT_WORKFLOW
+
+__all__ = ["load_report_workflow"]
+
+_TABLES = ("study", "chain", "sweep", "catalog", "threshold", "near_half", "sweep_small_nu")
+_SWEEP = ("sizes", "seeds", "nu_f", "nu_f_max", "cycles_per_step", "transient_cycles", "max_events_per_step",
+          "longest_event")
+#: Runs per N, steps, events: a typo such as 1e9 is refused here rather than run for days.
+_MOST_LIST = 1000
+
+
+def _axis(name: str) -> dict:
+    low, high = CHAIN.axis(name).bounds
+    return {"low": low, "high": high}
+
+
+def _same_length(table: Table, names, values) -> None:
+    """The lists ``names`` of ``table`` are zipped by the report: a shorter one would drop runs silently."""
+    lengths = [len(v) for v in values]
+    for name, n in zip(names[1:], lengths[1:]):
+        if n != lengths[0]:
+            raise InputError(table.path(name), f"{n} values", f"has not the {lengths[0]} values of {names[0]}",
+                             f"give one value of {name} per value of {names[0]}")
+
+
+def _nested(table: Table, name: str, outer: int, *, integer: bool, bounds: dict) -> list:
+    """``name = [[...], [...]]``: one non-empty list per value of the table's first list (``outer``)."""
+    rows = table.array(name)
+    if len(rows) != outer:
+        raise InputError(table.path(name), f"{len(rows)} lists", f"has not one list per value of nus ({outer})",
+                         f"give {outer} lists, [[...], ...]")
+    for i, row in enumerate(rows):
+        key = f"{table.path(name)}[{i}]"
+        if not isinstance(row, list) or not row:
+            raise InputError(key, row, "is not a non-empty list", "write it as [a, b, ...]")
+        for j, value in enumerate(row):
+            if integer and (isinstance(value, bool) or not isinstance(value, int)):
+                raise InputError(f"{key}[{j}]", value, "is not an integer", "write whole numbers")
+            check_range(f"{key}[{j}]", as_number(f"{key}[{j}]", value), bounds.get("low"), bounds.get("high"))
+    return rows
+
+
+def load_report_workflow(path) -> dict:
+    """The validated chain report workflow at ``path`` (the TOML document; one ``InputError`` on the first
+    problem)."""
+    from ...laws import resolve_law
+
+    _, doc = read_toml(path, REPORT_WORKFLOW, argument="WORKFLOW", example="workflows/chain-report.toml")
+    root = Table(doc, "", _TABLES, source=path)
+    study = root.table("study", ("name", "out", "workers"))
+    study.string("name")
+    study.string("out", fix='add out = "results/local/chain" (the directory of the report)')
+    study.integer("workers", 2, high=256)
+
+    chain = root.table("chain", ("law", "ell", "nu", "ends", "amplitude"))
+    try:
+        resolve_law(chain.string("law"))
+    except InputError as exc:
+        raise InputError(chain.path("law"), chain.raw("law"), exc.problem, exc.fix) from None
+    chain.number("ell", **_axis("ell"))
+    chain.number("nu", **_axis("nu"))
+    chain.number("amplitude", **_axis("amplitude"))
+    if chain.string("ends") not in ENDS:
+        raise InputError(chain.path("ends"), chain.raw("ends"), "is not a kind of ends", f"use one of {', '.join(ENDS)}")
+
+    sweep = root.table("sweep", _SWEEP)
+    _sweep_lists(sweep, nu_f_max=True)
+    sweep.numbers("nu_f", most=_MOST_LIST, **_axis("nu_f"))
+    sweep.number("transient_cycles", low=0)
+    sweep.integer("max_events_per_step", **_axis("events"))
+    sweep.number("longest_event", 0.5, above=0)
+
+    catalog = root.table("catalog", ("sizes", "events", "nu_f", "seed", "skip"))
+    events = catalog.integers("events", most=_MOST_LIST, **_axis("events"))
+    _same_length(catalog, ("sizes", "events"), (catalog.integers("sizes", most=_MOST_LIST, **_axis("n")), events))
+    catalog.numbers("nu_f", most=_MOST_LIST, **_axis("nu_f"))
+    catalog.integer("seed", **_axis("seed"))
+    skip = catalog.integer("skip", low=0)
+    if skip >= min(events):
+        raise InputError(catalog.path("skip"), skip, f"leaves no event of the shortest catalog ({min(events)})",
+                         "give skip below every value of events")
+
+    threshold = root.table("threshold", ("ells", "nus", "level", "scan_nu", "scan_points"))
+    threshold.numbers("ells", most=_MOST_LIST, **_axis("ell"))
+    threshold.numbers("nus", most=_MOST_LIST, **_axis("nu"))
+    threshold.number("level", above=0)
+    threshold.number("scan_nu", **_axis("nu"))
+    threshold.integer("scan_points", low=2, high=100_000)
+
+    near = root.table("near_half", ("nus", "nu_f", "sizes", "cycles", "transient_cycles", "events",
+                                    "longest_event", "cpu", "seed"), required=False)
+    if near is not None:
+        nus = near.numbers("nus", most=_MOST_LIST, **_axis("nu"))
+        _nested(near, "nu_f", len(nus), integer=False, bounds=_axis("nu_f"))
+        sizes = _nested(near, "sizes", len(nus), integer=True, bounds=_axis("n"))
+        cycles = _nested(near, "cycles", len(nus), integer=False, bounds={"low": 0})
+        for i, (s, c) in enumerate(zip(sizes, cycles)):
+            if len(c) != len(s):
+                raise InputError(f"{near.path('cycles')}[{i}]", c, f"has not one value per size ({len(s)})",
+                                 "give the loading cycles of each N of sizes")
+        if isinstance(near.raw("transient_cycles"), list):
+            _same_length(near, ("nus", "transient_cycles"), (nus, near.numbers("transient_cycles", low=0)))
+        else:
+            near.number("transient_cycles", low=0)
+        near.integer("events", **_axis("events"))
+        near.number("longest_event", above=0)
+        near.number("cpu", above=0)
+        near.integer("seed", **_axis("seed"))
+
+    small = root.table("sweep_small_nu", ("nu", *(k for k in _SWEEP if k != "nu_f_max")), required=False)
+    if small is not None:   # the sweep of [sweep] at another nu: the keys it gives replace those of [sweep]
+        small.number("nu", **_axis("nu"))
+        _sweep_lists(small, nu_f_max=False)
+        checks = {"nu_f": lambda: small.numbers("nu_f", most=_MOST_LIST, **_axis("nu_f")),
+                  "transient_cycles": lambda: small.number("transient_cycles", low=0),
+                  "max_events_per_step": lambda: small.integer("max_events_per_step", **_axis("events")),
+                  "longest_event": lambda: small.number("longest_event", above=0)}
+        for name, check in checks.items():
+            if small.has(name):
+                check()
+    return doc
+
+
+def _sweep_lists(table: Table, *, nu_f_max: bool) -> None:
+    """``sizes``, ``seeds``, (``nu_f_max``), ``cycles_per_step``: one value per N."""
+    names = ("sizes", "seeds", *(("nu_f_max",) if nu_f_max else ()), "cycles_per_step")
+    values = [table.integers("sizes", most=_MOST_LIST, **_axis("n")), table.integers("seeds", most=_MOST_LIST)]
+    if nu_f_max:
+        values.append(table.numbers("nu_f_max", most=_MOST_LIST, **_axis("nu_f")))
+    values.append(table.numbers("cycles_per_step", above=0, most=_MOST_LIST))   # loading cycles: 0.5 is one
+    _same_length(table, names, values)
