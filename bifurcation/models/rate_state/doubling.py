@@ -220,7 +220,8 @@ def torus_scan(branch: Branch) -> TorusScan:
     dim = len(pts[0].multipliers)
     cplx = [i for i, p in enumerate(pts) if any(abs(z.imag) > 1e-9 for z in p.multipliers)]
     mods = [max(abs(z) for z in pts[i].multipliers) for i in cplx]
-    dets = [math.sqrt(abs(np.prod(p.multipliers))) for p in pts]
+    # with one multiplier there is no pair: the "modulus of a pair" is undefined (NaN)
+    dets = [math.sqrt(abs(np.prod(p.multipliers))) if dim > 1 else math.nan for p in pts]
     cross = tuple(i for i, kind in crossings([p.multipliers for p in pts]) if kind == "torus")
     return TorusScan(dim, tuple(cplx), max(mods) if mods else math.nan, (min(dets), max(dets)), cross)
 

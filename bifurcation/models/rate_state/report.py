@@ -155,8 +155,14 @@ def _figure(path, results) -> None:
     plt.close(fig)
 
 
-def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="workflows/rate-state.toml") -> None:
+def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="workflows/rate-state.toml",
+                 diagram=None) -> None:
     _figure(out / "bifurcation-diagram.png", results)
+    if diagram is not None:   # the two-parameter diagram (diagram.py): its figure and section
+        from .diagram import figure, section
+
+        figure(out / "two-parameter-diagram.png", results, bautin, diagram.curves, diagram.samples, fates,
+               diagram.cascade)
     lines = [f"# Rate-and-state spring-slider: Hopf bifurcation and cycles ({spec.name})", "",
              f"Produced by `bifurcation continue {workflow}` "
              f"in {seconds:.0f} s on {platform.machine()} (one process). Model and equations: docs/rate-state.md.",
@@ -239,4 +245,6 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
               "stability limit (the continuation stops there with its reason, see `stop`). With b/a = 5 and "
               "η = 100 the slip law's attracting cycles do pass 10 decades over a cycle (κ < 0.044; "
               "docs/rate-state.md, \"Where cycles become stick-slip-like\").", ""]
+    if diagram is not None:
+        lines += section(diagram, bautin)[1:] + [""]
     (out / "REPORT.md").write_text("\n".join(lines), encoding="utf-8")
