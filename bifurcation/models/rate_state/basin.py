@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["critical_perturbation", "fate_of_perturbation"]
+__all__ = ["critical_in_slip", "critical_perturbation", "fate_of_perturbation", "in_slip"]
 
 
 def critical_perturbation(branch) -> list:

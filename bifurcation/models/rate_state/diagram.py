@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FoldCurve", "RegionSample", "fold_curves", "region_samples", "figure", "section"]
+__all__ = ["Diagram", "FoldCurve", "RegionSample", "basins", "compute", "figure", "fold_curves", "region_samples", "section"]
 
 A, B, DC, V_LP = 0.01, 0.015, 0.01, 1.0
 #: the fold curve stops this far below the Bautin point (relative): closer, dμ₁/dκ → 0 and the fold
@@ -92,6 +92,16 @@ class RegionSample:
     cycle_multiplier: float      # bistable band: largest |μ| of the coexisting cycle (NaN elsewhere)
     cycle_span: float            # its ln V_max − ln V_min
 
+    @property
+    def as_labelled(self) -> bool:
+        """The run agrees with the label: a cycle below κ = 1, steady sliding above; in the bistable band
+        steady sliding from the small perturbation and a coexisting cycle with its multipliers inside 1."""
+        if self.region == "stable cycle":
+            return self.fate == "cycle"
+        if self.region == "bistable":
+            return self.fate == "steady" and self.cycle_multiplier < 1 and self.cycle_span > 0
+        return self.fate == "steady"
+
 
 #: (law, η, κ, region) at which the regions are checked; κ chosen off the curves (the fold curves above
 #: reach κ − 1 = 0.0060 (aging) and 0.060 (PRZ) at most on [2e-3, η_B])
@@ -162,7 +172,7 @@ def figure(path, results, bautin, curves, samples, fates, cascade=None) -> None:
     from .report import _stable
 
     laws = ("aging", "slip", "prz")
-    fig, axes = plt.subplots(2, 3, figsize=(15, 9.5))
+    fig, axes = plt.subplots(2, 3, figsize=(15, 10.5))
     eta_max = 0.2
     for ax, law in zip(axes[0], laws):
         curve = next((c for c in curves if c.state_law == law), None)
@@ -204,7 +214,8 @@ def figure(path, results, bautin, curves, samples, fates, cascade=None) -> None:
                             bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.7", alpha=0.85))
         else:
             _region_text(ax, 0.55, 0.85, "stable steady sliding (supercritical Hopf:\nno Bautin point, no fold)")
-        ax.legend(fontsize=6.5, loc="lower right")
+        # below the panel: inside it would cover the runs at κ = 0.9 or 1.05
+        ax.legend(fontsize=6.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
     for ax, inertial in ((axes[1][0], True), (axes[1][1], False)):
         for r in results:
             b = r["branch"]
@@ -284,9 +295,11 @@ def compute(results, bautin: dict, echo=print, cascade_levels: int = CASCADE_LEV
                 for law in ("aging", "slip", "prz")}
     echo(f"  Hopf curves in η: max rel. dev. from the closed form {max(hopf_dev.values()):.1e}")
     curves = fold_curves(results, bautin, echo)
-    samples = region_samples(curves)
-    echo(f"  regions: {sum(s.fate == {'stable cycle': 'cycle', 'bistable': 'steady'}.get(s.region, 'steady') for s in samples)}"
-         f"/{len(samples)} sample runs as labelled")
+    # a bistable sample needs its law's fold curve (none when the study's branches are damped: the
+    # curves start from undamped folds)
+    samples = region_samples(curves, [x for x in SAMPLES if x[3] != "bistable"
+                                      or any(c.state_law == x[0] for c in curves)])
+    echo(f"  regions: {sum(s.as_labelled for s in samples)}/{len(samples)} sample runs as labelled")
     casc = None
     if cascade_levels:
         parent = continue_cycles(**CASCADE_SLIDER, points=16, max_step=0.3, kappa_range=(0.05, 20),
@@ -322,7 +335,11 @@ def basins(results) -> dict:
     out = {"slip": [], "aging": [], "prz": []}
     slip = continue_cycles(state_law="slip", a=A, b=B, dc=DC, v_lp=V_LP, points=2, max_step=0.5)
     for kappa in SLIP_KAPPAS:
-        lo, hi = critical_in_slip("slip", kappa, 0.05, 5.0)
+        try:
+            lo, hi = critical_in_slip("slip", kappa, 0.05, 5.0)
+        except ValueError as exc:   # not a bracket: said in the table, not guessed
+            out["slip"].append((kappa, math.nan, math.nan, str(exc)))
+            continue
         out["slip"].append((kappa, lo, hi, fate_of_perturbation(slip, kappa, lo, max_steps=5_000_000)))
     aging = continue_cycles(state_law="aging", a=A, b=B, dc=DC, v_lp=V_LP, points=2, max_step=0.5)
     for kappa, delta in AGING_RUNS:
@@ -348,7 +365,8 @@ def section(d: Diagram, bautin: dict) -> list:
              "point, continued from the fold that the study's subcritical inertial branch of that law flags "
              "(`two_parameter.fold_curve`: unknowns (w, κ), equations P(w) = w and μ₁ = 1), up to "
              f"{1 - BAUTIN_GAP:g}·η_B and down to η = {ETA_LOW:g}. Every fold's period is checked by a direct run "
-             "(second turn, an independent step grid).", "",
+             "(second turn, an independent step grid). Between two runs of this workflow only the seconds "
+             "changed in this and the following sections.", "",
              "| law | Bautin η_B | folds | converged | η range | κ_f range | max \\|P(w) − w\\| | max \\|μ₁ − 1\\| | "
              "max \\|T_direct/T − 1\\| | started from | seconds |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for c in d.curves:
@@ -373,11 +391,12 @@ def section(d: Diagram, bautin: dict) -> list:
     lines += ["", "**Regions** are labelled by runs at the marked points: the fate of steady sliding "
               "perturbed by 1e-2 in ln V (`attractor.fate`), and in the bistable band also the coexisting "
               "cycle, found by Newton on the return map from outside the fold's cycle:", "",
-              "| law | η | κ | region | fate of the small perturbation | coexisting cycle: largest \\|μ\\|, ln V span |",
-              "|---|---|---|---|---|---|"]
+              "| law | η | κ | region | fate of the small perturbation | coexisting cycle: largest \\|μ\\|, ln V span | "
+              "as labelled |", "|---|---|---|---|---|---|---|"]
     for s in d.samples:
         extra = f"{s.cycle_multiplier:.4g}, {s.cycle_span:.4g}" if math.isfinite(s.cycle_multiplier) else "—"
-        lines.append(f"| {s.state_law} | {s.eta:g} | {s.kappa:g} | {s.region} | {s.fate} | {extra} |")
+        lines.append(f"| {s.state_law} | {s.eta:g} | {s.kappa:g} | {s.region} | {s.fate} | {extra} | "
+                     f"{'yes' if s.as_labelled else 'NO'} |")
     lines += ["", "At η = 0 (quasi-static) the study's runs below k_c blow up (\"Quasi-static fate\" above): runaway. "
               "Above k_c quasi-static, the aging and slip laws have no cycle near the Hopf point (their branches "
               "stay at κ = 1: a neutral family), and PRZ has the unstable cycle whose crossing is the basin boundary "
@@ -460,11 +479,11 @@ def _basin_lines(b: dict) -> list:
                   "of V = V_lp minus ln θ* (the study's quasi-static PRZ branch): " +
                   ", ".join(f"{d:.4f} at κ = {k:.6g}" for k, d in b["prz"]) + "."]
     lines += ["", "Literature (read through abstracts only): Ranjith & Rice (JMPS 47, 1207, 1999; abstract, SCEC "
-              "contribution 561) find for the aging law with the load point moving that slip is always stable "
-              "when K > K_cr, \"unlike results based on the slip version of the state evolution law, in which "
-              "instability occurs in response to sufficiently large perturbations from steady sliding when "
-              "K > K_cr\" (Gu et al. 1984) — what the tables above show. Ciardo & Viesca (arXiv:2407.16846, "
-              "abstract) quantify critical perturbations for laws between aging and slip and find them growing "
-              "towards the aging law; their numbers, and Gu et al.'s, could not be read here, so Δ_c is not "
-              "compared with them number for number."]
+              "contribution 561) find for the aging law with the load point moving that \"Slip is always stable "
+              "when K > Kcr > 0\", and that \"This is unlike results based on the slip version of the state "
+              "evolution law, in which instability occurs in response to sufficiently large perturbations from "
+              "steady sliding when K > Kcr\" — what the tables above show. Ciardo & Viesca (arXiv:2407.16846, "
+              "abstract) name those slip-law results Gu et al. (1984)'s, quantify critical perturbations for "
+              "laws between aging and slip, and find them growing towards the aging law; their numbers, and Gu "
+              "et al.'s, could not be read here, so Δ_c is not compared with them number for number."]
     return lines
