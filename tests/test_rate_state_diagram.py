@@ -19,10 +19,10 @@ ETA_BAUTIN_PRZ = 0.0815295856361991
 
 @pytest.mark.slow
 def test_prz_fold_curve_ends_at_its_bautin_point():
-    # ~15 s. From the fold flagged on the branch at η = 0.01 (κ ≈ 1.0575), 52 folds in η up to 0.998 η_B,
+    # ~15–30 s. From the fold flagged on the branch at η = 0.01 (κ ≈ 1.0575), 52 folds in η up to 0.998 η_B,
     # as for the aging law (test_rate_state_fold_curve.py): each a cycle to 1e-12 with a multiplier 1 to
     # 1e-9, κ_f falling monotonically onto 1, and √(κ_f − 1) extrapolated to 0 from the last two folds
-    # landing on η_B (measured 2.2e-5 relative; 1e-4 allows for the next term of κ_f − 1 ∝ (η_B − η)²).
+    # landing on η_B (measured 4.5e-6 relative; 1e-4 allows for the next term of κ_f − 1 ∝ (η_B − η)²).
     br = continue_cycles(state_law="prz", a=0.01, b=0.015, dc=0.01, v_lp=1.0, mass=0.01e-4, points=10,
                          max_step=0.1, kappa_range=(0.6, 20))
     start = br.points[br.folds[0]]
@@ -51,7 +51,7 @@ def test_slip_law_runs_away_in_finite_slip():
 
 @pytest.mark.slow
 def test_aging_spike_ends_where_the_slip_law_runs_away():
-    # ~20 s. Aging law, same raise at κ = 1.1, 1.5: the spike ends (ln V back below −0.5). Its peak for
+    # ~20–60 s (loaded machine). Aging law, same raise at κ = 1.1, 1.5: the spike ends (ln V back below −0.5). Its peak for
     # Δ = 5 at κ = 1.1 (52.6 measured) lies below the fast-slip bound ln V ≤ (b/Dc − k)/a · Δ a Dc/
     # ((κ − 1)(b − a)) = 95 (report "Basins above k_c"). The slip law's threshold is bracketed at κ = 1.1
     # by bisection to 1e-3 relative: 0.7606 … 0.7612 in the study's run; within 2e-3 of it here.

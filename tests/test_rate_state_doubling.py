@@ -62,9 +62,9 @@ def test_the_stored_second_doubling_has_a_multiplier_minus_one():
 
 @pytest.mark.slow
 def test_cascade_of_three_doublings():
-    # ~15 s. Period 1 → 2 → 4 → 8 on the two-state slip slider: each doubling located (μ = −1 to 1e-6),
+    # ~15–40 s. Period 1 → 2 → 4 → 8 on the two-state slip slider: each doubling located (μ = −1 to 1e-6),
     # switched onto a cycle of twice the period (the period ratio is 2 to the distance moved from the
-    # doubling: measured 2.0000004–2.0000006; 1e-5 allows that motion), and the three κ_PD equal the
+    # doubling: measured 3.9e-7 … 5.9e-7 from 2; 1e-5 allows that motion), and the three κ_PD equal the
     # study's (report table: 0.8746313201, 0.8675191960, 0.8662142096) within 1e-8 — its κ errors are
     # ≤ 1.4e-9 and two runs that start the branches differently agree to 5.4e-11. Hence the first ratio
     # of intervals, 5.44996 in the report, to 1e-4.
