@@ -19,6 +19,8 @@ def test_crossings_of_the_unit_circle_on_a_synthetic_sequence():
     # moving about inside (or outside) the circle is no crossing; nor is a multiplier on −1's far side
     assert crossings([(-0.9, 0.2), (-0.95, 0.3), (0.4 + 0.5j, 0.4 - 0.5j), (0.5 + 0.6j, 0.5 - 0.6j)]) == []
     assert crossings([(-1.5, 0.2), (-2.5, 0.1)]) == []
+    # a neutral family (degenerate Hopf point): μ = 1 to 1e-8 of difference noise on both sides is no fold
+    assert crossings([(1 + 1e-8,), (1 - 2e-8,), (1 + 1e-8,)]) == []
 
 
 #: The second doubling (period 2 → 4) of the two-state slip slider as the study located it

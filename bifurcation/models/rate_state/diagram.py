@@ -430,17 +430,22 @@ def section(d: Diagram, bautin: dict) -> list:
                   "circle. One state variable quasi-static is a planar flow: one multiplier, neither a doubling nor a "
                   "torus. With three state dimensions (one state variable with inertia; two state variables "
                   "quasi-static) there are two multipliers, and a complex pair has modulus √|det ∂P/∂w| = "
-                  "exp(½∮ div f dt). Scanned on every branch in κ of the study and the cascade's:", "",
+                  "exp(½∮ div f dt). Scanned on every branch in κ of the study and the cascade's, with every "
+                  "crossing of the unit circle between neighbouring points (`doubling.crossings`: a real "
+                  "multiplier through +1 or −1, a complex pair through \\|μ\\| = 1; within 1e-6 of the circle on "
+                  "both sides is noise):", "",
                   "| branch | multipliers | points with a complex pair | largest \\|μ\\| there | √\\|det\\| over the branch | "
-                  "crossings of \\|μ\\| = 1 |", "|---|---|---|---|---|---|"]
+                  "crossings: fold / doubling / torus (after point) |", "|---|---|---|---|---|---|"]
         for label, t in d.torus:
             mm = f"{t.max_complex_modulus:.4g}" if math.isfinite(t.max_complex_modulus) else "—"
             rng = (f"{t.modulus_range[0]:.3g} … {t.modulus_range[1]:.3g}" if math.isfinite(t.modulus_range[0])
                    else "— (one multiplier)")
-            lines.append(f"| {label} | {t.dimension} | {len(t.complex_points)} | {mm} | {rng} | {len(t.crossing)} |")
+            kinds = " / ".join(", ".join(str(i) for i, k in t.kinds if k == kind) or "—"
+                               for kind in ("fold", "period-doubling", "torus"))
+            lines.append(f"| {label} | {t.dimension} | {len(t.complex_points)} | {mm} | {rng} | {kinds} |")
         lines += ["", "No torus bifurcation on these branches: where the pair is complex its modulus stays well inside "
                   "the unit circle (the flow contracts area strongly), and where a multiplier leaves the circle it "
-                  "is real (a fold or a doubling)."]
+                  "is real (a fold or a doubling): the crossings column lists every one."]
     if d.basins:
         lines += _basin_lines(d.basins)
     return lines

@@ -180,25 +180,30 @@ def locate_doubling(branch: Branch, index: int, *, beyond: float = 1e-3, max_ste
                     float(np.max(np.abs(r2[0] - w2))), "ok" if switched else "not-switched")
 
 
-def crossings(multipliers, tol: float = 1e-9) -> list:
+def crossings(multipliers, tol: float = 1e-9, noise: float = 1e-6) -> list:
     """Where a sequence of multiplier sets (one per branch point) crosses the unit circle, and how.
 
     Returns (i, kind) for each crossing between points i and i + 1: ``"fold"`` (a real multiplier through
     +1), ``"period-doubling"`` (a real one through −1), ``"torus"`` (a complex pair, |Im μ| > ``tol`` on
     both sides, whose modulus passes 1). Multipliers are matched between points by sorting: real ones by
     value, a complex pair by modulus — enough on a branch stepped finely compared with their motion.
+    A crossing within ``noise`` of the circle on both sides is not counted: on a neutral family (the
+    degenerate quasi-static Hopf points) the multiplier is 1 to ~1e-8 of finite-difference noise.
     """
     out = []
     for i, (m0, m1) in enumerate(zip(multipliers, multipliers[1:])):
         r0 = sorted(z.real for z in m0 if abs(z.imag) <= tol)
         r1 = sorted(z.real for z in m1 if abs(z.imag) <= tol)
-        if any((x - 1) * (y - 1) < 0 for x, y in zip(r0[::-1], r1[::-1])):
+        def through(u, v, at):
+            return (u - at) * (v - at) < 0 and max(abs(u - at), abs(v - at)) > noise
+
+        if any(through(x, y, 1.0) for x, y in zip(r0[::-1], r1[::-1])):
             out.append((i, "fold"))
-        if r0 and r1 and (min(r0) + 1) * (min(r1) + 1) < 0:
+        if r0 and r1 and through(min(r0), min(r1), -1.0):
             out.append((i, "period-doubling"))
         c0 = [abs(z) for z in m0 if abs(z.imag) > tol]
         c1 = [abs(z) for z in m1 if abs(z.imag) > tol]
-        if c0 and c1 and (max(c0) - 1) * (max(c1) - 1) < 0:
+        if c0 and c1 and through(max(c0), max(c1), 1.0):
             out.append((i, "torus"))
     return out
 
@@ -212,6 +217,7 @@ class TorusScan:
     max_complex_modulus: float   # largest |μ| over those (a torus needs 1); NaN if none
     modulus_range: tuple         # (min, max) of √|det ∂P/∂w| over the branch: the pair's modulus if complex
     crossing: tuple              # indices i where a complex pair's |μ| − 1 changes sign between i and i + 1
+    kinds: tuple = ()            # every crossing of the circle on the branch, (i, kind) from ``crossings``
 
 
 def torus_scan(branch: Branch) -> TorusScan:
@@ -222,8 +228,9 @@ def torus_scan(branch: Branch) -> TorusScan:
     mods = [max(abs(z) for z in pts[i].multipliers) for i in cplx]
     # with one multiplier there is no pair: the "modulus of a pair" is undefined (NaN)
     dets = [math.sqrt(abs(np.prod(p.multipliers))) if dim > 1 else math.nan for p in pts]
-    cross = tuple(i for i, kind in crossings([p.multipliers for p in pts]) if kind == "torus")
-    return TorusScan(dim, tuple(cplx), max(mods) if mods else math.nan, (min(dets), max(dets)), cross)
+    kinds = tuple(crossings([p.multipliers for p in pts]))
+    cross = tuple(i for i, kind in kinds if kind == "torus")
+    return TorusScan(dim, tuple(cplx), max(mods) if mods else math.nan, (min(dets), max(dets)), cross, kinds)
 
 
 #: noise of a multiplier from central differences of Pⁿ (see ``cascade``)
