@@ -103,11 +103,19 @@ def _figure(path, results) -> None:
     plt.close(fig)
 
 
-def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="workflows/rate-state.toml") -> None:
+def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="workflows/rate-state.toml",
+                 diagram=None) -> None:
     """``REPORT.md``, ``report.html`` (the same typed blocks, ``report.document``) and the bifurcation diagram."""
     from ...report.document import Figure, Heading, Paragraph, Section, Table, to_html, to_markdown
 
     _figure(out / "bifurcation-diagram.png", results)
+    extra = []
+    if diagram is not None:   # the two-parameter diagram (diagram.py): its figure and section
+        from .diagram import figure, section
+
+        figure(out / "two-parameter-diagram.png", results, bautin, diagram.curves, diagram.samples, fates,
+               diagram.cascade)
+        extra = section(diagram, bautin)
     in_v = [r for r in results if r["branch"].meta.get("parameter", "kappa") == "v_lp"]
     results = [r for r in results if r not in in_v]
     rows = []
@@ -192,6 +200,6 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
                   "l1 of the degenerate branches (~1e-12: rounding, not a coefficient); the period checks "
                   "|T_direct/T − 1| (rounding, ≤ 1e-11); Floquet multipliers below ~1e-9 (finite-difference "
                   "noise of the trivial direction). Every other printed digit was the same."),
-        verdicts, hopf, Section("Branches", branches)]
+        verdicts, hopf, Section("Branches", branches), *extra]
     (out / "REPORT.md").write_text(to_markdown(blocks), encoding="utf-8")
     (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")

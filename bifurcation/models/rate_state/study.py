@@ -256,13 +256,20 @@ def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
              f"{branch.hopf.criticality} (l1 {branch.hopf.lyapunov_coefficient:.4g}, simulated {l1_sim:.4g}), "
              f"max period check {max(checks):.1e}, {branch.meta['stop']}, {time.perf_counter() - t0:.1f} s")
     fates = _quasi_static_fates(spec)
+    # the two-parameter diagram starts its fold curves at the Bautin points: computed when they are
+    diagram = None
+    if spec.bautin:
+        from .diagram import compute
+
+        diagram = compute(results, bautin, echo)
     out.mkdir(parents=True, exist_ok=True)
     from .report import write_report, write_store
 
     write_store(out / "branches.zarr", spec, results)
-    write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start, workflow=str(path))
+    write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start, workflow=str(path),
+                 diagram=diagram)
     echo(f"wrote {out}/branches.zarr, {out}/REPORT.md in {time.perf_counter() - t_start:.0f} s")
-    return {"sweep": sweep, "bautin": bautin, "branches": results, "fates": fates}
+    return {"sweep": sweep, "bautin": bautin, "branches": results, "fates": fates, "diagram": diagram}
 
 
 def _quasi_static_fates(spec: StudySpec) -> list:
