@@ -667,11 +667,142 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
         _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, 0)
 
 
+# -- the lone block's stored trajectory (``_lone``) ----------------------------------------------------
+_EPS = 2.220446049250313e-16
+
+
+@_inline
+def _horner(c, i, x):
+    kk = c.shape[1]
+    y = c[i, kk - 1]
+    for q in range(kk - 2, -1, -1):
+        y = y * x + c[i, q]
+    return y
+
+
 @_jit
-def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i):
+def _lone_step(lone, a, b, tau):
+    """The stored step of [a, b) holding τ (the last one with t0 ≤ τ)."""
+    lo, hi = a, b - 1
+    while lo < hi:
+        mid = (lo + hi + 1) >> 1
+        if lone.t0[mid] <= tau:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+@_jit
+def _lone_root(lone, a, b, dn, l2):
+    """τ where a stuck neighbour's (σ − 1)/ν = dn + ℓ² w(τ) + τ reaches 0 (it is < 0 at τ = 0 and ≥ 0
+    at the stop; increasing, its derivative ℓ² v + 1 ≥ 1): the step by bisection over the steps' start
+    values, then safeguarded Newton on its polynomial, to rounding."""
+    lo, hi = a, b - 1
+    while lo < hi:                     # the last step whose start is below the threshold
+        mid = (lo + hi + 1) >> 1
+        if dn + l2 * lone.cw[mid, 0] + lone.t0[mid] < 0.0:
+            lo = mid
+        else:
+            hi = mid - 1
+    i = lo
+    t0 = lone.t0[i]
+    xl, xr = 0.0, lone.t1[i] - t0
+    x = xr
+    fx = dn + l2 * _horner(lone.cw, i, x) + (t0 + x)
+    if fx < 0.0:
+        return lone.t1[i], i
+    x = 0.5 * xr
+    for _ in range(100):
+        fx = dn + l2 * _horner(lone.cw, i, x) + (t0 + x)
+        if fx < 0.0:
+            xl = x
+        else:
+            xr = x
+        if fx == 0.0:
+            break
+        xn = x - fx / (l2 * _horner(lone.cv, i, x) + 1.0)
+        if not (xl < xn < xr):
+            xn = 0.5 * (xl + xr)
+        if abs(xn - x) <= 4.0 * _EPS * (t0 + x) or xn == x:
+            break
+        x = xn
+    # a tight bracket around the root (Newton converged next to it), then bisection to rounding: the
+    # result is the first point where the threshold is reached, as ``_root`` for DOP853
+    dl = 8.0 * _EPS * (t0 + x)
+    if xl < x - dl and dn + l2 * _horner(lone.cw, i, x - dl) + (t0 + x - dl) < 0.0:
+        xl = x - dl
+    if x + dl < xr and dn + l2 * _horner(lone.cw, i, x + dl) + (t0 + x + dl) >= 0.0:
+        xr = x + dl
+    for _ in range(200):
+        c = 0.5 * (xl + xr)
+        if not (xl < c < xr):
+            break
+        if dn + l2 * _horner(lone.cw, i, c) + (t0 + c) < 0.0:
+            xl = c
+        else:
+            xr = c
+    x = xr
+    return t0 + x, i
+
+
+@_jit
+def _lone_segment(m, win, lone, l2, tau_far, t_left, acc):
+    """The event's first segment when its hypocentre slips alone from rest among stuck neighbours:
+    (code, slot, τ) as ``_segment`` (0 the event ended at the stored stop, 1 a neighbour starts, 2 the far
+    block starts), the window's state written at τ; code −1 if the stored trajectory does not apply
+    (then nothing was written)."""
+    hs = -1
+    for i in range(m):
+        if win.slip[i]:
+            if hs >= 0:
+                return -1, -1, 0.0
+            hs = i
+    if hs < 0 or win.v[hs] != 0.0 or win.dn[hs] != 0.0:
+        return -1, -1, 0.0
+    kind = int(win.selfc[hs])
+    if lone.sc[kind, 4] == 0.0:
+        return -1, -1, 0.0
+    a, b = lone.off[kind], lone.off[kind + 1]
+    T, W = lone.sc[kind, 0], lone.sc[kind, 1]
+    tau, code, slot, step = T, 0, -1, b - 1
+    for i in range(m):
+        if i != hs and win.dn[i] + l2 * W + T >= 0.0:    # it starts before the stop
+            ti, si = _lone_root(lone, a, b, win.dn[i], l2)
+            if ti < tau:
+                tau, code, slot, step = ti, 1, i, si
+    if tau_far < tau:
+        tau, code, slot = tau_far, 2, -1
+        step = _lone_step(lone, a, b, tau)
+    if t_left < tau:
+        return -1, -1, 0.0
+    if code == 0:
+        win.w[hs] = W
+        win.v[hs] = 0.0
+        win.slip[hs] = 0
+        acc[2] = max(acc[2], lone.sc[kind, 2])
+        acc[1] += (b - a) * _EPS * W
+        return 0, -1, tau
+    x = tau - lone.t0[step]
+    wv = _horner(lone.cw, step, x)
+    vv = max(_horner(lone.cv, step, x), 0.0)
+    win.w[hs] = wv
+    win.v[hs] = vv
+    win.piece[hs] = lone.piece[step]
+    vm = max(lone.pre[step], vv)
+    if 0.0 <= lone.imt[step] <= x:
+        vm = max(vm, lone.imv[step])
+    acc[2] = max(acc[2], vm)
+    acc[1] += (step - a + 1) * _EPS * wv
+    return code, slot, tau
+
+
+@_jit
+def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
     """Up to k events. ``scal`` = [t, L, h]; out_f[:, e] = t_start, potency, duration, vmax (scaled),
-    error estimate; out_i[:, e] = hypocentre, n_blocks, steps, widest window.
-    Returns (events done, outcome code)."""
+    error estimate; out_i[:, e] = hypocentre, n_blocks, steps, widest window. ``lone``: the stored
+    lone-block trajectories (``_lone``; the event's first segment follows them when its hypocentre
+    slips alone, ``par[6]`` ≠ 0). Returns (events done, outcome code)."""
     n, periodic = g.s.size, par[4] != 0.0
     nu, l2, t_max = fr[0], par[0], par[5]
     acc = np.zeros(3)
@@ -700,6 +831,7 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i):
         ns = 1
         h = scal[2]
         code = 0
+        first_seg = par[6] != 0.0
         while True:
             # start the blocks of ``starts`` and every other block at σ ≥ 1 (simultaneous failures)
             while ns > 0:
@@ -720,7 +852,12 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i):
             tau_far = np.inf
             if g.tv[top] > _NEG_INF:
                 tau_far = (1.0 - (((g.s[top] - base) + 1.0) + lam)) / nu
-            code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc)
+            code = -1
+            if first_seg:
+                first_seg = False
+                code, j, tau = _lone_segment(m, win, lone, l2, tau_far, t_max - dur, acc)
+            if code < 0:
+                code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc)
             if code == 5 or code == 3:
                 break
             pot += nu * _commit(m, tau, win, g, l2, nu)
@@ -774,10 +911,11 @@ class CompiledChain:
     """One chain run on the compiled engine: the state between events and ``run(k)``.
 
     Same arguments as ``ChainLoop`` (double precision only) plus ``sigma`` (friction drop σ_f ≥ 0)
-    and ``tol`` (DOP853's tolerance)."""
+    and ``tol`` (DOP853's tolerance). ``lone``: follow the stored lone-block trajectory (``_lone``) in
+    an event's first segment where it applies (False: DOP853 throughout, for comparisons)."""
 
     def __init__(self, law, n: int, ell: float, nu: float, nu_f: float, ends: str, u0, *, sigma: float = 0.0,
-                 tol: float = TOL, t_max: float = 1e5, max_steps: int = 1_000_000) -> None:
+                 tol: float = TOL, t_max: float = 1e5, max_steps: int = 1_000_000, lone: bool = True) -> None:
         from ._lawtape import law_tape
         from ._validate import stress
 
@@ -807,7 +945,11 @@ class CompiledChain:
         nu_fs = self.nu_f * (1.0 - self.sigma)
         self._fr = np.array([self.nu, nu_fs, self.sigma, self.nu / nu_fs, 1.0 / self.nu])
         self._par = np.array([self.ell * self.ell, tol, tol, float(max_steps), float(ends == "periodic"),
-                              float(t_max)])
+                              float(t_max), float(bool(lone))])
+        from ._lone import lone_tables
+
+        self._lone = lone_tables(law, n, ends, self.nu, self.nu_f, self.ell, self.sigma) if lone else \
+            lone_tables(law, 0, "periodic", self.nu, self.nu_f, self.ell, self.sigma)
         self._scal = np.array([0.0, 0.0, 0.1])    # t, L, the next event's first step
         self.t_max, self.max_steps = t_max, max_steps
         self.widest: list[int] = []
@@ -831,7 +973,8 @@ class CompiledChain:
 
         out_f = np.zeros((5, k))
         out_i = np.zeros((4, k), dtype=np.int64)
-        done, code = run_events(k, self._win, self._g, self._law, self._gfun, self._fr, self._par, self._scal, out_f, out_i)
+        done, code = run_events(k, self._win, self._g, self._law, self._gfun, self._fr, self._par, self._scal, out_f, out_i,
+                                self._lone)
         cat = {"t_start": out_f[0, :done].copy(), "hypocentre": out_i[0, :done].copy(),
                "n_blocks": out_i[1, :done].copy(), "potency": out_f[1, :done].copy(),
                "duration": out_f[2, :done].copy(), "max_velocity": self.nu * out_f[3, :done],
