@@ -430,16 +430,19 @@ def _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu):
             win.nsg[q] = win.sg[i]
             win.nv[q] = win.v[i]
             win.nslip[q] = win.slip[i]
+            win.nlt[q] = win.lt[i]
             win.npiece[q] = win.piece[i]
         elif pend[b] == cnt:
             win.nsg[q] = 1.0
             win.nv[q] = 0.0
             win.nslip[q] = 1
+            win.nlt[q] = 0.0
             win.npiece[q] = 0
         else:
             win.nsg[q] = ((g.s[b] - base) + 1.0) + lam
             win.nv[q] = 0.0
             win.nslip[q] = 0
+            win.nlt[q] = -1.0
             win.npiece[q] = 0
             tree_set(g.tv, g.ti, g.p, b, _NEG_INF)
     for i in range(m):   # leavers: stuck among stuck neighbours, back to the tree
@@ -458,6 +461,7 @@ def _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu):
         win.v[q] = win.nv[q]
         win.w[q] = 0.0
         win.slip[q] = win.nslip[q]
+        win.lt[q] = win.nlt[q]
         win.piece[q] = win.npiece[q]
     for q in range(k):
         lf, rt, sc = _neighbours(win.blk[q], n, periodic)
@@ -747,55 +751,112 @@ def _lone_root(lone, a, b, dn, l2):
 
 
 @_jit
+def _lone_w(lone, a, b, th):
+    if th <= 0.0:
+        return 0.0
+    st = _lone_step(lone, a, b, th)
+    return _horner(lone.cw, st, th - lone.t0[st])
+
+
+@_jit
+def _lone_state(lone, a, b, kind, th0, th, acc):
+    """(w since the segment start, v, piece, stopped) of a lone block at its own time th since its start,
+    the segment having started at th0; accumulates its velocity maximum and error estimate in acc."""
+    T = lone.sc[kind, 0]
+    if th >= T:
+        acc[2] = max(acc[2], lone.sc[kind, 2])
+        acc[1] += (b - a) * _EPS * lone.sc[kind, 1]
+        return lone.sc[kind, 1] - _lone_w(lone, a, b, th0), 0.0, 0, True
+    st = _lone_step(lone, a, b, th)
+    x = th - lone.t0[st]
+    wv = _horner(lone.cw, st, x)
+    vv = max(_horner(lone.cv, st, x), 0.0)
+    vm = max(lone.pre[st], vv)
+    if 0.0 <= lone.imt[st] <= x:
+        vm = max(vm, lone.imv[st])
+    acc[2] = max(acc[2], vm)
+    acc[1] += (st - a + 1) * _EPS * wv
+    return wv - _lone_w(lone, a, b, th0), vv, lone.piece[st], False
+
+
+@_jit
 def _lone_segment(m, win, lone, l2, tau_far, t_left, acc):
-    """The event's first segment when its hypocentre slips alone from rest among stuck neighbours:
-    (code, slot, τ) as ``_segment`` (0 the event ended at the stored stop, 1 a neighbour starts, 2 the far
-    block starts), the window's state written at τ; code −1 if the stored trajectory does not apply
-    (then nothing was written)."""
-    hs = -1
+    """A segment in which every slipping block is a lone block on the stored trajectory (started from
+    rest among stuck neighbours, ``win.lt`` its time since then; no two of them neighbours, no stuck
+    block between two of them): (code, slot, τ) as ``_segment`` (0 every one stopped, 1 a window block
+    starts, 2 the far block starts), the window's state written at τ and ``win.lt`` advanced; code −1
+    if it does not apply (then nothing was written).
+
+    A stuck window block's (σ − 1)/ν is d/ν + ℓ²(W(θ + τ) − W(θ)) + τ next to a lone block at its time
+    θ (d/ν + ℓ²(W_T − W(θ)) + τ once that one stopped), d/ν + τ otherwise: increasing in τ, so its start
+    is a root on the stored polynomial or in closed form."""
+    ns = 0
     for i in range(m):
+        lf, rt = win.left[i], win.right[i]
         if win.slip[i]:
-            if hs >= 0:
+            ns += 1
+            if win.lt[i] < 0.0 or lone.sc[int(win.selfc[i]), 4] == 0.0:
                 return -1, -1, 0.0
-            hs = i
-    if hs < 0 or win.v[hs] != 0.0 or win.dn[hs] != 0.0:
+            if (lf >= 0 and win.slip[lf]) or (rt >= 0 and win.slip[rt]):
+                return -1, -1, 0.0
+            if win.lt[i] >= lone.sc[int(win.selfc[i]), 0]:
+                return -1, -1, 0.0
+        elif lf >= 0 and rt >= 0 and lf != rt and win.slip[lf] and win.slip[rt]:
+            return -1, -1, 0.0
+    if ns == 0:
         return -1, -1, 0.0
-    kind = int(win.selfc[hs])
-    if lone.sc[kind, 4] == 0.0:
-        return -1, -1, 0.0
-    a, b = lone.off[kind], lone.off[kind + 1]
-    T, W = lone.sc[kind, 0], lone.sc[kind, 1]
-    tau, code, slot, step = T, 0, -1, b - 1
-    for i in range(m):
-        if i != hs and win.dn[i] + l2 * W + T >= 0.0:    # it starts before the stop
-            ti, si = _lone_root(lone, a, b, win.dn[i], l2)
-            if ti < tau:
-                tau, code, slot, step = ti, 1, i, si
+    tau, code, slot = 0.0, 0, -1
+    for i in range(m):                      # the last stop
+        if win.slip[i]:
+            tau = max(tau, lone.sc[int(win.selfc[i]), 0] - win.lt[i])
+    for i in range(m):                      # the first start of a stuck window block
+        if win.slip[i]:
+            continue
+        lf, rt = win.left[i], win.right[i]
+        j = lf if (lf >= 0 and win.slip[lf]) else (rt if (rt >= 0 and win.slip[rt]) else -1)
+        dn = win.dn[i]
+        if j < 0:
+            ti = -dn
+        else:
+            kind = int(win.selfc[j])
+            a, b = lone.off[kind], lone.off[kind + 1]
+            T, W = lone.sc[kind, 0], lone.sc[kind, 1]
+            th0 = win.lt[j]
+            w0 = _lone_w(lone, a, b, th0)
+            if dn + l2 * (W - w0) + (T - th0) >= 0.0:      # before its lone neighbour stops
+                if th0 == 0.0:
+                    th, _ = _lone_root(lone, a, b, dn, l2)
+                else:
+                    th, _ = _lone_root(lone, a, b, (dn - l2 * w0) - th0, l2)
+                ti = th - th0
+            else:
+                ti = -(dn + l2 * (W - w0))
+        if ti < tau:
+            tau, code, slot = ti, 1, i
     if tau_far < tau:
         tau, code, slot = tau_far, 2, -1
-        step = _lone_step(lone, a, b, tau)
     if t_left < tau:
         return -1, -1, 0.0
-    if code == 0:
-        win.w[hs] = W
-        win.v[hs] = 0.0
-        win.slip[hs] = 0
-        acc[2] = max(acc[2], lone.sc[kind, 2])
-        acc[1] += (b - a) * _EPS * W
-        return 0, -1, tau
-    x = tau - lone.t0[step]
-    wv = _horner(lone.cw, step, x)
-    vv = max(_horner(lone.cv, step, x), 0.0)
-    win.w[hs] = wv
-    win.v[hs] = vv
-    win.piece[hs] = lone.piece[step]
-    vm = max(lone.pre[step], vv)
-    if 0.0 <= lone.imt[step] <= x:
-        vm = max(vm, lone.imv[step])
-    acc[2] = max(acc[2], vm)
-    acc[1] += (step - a + 1) * _EPS * wv
+    for i in range(m):
+        if not win.slip[i]:
+            continue
+        kind = int(win.selfc[i])
+        a, b = lone.off[kind], lone.off[kind + 1]
+        th0 = win.lt[i]
+        th = th0 + tau
+        if code == 0 and th0 + tau >= lone.sc[kind, 0] * (1.0 - 4.0 * _EPS):
+            th = lone.sc[kind, 0]                       # the last stop: exactly at the stored one
+        wv, vv, pc, stopped = _lone_state(lone, a, b, kind, th0, th, acc)
+        win.w[i] = wv
+        win.v[i] = vv
+        if stopped or code == 0:
+            win.slip[i] = 0
+            win.v[i] = 0.0
+            win.lt[i] = -1.0
+        else:
+            win.piece[i] = pc
+            win.lt[i] = th
     return code, slot, tau
-
 
 @_jit
 def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
@@ -854,9 +915,11 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
                 tau_far = (1.0 - (((g.s[top] - base) + 1.0) + lam)) / nu
             code = -1
             if first_seg:
-                first_seg = False
                 code, j, tau = _lone_segment(m, win, lone, l2, tau_far, t_max - dur, acc)
             if code < 0:
+                first_seg = False               # DOP853 for the rest of the event
+                for i in range(m):
+                    win.lt[i] = -1.0
                 code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc)
             if code == 5 or code == 3:
                 break
@@ -898,7 +961,7 @@ from collections import namedtuple  # noqa: E402
 
 _Law = namedtuple("_Law", "code consts start regs cl lower upper g_break")
 _Win = namedtuple("_Win", "blk left right selfc sg d dn slip piece w v w1 v1 tw tv kw kv fw fv "
-                          "nblk nsg nv nslip npiece starts")
+                          "nblk nsg nv nslip npiece starts lt nlt")
 _Glob = namedtuple("_Glob", "s u tv ti p slot mem pend touched evid cnt")
 
 #: DOP853's tolerance (relative, and absolute on the scaled variables, which are O(1) at a start).
@@ -941,7 +1004,8 @@ class CompiledChain:
         f, i8 = np.zeros, np.int64
         self._win = _Win(f(n, i8), f(n, i8), f(n, i8), f(n), f(n), f(n), f(n), f(n, np.uint8), f(n, i8), f(n), f(n),
                          f(n), f(n), f(n), f(n), f((n, 16)), f((n, 16)), f((n, 7)), f((n, 7)),
-                         f(n, i8), f(n), f(n), f(n, np.uint8), f(n, i8), f(n + 1, i8))
+                         f(n, i8), f(n), f(n), f(n, np.uint8), f(n, i8), f(n + 1, i8), np.full(n, -1.0),
+                         np.full(n, -1.0))
         nu_fs = self.nu_f * (1.0 - self.sigma)
         self._fr = np.array([self.nu, nu_fs, self.sigma, self.nu / nu_fs, 1.0 / self.nu])
         self._par = np.array([self.ell * self.ell, tol, tol, float(max_steps), float(ends == "periodic"),
