@@ -13,7 +13,11 @@ The same model and event algorithm as the heyoka engine (``_loop``), in one numb
   block outside the window is stuck among stuck neighbours and starts at its closed-form time, the
   segment's end; velocity maxima are maximised on the dense output;
 * per event the catalog gets an error estimate: the sum over its steps of DOP853's local error
-  estimate of the window's displacement, ν Σ|err(w)|, relative to the event's potency.
+  estimate of the window's displacement, ν Σ|err(w)|, relative to the event's potency;
+* a block that starts from rest among stuck neighbours (the hypocentre, or a far block that starts
+  during the event) follows one stored trajectory (``_lone``: heyoka's Taylor polynomials, computed
+  once per run) with no integration, as long as every slipping block of the window is such a lone
+  block; at a window block's start the state is handed to DOP853 for the rest of the event.
 
 Memory is O(N) (a few arrays of N entries); the work per event is O(window × steps) plus O(log N)
 per block that enters or leaves a window, so it does not grow with N.
