@@ -347,7 +347,7 @@ def run_scaling(*, sizes=(64, 1024, 16384, 100_000), nu: float = 1e-8, nu_f: flo
     of every copy); the first copy keeps its own. So every N meets the events of one steady state,
     and at ν small enough that the chain is all stuck between events (N ν ≤ 1e-3 here) their sizes
     are equal; a larger ν lets far blocks start during an event at large N and the events grow with N
-    (at ν = 1e-6 and N = 10⁵, 3.5 blocks against 1.9). Reported beside the µs: mean size, DOP853
+    (at ν = 1e-6 and N = 10⁵, 3.0 blocks against 2.0 at N = 64). Reported beside the µs: mean size, DOP853
     steps per event (0 for an event that stays on the stored lone trajectory), µs per step, the
     widest window. Memory: the bytes of the engine's arrays (all allocated once per run, O(N))."""
     from ...laws import resolve_law
