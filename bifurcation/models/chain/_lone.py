@@ -8,8 +8,8 @@ in the engine's scaled variables (``_integrator``: U = U(t_s) + ν w, V = ν v, 
 
 k = 2ℓ² + 1 (interior, ``selfc`` 0), ℓ² + 1 (free end, 1) or 1 (a lone block, N = 1: 2), and a stuck
 neighbour's (σ − 1)/ν is d_n/ν + ℓ² w(τ) + τ, increasing in τ. So it is integrated once, by heyoka's
-Taylor method (the exact engine's own window integrator at M = 1: its law, switch events and the
-fading laws' rungs, tolerance ε = 2.2e-16), and stored step by step as heyoka's Taylor polynomials
+Taylor method (the exact engine's window integrator built at M = 1, a private copy: its law, switch
+events and the fading laws' rungs, tolerance ε = 2.2e-16), and stored step by step as heyoka's Taylor polynomials
 (order 20). The compiled engine (``_compiled.run_events``) then ends a lone event at the stored stop
 with no integration, or hands the state at a neighbour's start (a monotone root on the polynomial) or
 at a far block's start to DOP853.
@@ -17,6 +17,7 @@ at a far block's start to DOP853.
 
 from __future__ import annotations
 
+import threading
 from collections import namedtuple
 
 import numpy as np
@@ -31,6 +32,20 @@ __all__ = ["Lone", "lone_tables", "trajectory"]
 Lone = namedtuple("Lone", "off t0 t1 cw cv piece pre imt imv sc")
 
 _MAX_STEPS = 100_000
+#: this module's own M = 1 integrators (law, drop): not the exact engine's cached ones, whose state and
+#: velocity-maximum recorder a chain run of that engine owns while it runs (threads of one process)
+_PRIVATE: dict = {}
+_LOCK = threading.Lock()
+
+
+def _integrator(law, drop: bool):
+    from ._integrator import _build
+
+    key = (law.name, law.formula, drop)
+    wi = _PRIVATE.get(key)
+    if wi is None:
+        wi = _PRIVATE[key] = _build(law, 1, "double", False, False, drop)
+    return wi
 
 
 def _poly(c, x):
@@ -45,11 +60,11 @@ def trajectory(law, nu: float, nu_f: float, ell: float, sigma: float, selfc: int
     the engine then integrates such events by DOP853)."""
     import heyoka as hy
 
-    from ._integrator import N_GLOBAL, window_integrator
+    from ._integrator import N_GLOBAL
     from ._lawtape import law_tape
 
     drop = sigma > 0.0
-    wi = window_integrator(law, 1, "double", False, drop=drop)
+    wi = _integrator(law, drop)            # (under _LOCK: lone_tables)
     ta = wi.integrator
     l2 = ell * ell
     k = l2 * (2.0 - selfc) + 1.0
@@ -135,7 +150,8 @@ def lone_tables(law, n: int, ends: str, nu: float, nu_f: float, ell: float, sigm
         kinds = (0,) if n >= 3 else ()        # N ≤ 2 periodic: a neighbour is met twice (not a lone block)
     else:
         kinds = (2,) if n == 1 else (1,) if n == 2 else (0, 1)
-    parts = {k: trajectory(law, nu, nu_f, ell, sigma, k) for k in kinds}
+    with _LOCK:
+        parts = {k: trajectory(law, nu, nu_f, ell, sigma, k) for k in kinds}
     order = 21
     off = np.zeros(4, dtype=np.int64)
     sc = np.zeros((3, 5))
