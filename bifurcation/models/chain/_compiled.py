@@ -13,7 +13,11 @@ The same model and event algorithm as the heyoka engine (``_loop``), in one numb
   block outside the window is stuck among stuck neighbours and starts at its closed-form time, the
   segment's end; velocity maxima are maximised on the dense output;
 * per event the catalog gets an error estimate: the sum over its steps of DOP853's local error
-  estimate of the window's displacement, ν Σ|err(w)|, relative to the event's potency.
+  estimate of the window's displacement, ν Σ|err(w)|, relative to the event's potency;
+* a block that starts from rest among stuck neighbours (the hypocentre, or a far block that starts
+  during the event) follows one stored trajectory (``_lone``: heyoka's Taylor polynomials, computed
+  once per run) with no integration, as long as every slipping block of the window is such a lone
+  block; at a window block's start the state is handed to DOP853 for the rest of the event.
 
 Memory is O(N) (a few arrays of N entries); the work per event is O(window × steps) plus O(log N)
 per block that enters or leaves a window, so it does not grow with N.
@@ -430,16 +434,19 @@ def _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu):
             win.nsg[q] = win.sg[i]
             win.nv[q] = win.v[i]
             win.nslip[q] = win.slip[i]
+            win.nlt[q] = win.lt[i]
             win.npiece[q] = win.piece[i]
         elif pend[b] == cnt:
             win.nsg[q] = 1.0
             win.nv[q] = 0.0
             win.nslip[q] = 1
+            win.nlt[q] = 0.0
             win.npiece[q] = 0
         else:
             win.nsg[q] = ((g.s[b] - base) + 1.0) + lam
             win.nv[q] = 0.0
             win.nslip[q] = 0
+            win.nlt[q] = -1.0
             win.npiece[q] = 0
             tree_set(g.tv, g.ti, g.p, b, _NEG_INF)
     for i in range(m):   # leavers: stuck among stuck neighbours, back to the tree
@@ -458,6 +465,7 @@ def _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu):
         win.v[q] = win.nv[q]
         win.w[q] = 0.0
         win.slip[q] = win.nslip[q]
+        win.lt[q] = win.nlt[q]
         win.piece[q] = win.npiece[q]
     for q in range(k):
         lf, rt, sc = _neighbours(win.blk[q], n, periodic)
@@ -667,11 +675,199 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
         _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, 0)
 
 
+# -- the lone block's stored trajectory (``_lone``) ----------------------------------------------------
+_EPS = 2.220446049250313e-16
+
+
+@_inline
+def _horner(c, i, x):
+    kk = c.shape[1]
+    y = c[i, kk - 1]
+    for q in range(kk - 2, -1, -1):
+        y = y * x + c[i, q]
+    return y
+
+
 @_jit
-def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i):
+def _lone_step(lone, a, b, tau):
+    """The stored step of [a, b) holding τ (the last one with t0 ≤ τ)."""
+    lo, hi = a, b - 1
+    while lo < hi:
+        mid = (lo + hi + 1) >> 1
+        if lone.t0[mid] <= tau:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+@_jit
+def _lone_root(lone, a, b, dn, l2):
+    """τ where a stuck neighbour's (σ − 1)/ν = dn + ℓ² w(τ) + τ reaches 0 (it is < 0 at τ = 0 and ≥ 0
+    at the stop; increasing, its derivative ℓ² v + 1 ≥ 1): the step by bisection over the steps' start
+    values, then safeguarded Newton on its polynomial, to rounding."""
+    lo, hi = a, b - 1
+    while lo < hi:                     # the last step whose start is below the threshold
+        mid = (lo + hi + 1) >> 1
+        if dn + l2 * lone.cw[mid, 0] + lone.t0[mid] < 0.0:
+            lo = mid
+        else:
+            hi = mid - 1
+    i = lo
+    t0 = lone.t0[i]
+    xl, xr = 0.0, lone.t1[i] - t0
+    x = xr
+    fx = dn + l2 * _horner(lone.cw, i, x) + (t0 + x)
+    if fx < 0.0:
+        return lone.t1[i], i
+    x = 0.5 * xr
+    for _ in range(100):
+        fx = dn + l2 * _horner(lone.cw, i, x) + (t0 + x)
+        if fx < 0.0:
+            xl = x
+        else:
+            xr = x
+        if fx == 0.0:
+            break
+        xn = x - fx / (l2 * _horner(lone.cv, i, x) + 1.0)
+        if not (xl < xn < xr):
+            xn = 0.5 * (xl + xr)
+        if abs(xn - x) <= 4.0 * _EPS * (t0 + x) or xn == x:
+            break
+        x = xn
+    # a tight bracket around the root (Newton converged next to it), then bisection to rounding: the
+    # result is the first point where the threshold is reached, as ``_root`` for DOP853
+    dl = 8.0 * _EPS * (t0 + x)
+    if xl < x - dl and dn + l2 * _horner(lone.cw, i, x - dl) + (t0 + x - dl) < 0.0:
+        xl = x - dl
+    if x + dl < xr and dn + l2 * _horner(lone.cw, i, x + dl) + (t0 + x + dl) >= 0.0:
+        xr = x + dl
+    for _ in range(200):
+        c = 0.5 * (xl + xr)
+        if not (xl < c < xr):
+            break
+        if dn + l2 * _horner(lone.cw, i, c) + (t0 + c) < 0.0:
+            xl = c
+        else:
+            xr = c
+    x = xr
+    return t0 + x, i
+
+
+@_jit
+def _lone_w(lone, a, b, th):
+    if th <= 0.0:
+        return 0.0
+    st = _lone_step(lone, a, b, th)
+    return _horner(lone.cw, st, th - lone.t0[st])
+
+
+@_jit
+def _lone_state(lone, a, b, kind, th0, th, acc):
+    """(w since the segment start, v, piece, stopped) of a lone block at its own time th since its start,
+    the segment having started at th0; accumulates its velocity maximum and error estimate in acc."""
+    T = lone.sc[kind, 0]
+    if th >= T:
+        acc[2] = max(acc[2], lone.sc[kind, 2])
+        acc[1] += (b - a) * _EPS * lone.sc[kind, 1]
+        return lone.sc[kind, 1] - _lone_w(lone, a, b, th0), 0.0, 0, True
+    st = _lone_step(lone, a, b, th)
+    x = th - lone.t0[st]
+    wv = _horner(lone.cw, st, x)
+    vv = max(_horner(lone.cv, st, x), 0.0)
+    vm = max(lone.pre[st], vv)
+    if 0.0 <= lone.imt[st] <= x:
+        vm = max(vm, lone.imv[st])
+    acc[2] = max(acc[2], vm)
+    acc[1] += (st - a + 1) * _EPS * wv
+    return wv - _lone_w(lone, a, b, th0), vv, lone.piece[st], False
+
+
+@_jit
+def _lone_segment(m, win, lone, l2, tau_far, t_left, acc):
+    """A segment in which every slipping block is a lone block on the stored trajectory (started from
+    rest among stuck neighbours, ``win.lt`` its time since then; no two of them neighbours, no stuck
+    block between two of them): (code, slot, τ) as ``_segment`` (0 every one stopped, 1 a window block
+    starts, 2 the far block starts), the window's state written at τ and ``win.lt`` advanced; code −1
+    if it does not apply (then nothing was written).
+
+    A stuck window block's (σ − 1)/ν is d/ν + ℓ²(W(θ + τ) − W(θ)) + τ next to a lone block at its time
+    θ (d/ν + ℓ²(W_T − W(θ)) + τ once that one stopped), d/ν + τ otherwise: increasing in τ, so its start
+    is a root on the stored polynomial or in closed form."""
+    ns = 0
+    for i in range(m):
+        lf, rt = win.left[i], win.right[i]
+        if win.slip[i]:
+            ns += 1
+            if win.lt[i] < 0.0 or lone.sc[int(win.selfc[i]), 4] == 0.0:
+                return -1, -1, 0.0
+            if (lf >= 0 and win.slip[lf]) or (rt >= 0 and win.slip[rt]):
+                return -1, -1, 0.0
+            if win.lt[i] >= lone.sc[int(win.selfc[i]), 0]:
+                return -1, -1, 0.0
+        elif lf >= 0 and rt >= 0 and lf != rt and win.slip[lf] and win.slip[rt]:
+            return -1, -1, 0.0
+    if ns == 0:
+        return -1, -1, 0.0
+    tau, code, slot = 0.0, 0, -1
+    for i in range(m):                      # the last stop
+        if win.slip[i]:
+            tau = max(tau, lone.sc[int(win.selfc[i]), 0] - win.lt[i])
+    for i in range(m):                      # the first start of a stuck window block
+        if win.slip[i]:
+            continue
+        lf, rt = win.left[i], win.right[i]
+        j = lf if (lf >= 0 and win.slip[lf]) else (rt if (rt >= 0 and win.slip[rt]) else -1)
+        dn = win.dn[i]
+        if j < 0:
+            ti = -dn
+        else:
+            kind = int(win.selfc[j])
+            a, b = lone.off[kind], lone.off[kind + 1]
+            T, W = lone.sc[kind, 0], lone.sc[kind, 1]
+            th0 = win.lt[j]
+            w0 = _lone_w(lone, a, b, th0)
+            if dn + l2 * (W - w0) + (T - th0) >= 0.0:      # before its lone neighbour stops
+                if th0 == 0.0:
+                    th, _ = _lone_root(lone, a, b, dn, l2)
+                else:
+                    th, _ = _lone_root(lone, a, b, (dn - l2 * w0) - th0, l2)
+                ti = th - th0
+            else:
+                ti = -(dn + l2 * (W - w0))
+        if ti < tau:
+            tau, code, slot = ti, 1, i
+    if tau_far < tau:
+        tau, code, slot = tau_far, 2, -1
+    if t_left < tau:
+        return -1, -1, 0.0
+    for i in range(m):
+        if not win.slip[i]:
+            continue
+        kind = int(win.selfc[i])
+        a, b = lone.off[kind], lone.off[kind + 1]
+        th0 = win.lt[i]
+        th = th0 + tau
+        if code == 0 and th0 + tau >= lone.sc[kind, 0] * (1.0 - 4.0 * _EPS):
+            th = lone.sc[kind, 0]                       # the last stop: exactly at the stored one
+        wv, vv, pc, stopped = _lone_state(lone, a, b, kind, th0, th, acc)
+        win.w[i] = wv
+        win.v[i] = vv
+        if stopped or code == 0:
+            win.slip[i] = 0
+            win.v[i] = 0.0
+            win.lt[i] = -1.0
+        else:
+            win.piece[i] = pc
+            win.lt[i] = th
+    return code, slot, tau
+
+@_jit
+def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
     """Up to k events. ``scal`` = [t, L, h]; out_f[:, e] = t_start, potency, duration, vmax (scaled),
-    error estimate; out_i[:, e] = hypocentre, n_blocks, steps, widest window.
-    Returns (events done, outcome code)."""
+    error estimate; out_i[:, e] = hypocentre, n_blocks, steps, widest window. ``lone``: the stored
+    lone-block trajectories (``_lone``; the event's first segment follows them when its hypocentre
+    slips alone, ``par[6]`` ≠ 0). Returns (events done, outcome code)."""
     n, periodic = g.s.size, par[4] != 0.0
     nu, l2, t_max = fr[0], par[0], par[5]
     acc = np.zeros(3)
@@ -700,6 +896,7 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i):
         ns = 1
         h = scal[2]
         code = 0
+        first_seg = par[6] != 0.0
         while True:
             # start the blocks of ``starts`` and every other block at σ ≥ 1 (simultaneous failures)
             while ns > 0:
@@ -720,7 +917,14 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i):
             tau_far = np.inf
             if g.tv[top] > _NEG_INF:
                 tau_far = (1.0 - (((g.s[top] - base) + 1.0) + lam)) / nu
-            code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc)
+            code = -1
+            if first_seg:
+                code, j, tau = _lone_segment(m, win, lone, l2, tau_far, t_max - dur, acc)
+            if code < 0:
+                first_seg = False               # DOP853 for the rest of the event
+                for i in range(m):
+                    win.lt[i] = -1.0
+                code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc)
             if code == 5 or code == 3:
                 break
             pot += nu * _commit(m, tau, win, g, l2, nu)
@@ -761,7 +965,7 @@ from collections import namedtuple  # noqa: E402
 
 _Law = namedtuple("_Law", "code consts start regs cl lower upper g_break")
 _Win = namedtuple("_Win", "blk left right selfc sg d dn slip piece w v w1 v1 tw tv kw kv fw fv "
-                          "nblk nsg nv nslip npiece starts")
+                          "nblk nsg nv nslip npiece starts lt nlt")
 _Glob = namedtuple("_Glob", "s u tv ti p slot mem pend touched evid cnt")
 
 #: DOP853's tolerance (relative, and absolute on the scaled variables, which are O(1) at a start).
@@ -774,10 +978,11 @@ class CompiledChain:
     """One chain run on the compiled engine: the state between events and ``run(k)``.
 
     Same arguments as ``ChainLoop`` (double precision only) plus ``sigma`` (friction drop σ_f ≥ 0)
-    and ``tol`` (DOP853's tolerance)."""
+    and ``tol`` (DOP853's tolerance). ``lone``: follow the stored lone-block trajectory (``_lone``) in
+    an event's first segment where it applies (False: DOP853 throughout, for comparisons)."""
 
     def __init__(self, law, n: int, ell: float, nu: float, nu_f: float, ends: str, u0, *, sigma: float = 0.0,
-                 tol: float = TOL, t_max: float = 1e5, max_steps: int = 1_000_000) -> None:
+                 tol: float = TOL, t_max: float = 1e5, max_steps: int = 1_000_000, lone: bool = True) -> None:
         from ._lawtape import law_tape
         from ._validate import stress
 
@@ -803,11 +1008,16 @@ class CompiledChain:
         f, i8 = np.zeros, np.int64
         self._win = _Win(f(n, i8), f(n, i8), f(n, i8), f(n), f(n), f(n), f(n), f(n, np.uint8), f(n, i8), f(n), f(n),
                          f(n), f(n), f(n), f(n), f((n, 16)), f((n, 16)), f((n, 7)), f((n, 7)),
-                         f(n, i8), f(n), f(n), f(n, np.uint8), f(n, i8), f(n + 1, i8))
+                         f(n, i8), f(n), f(n), f(n, np.uint8), f(n, i8), f(n + 1, i8), np.full(n, -1.0),
+                         np.full(n, -1.0))
         nu_fs = self.nu_f * (1.0 - self.sigma)
         self._fr = np.array([self.nu, nu_fs, self.sigma, self.nu / nu_fs, 1.0 / self.nu])
         self._par = np.array([self.ell * self.ell, tol, tol, float(max_steps), float(ends == "periodic"),
-                              float(t_max)])
+                              float(t_max), float(bool(lone))])
+        from ._lone import lone_tables
+
+        self._lone = lone_tables(law, n, ends, self.nu, self.nu_f, self.ell, self.sigma) if lone else \
+            lone_tables(law, 0, "periodic", self.nu, self.nu_f, self.ell, self.sigma)
         self._scal = np.array([0.0, 0.0, 0.1])    # t, L, the next event's first step
         self.t_max, self.max_steps = t_max, max_steps
         self.widest: list[int] = []
@@ -831,7 +1041,8 @@ class CompiledChain:
 
         out_f = np.zeros((5, k))
         out_i = np.zeros((4, k), dtype=np.int64)
-        done, code = run_events(k, self._win, self._g, self._law, self._gfun, self._fr, self._par, self._scal, out_f, out_i)
+        done, code = run_events(k, self._win, self._g, self._law, self._gfun, self._fr, self._par, self._scal, out_f, out_i,
+                                self._lone)
         cat = {"t_start": out_f[0, :done].copy(), "hypocentre": out_i[0, :done].copy(),
                "n_blocks": out_i[1, :done].copy(), "potency": out_f[1, :done].copy(),
                "duration": out_f[2, :done].copy(), "max_velocity": self.nu * out_f[3, :done],
