@@ -60,7 +60,6 @@ def trajectory(law, nu: float, nu_f: float, ell: float, sigma: float, selfc: int
     the engine then integrates such events by DOP853)."""
     import heyoka as hy
 
-    from ._integrator import N_GLOBAL
     from ._lawtape import law_tape
 
     drop = sigma > 0.0
@@ -69,12 +68,9 @@ def trajectory(law, nu: float, nu_f: float, ell: float, sigma: float, selfc: int
     l2 = ell * ell
     k = l2 * (2.0 - selfc) + 1.0
     kp = wi.n_pieces
-    values = [nu, nu_f, l2, 1.0, 0.0, 1.0, 0.0, float(selfc)]
-    if kp > 1:
-        values += [1.0] + [0.0] * (kp - 1)
-    if drop:
-        values += [sigma, 1.0 - sigma]
-    ta.pars[:] = values
+    slots = wi.params      # the window's named parameter slots (_layout.WindowParams, M = 1)
+    ta.pars[:] = slots.pack(nu=nu, nu_f=nu_f, l2=l2, p=[1.0], d=[0.0], q=[1.0], bond=[0.0], selfc=[float(selfc)],
+                            pieces=[0], drop=(sigma, 1.0 - sigma) if drop else ())
     ta.state[:] = 0.0
     ta.time = 0.0
     ta.reset_cooldowns()
@@ -105,8 +101,8 @@ def trajectory(law, nu: float, nu_f: float, ell: float, sigma: float, selfc: int
         rate = (-k * float(ta.state[0]) + t1) + gb / nu
         new = b + 1 if rate > 0 else b if rate < 0 else pc
         if new != pc:
-            ta.pars[N_GLOBAL + 5 + pc] = 0.0
-            ta.pars[N_GLOBAL + 5 + new] = 1.0
+            ta.pars[slots.selector(pc, 0)] = 0.0
+            ta.pars[slots.selector(new, 0)] = 1.0
             pc = new
     else:
         return None

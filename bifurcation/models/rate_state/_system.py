@@ -180,7 +180,10 @@ def _peak(ta, time, x_dense: float) -> float:
         if not (np.all(np.isfinite(d2)) and np.isfinite(tau)):
             return x_dense
         for _ in range(6):
-            step = np.polyval(d1[::-1], tau) / np.polyval(d2[::-1], tau)
+            curvature = np.polyval(d2[::-1], tau)
+            if not curvature:   # a flat extremum: Newton cannot move (and 0/0 would warn on stderr)
+                return x_dense
+            step = np.polyval(d1[::-1], tau) / curvature
             tau -= step
             if abs(step) <= 1e-16 * abs(h):
                 break
