@@ -473,6 +473,16 @@ CASES = [
     "reproduce --workers 100000 ## --workers",
     "reproduce --scheduler {text} ## --scheduler",
     "reproduce --scheduler notanaddress ## --scheduler",
+    # -- an earlier output in an --out you name: refused without --force (as export), before any work -----
+    "report --store {sb} --out {oldreport} ## --out='{oldreport}': holds an earlier output (REPORT.md, report.html); pass --force",
+    "report --store {sb} --out {oldreport} --json ## --force",
+    "report --store {sb} --store {chain} --out {oldreport} ## --force",
+    "report --store {missing} --out {oldreport} ## --out",                              # the output first
+    "reproduce --out {oldreport} ## --out='{oldreport}': holds an earlier output",
+    "reproduce --out {oldreport} --json --workers 1 ## --force",
+    "continue {wf_rs} --out {oldrun} ## --out='{oldrun}': holds an earlier output (REPORT.md, branches.zarr, bifurcation-diagram.png); pass --force",
+    "continue {wf_rs} --out {oldreport} ## --force",
+    "continue {wf_rs} --out {oldrun} --damping 0.001 ## --force",
 ]
 
 
@@ -527,6 +537,13 @@ def build_env(d: Path):
     os.symlink(files / "loop.toml", files / "loop.toml")  # a symlink to itself
     (files / "existing.nc").write_text("a user's file\n")
     (files / "existing.csv").write_text("a,b\n1,2\n")
+    (files / "oldreport").mkdir()   # a report written earlier into an --out the user named
+    (files / "oldreport" / "REPORT.md").write_text("# an earlier report\n")
+    (files / "oldreport" / "report.html").write_text("<p>an earlier report</p>\n")
+    (files / "oldrun" / "branches.zarr").mkdir(parents=True)   # an earlier `continue --out` run
+    (files / "oldrun" / "REPORT.md").write_text("# an earlier run\n")
+    (files / "oldrun" / "bifurcation-diagram.png").write_bytes(b"\x89PNG\r\n")
+    paths["oldreport"], paths["oldrun"] = str(files / "oldreport"), str(files / "oldrun")
     for name in ("text.txt", "binary.toml", "empty.toml", "adir", "big.toml", "sched_noaddr.json", "fifo.toml",
                  "loop.toml"):
         paths[name.split(".")[0]] = str(files / name)
