@@ -92,6 +92,30 @@ RS = textwrap.dedent("""\
     """)
 
 
+RSC = textwrap.dedent("""\
+    [study]
+    name = "bad-rs-chain"
+    [model]
+    name = "rs-chain"
+    [engine]
+    laws = ["aging"]
+    [grid.n]
+    values = [4]
+    [grid.k]
+    values = [0.1]
+    [grid.ell]
+    values = [1.0]
+    [grid.eta]
+    values = [1e-3]
+    [grid.amplitude]
+    values = [1.0]
+    [grid.events]
+    values = [5]
+    [tiles]
+    catalog = 100
+    """)
+
+
 def _edit(text: str, old: str, new: str) -> str:
     assert old in text, old
     return text.replace(old, new, 1)
@@ -175,6 +199,18 @@ WORKFLOWS = {
     "rs_branches_many": (RS, "[hopf]", '[[branch]]\nstate_law = "aging"\n' * 101 + "[hopf]"),
     "rs_unknown_table": (RS, "[hopf]", "[output]\ndir = 'x'\n[hopf]"),
     "rs_syntax": (RS, "a = 0.01", "a = = 0.01"),
+    # submit (rs-chain: the rate-and-state chain model)
+    "rsc_n0": (RSC, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [0]"),
+    "rsc_nbig": (RSC, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [100000000]"),
+    "rsc_law": (RSC, 'laws = ["aging"]', 'laws = ["nope"]'),
+    "rsc_law_block": (RSC, 'laws = ["aging"]', 'laws = ["carlson-langer"]'),       # a chain law, not a state law
+    "rsc_eta_neg": (RSC, "values = [1e-3]", "values = [-1e-3]"),
+    "rsc_eta_nan": (RSC, "values = [1e-3]", "values = [nan]"),
+    "rsc_events": (RSC, "values = [5]", "values = [100000000000]"),
+    "rsc_k0": (RSC, "values = [0.1]", "values = [0.0]"),
+    "rsc_amp": (RSC, "[grid.amplitude]\nvalues = [1.0]", "[grid.amplitude]\nvalues = [1e300]"),
+    "rsc_catalog": (RSC, "catalog = 100", "catalog = 0"),
+    "rsc_axis": (RSC, "[grid.eta]", "[grid.gamma]"),
 }
 
 # -- the table ----------------------------------------------------------------------------------------
@@ -473,6 +509,35 @@ CASES = [
     "reproduce --workers 100000 ## --workers",
     "reproduce --scheduler {text} ## --scheduler",
     "reproduce --scheduler notanaddress ## --scheduler",
+    # -- adversarial inputs to the commands added last (chain presets/σ/V_th/engines, rate-state --cycle,
+    #    the rs-chain model's workflows, bench suites): each refused in one line before any work
+    *_values(CHAIN_CLI, "--sigma", ["", "0.5,0.2"]),
+    *_values(CHAIN_CLI, "--v-threshold", ["Default", "inf", ""]),
+    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--verify", [""]),
+    *_values(CHAIN_CLI, "--engine", ["Compiled"]),
+    f"{_set(CHAIN_CLI, '--engine', 'compiled')} --verify 0.5 --verify 0.5 ## --verify is given twice",
+    *[f"chain --preset {p} --n 4 --amplitude 0.1 --seed 1 --events 3 ## --preset" for p in
+      ("''", "CARLSON-LANGER-1991", "../../etc/passwd")],
+    "chain --preset carlson-langer-1991 --preset vasconcelos-1996 --n 4 --amplitude 0.1 --seed 1 --events 3 ## --preset is given twice",
+    "chain --preset carlson-langer-1991 --n 4 --amplitude 0.1 --seed 1 --events 3 --nu-f nan ## --nu-f",
+    "chain --preset carlson-langer-1991 --n 4 --amplitude 0.1 --seed 1 --events 3 --ends open ## --ends",
+    "chain --preset carlson-langer-1991 --n 4 --u0 0,0,0 --events 3 ## --u0",
+    "chain --preset carlson-langer-1991 --n 4 --amplitude 0.1 --seed 1 --events 3 --engine compiled --v-threshold default ## --v-threshold",
+    *[f"rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 {rest} --cycle --json ## {needle}" for rest, needle in [
+        ("--v-lp 1e-3 --damping inf", "--damping=inf"), ("--v-lp 1e-3 --damping ''", "--damping"),
+        ("--v-lp 0 --damping 1", "--v-lp"), ("--v-lp 1e-3 --damping 1 --at 5", "--at")]],
+    "rate-state --state-law slip,aging --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json ## state_law",
+    "bench --suite rs-chain --points 5 ## --points=5: does not apply to --suite rs-chain",
+    "bench --suite rs-chain --subset 3 ## --subset=3: does not apply to --suite rs-chain",
+    "bench --suite chain,rate-state ## --suite",
+    "bench --suite '' ## --suite",
+    *[f"submit {{wf_{name}}} --store {{newstore}} ## {needle}" for name, needle in [
+        ("rsc_n0", "grid.n"), ("rsc_nbig", "grid.n"), ("rsc_law", "engine.laws[0]"), ("rsc_law_block", "engine.laws[0]"),
+        ("rsc_eta_neg", "grid.eta"), ("rsc_eta_nan", "grid.eta.values[0]=nan"), ("rsc_events", "grid.events"),
+        ("rsc_k0", "grid.k.values[0]=0.0: is out of range: must be in [1e-09, 1e+09]"), ("rsc_amp", "grid.amplitude"),
+        ("rsc_catalog", "tiles.catalog=0: is out of range: must be in [1, 1048576]"),   # was [1, 1.04858e+06]
+        ("rsc_axis", "grid.gamma")]],
+    "continue {wf_rsc} ## bifurcation submit",
     # -- an earlier output in an --out you name: refused without --force (as export), before any work -----
     "report --store {sb} --out {oldreport} ## --out='{oldreport}': holds an earlier output (REPORT.md, report.html); pass --force",
     "report --store {sb} --out {oldreport} --json ## --force",
@@ -551,7 +616,7 @@ def build_env(d: Path):
     for name, (template, old, new) in WORKFLOWS.items():
         (files / f"{name}.toml").write_text(_edit(template, old, new))
         paths[f"wf_{name}"] = str(files / f"{name}.toml")
-    for name, text in (("fig", FIG), ("chain", CHAIN), ("rs", RS)):
+    for name, text in (("fig", FIG), ("chain", CHAIN), ("rs", RS), ("rsc", RSC)):
         (files / f"{name}.toml").write_text(text)
         paths[f"wf_{name}"] = str(files / f"{name}.toml")
 
