@@ -574,8 +574,8 @@ def _single_block_store(path: Path, tiles, skip_after=None) -> None:
 def env(tmp_path_factory):
     d = tmp_path_factory.mktemp("bad-inputs")
     paths, lock = build_env(d)
-    try:
-        yield d, paths
+    try:   # the fixtures as built: every case must leave them so (one walk here, not one per case)
+        yield d, paths, _snapshot(d)
     finally:
         lock.release()
 
@@ -663,7 +663,7 @@ def test_every_command_has_bad_inputs_in_the_table():
 
 @pytest.mark.parametrize("case", CASES, ids=[_split(c)[0][:90] for c in CASES])
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, monkeypatch):
-    root, paths = env
+    root, paths, built = env
     argv_text, needle = _split(case)
     outdir = tmp_path / "out"   # an existing, empty directory for outputs that must not appear
     outdir.mkdir()
@@ -673,7 +673,6 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, mo
     cwd = tmp_path / "cwd"
     cwd.mkdir()
     monkeypatch.chdir(cwd)
-    before = _snapshot(root)
     started = time.perf_counter()
     result = CliRunner().invoke(cli, argv)
     elapsed = time.perf_counter() - started
@@ -687,4 +686,4 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, mo
     assert result.stdout == ""
     assert list(cwd.iterdir()) == [], "written into the working directory"
     assert not (tmp_path / "new").exists() and list(outdir.iterdir()) == [], "an output was created"
-    assert _snapshot(root) == before, "a fixture was changed"
+    assert _snapshot(root) == built, "a fixture was changed"
