@@ -92,6 +92,30 @@ RS = textwrap.dedent("""\
     """)
 
 
+RSC = textwrap.dedent("""\
+    [study]
+    name = "bad-rs-chain"
+    [model]
+    name = "rs-chain"
+    [engine]
+    laws = ["aging"]
+    [grid.n]
+    values = [4]
+    [grid.k]
+    values = [0.1]
+    [grid.ell]
+    values = [1.0]
+    [grid.eta]
+    values = [1e-3]
+    [grid.amplitude]
+    values = [1.0]
+    [grid.events]
+    values = [5]
+    [tiles]
+    catalog = 100
+    """)
+
+
 def _edit(text: str, old: str, new: str) -> str:
     assert old in text, old
     return text.replace(old, new, 1)
@@ -175,6 +199,18 @@ WORKFLOWS = {
     "rs_branches_many": (RS, "[hopf]", '[[branch]]\nstate_law = "aging"\n' * 101 + "[hopf]"),
     "rs_unknown_table": (RS, "[hopf]", "[output]\ndir = 'x'\n[hopf]"),
     "rs_syntax": (RS, "a = 0.01", "a = = 0.01"),
+    # submit (rs-chain: the rate-and-state chain model)
+    "rsc_n0": (RSC, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [0]"),
+    "rsc_nbig": (RSC, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [100000000]"),
+    "rsc_law": (RSC, 'laws = ["aging"]', 'laws = ["nope"]'),
+    "rsc_law_block": (RSC, 'laws = ["aging"]', 'laws = ["carlson-langer"]'),       # a chain law, not a state law
+    "rsc_eta_neg": (RSC, "values = [1e-3]", "values = [-1e-3]"),
+    "rsc_eta_nan": (RSC, "values = [1e-3]", "values = [nan]"),
+    "rsc_events": (RSC, "values = [5]", "values = [100000000000]"),
+    "rsc_k0": (RSC, "values = [0.1]", "values = [0.0]"),
+    "rsc_amp": (RSC, "[grid.amplitude]\nvalues = [1.0]", "[grid.amplitude]\nvalues = [1e300]"),
+    "rsc_catalog": (RSC, "catalog = 100", "catalog = 0"),
+    "rsc_axis": (RSC, "[grid.eta]", "[grid.gamma]"),
 }
 
 # -- the table ----------------------------------------------------------------------------------------
@@ -473,6 +509,45 @@ CASES = [
     "reproduce --workers 100000 ## --workers",
     "reproduce --scheduler {text} ## --scheduler",
     "reproduce --scheduler notanaddress ## --scheduler",
+    # -- adversarial inputs to the commands added last (chain presets/σ/V_th/engines, rate-state --cycle,
+    #    the rs-chain model's workflows, bench suites): each refused in one line before any work
+    *_values(CHAIN_CLI, "--sigma", ["", "0.5,0.2"]),
+    *_values(CHAIN_CLI, "--v-threshold", ["Default", "inf", ""]),
+    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--verify", [""]),
+    *_values(CHAIN_CLI, "--engine", ["Compiled"]),
+    f"{_set(CHAIN_CLI, '--engine', 'compiled')} --verify 0.5 --verify 0.5 ## --verify is given twice",
+    *[f"chain --preset {p} --n 4 --amplitude 0.1 --seed 1 --events 3 ## --preset" for p in
+      ("''", "CARLSON-LANGER-1991", "../../etc/passwd")],
+    "chain --preset carlson-langer-1991 --preset vasconcelos-1996 --n 4 --amplitude 0.1 --seed 1 --events 3 ## --preset is given twice",
+    "chain --preset carlson-langer-1991 --n 4 --amplitude 0.1 --seed 1 --events 3 --nu-f nan ## --nu-f",
+    "chain --preset carlson-langer-1991 --n 4 --amplitude 0.1 --seed 1 --events 3 --ends open ## --ends",
+    "chain --preset carlson-langer-1991 --n 4 --u0 0,0,0 --events 3 ## --u0",
+    "chain --preset carlson-langer-1991 --n 4 --amplitude 0.1 --seed 1 --events 3 --engine compiled --v-threshold default ## --v-threshold",
+    *[f"rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 {rest} --cycle --json ## {needle}" for rest, needle in [
+        ("--v-lp 1e-3 --damping inf", "--damping=inf"), ("--v-lp 1e-3 --damping ''", "--damping"),
+        ("--v-lp 0 --damping 1", "--v-lp"), ("--v-lp 1e-3 --damping 1 --at 5", "--at")]],
+    "rate-state --state-law slip,aging --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json ## state_law",
+    "bench --suite rs-chain --points 5 ## --points=5: does not apply to --suite rs-chain",
+    "bench --suite rs-chain --subset 3 ## --subset=3: does not apply to --suite rs-chain",
+    "bench --suite chain,rate-state ## --suite",
+    "bench --suite '' ## --suite",
+    *[f"submit {{wf_{name}}} --store {{newstore}} ## {needle}" for name, needle in [
+        ("rsc_n0", "grid.n"), ("rsc_nbig", "grid.n"), ("rsc_law", "engine.laws[0]"), ("rsc_law_block", "engine.laws[0]"),
+        ("rsc_eta_neg", "grid.eta"), ("rsc_eta_nan", "grid.eta.values[0]=nan"), ("rsc_events", "grid.events"),
+        ("rsc_k0", "grid.k.values[0]=0.0: is out of range: must be in [1e-09, 1e+09]"), ("rsc_amp", "grid.amplitude"),
+        ("rsc_catalog", "tiles.catalog=0: is out of range: must be in [1, 1048576]"),   # was [1, 1.04858e+06]
+        ("rsc_axis", "grid.gamma")]],
+    "continue {wf_rsc} ## bifurcation submit",
+    # -- an earlier output in an --out you name: refused without --force (as export), before any work -----
+    "report --store {sb} --out {oldreport} ## --out='{oldreport}': holds an earlier output (REPORT.md, report.html); pass --force",
+    "report --store {sb} --out {oldreport} --json ## --force",
+    "report --store {sb} --store {chain} --out {oldreport} ## --force",
+    "report --store {missing} --out {oldreport} ## --out",                              # the output first
+    "reproduce --out {oldreport} ## --out='{oldreport}': holds an earlier output",
+    "reproduce --out {oldreport} --json --workers 1 ## --force",
+    "continue {wf_rs} --out {oldrun} ## --out='{oldrun}': holds an earlier output (REPORT.md, branches.zarr, bifurcation-diagram.png); pass --force",
+    "continue {wf_rs} --out {oldreport} ## --force",
+    "continue {wf_rs} --out {oldrun} --damping 0.001 ## --force",
 ]
 
 
@@ -499,8 +574,8 @@ def _single_block_store(path: Path, tiles, skip_after=None) -> None:
 def env(tmp_path_factory):
     d = tmp_path_factory.mktemp("bad-inputs")
     paths, lock = build_env(d)
-    try:
-        yield d, paths
+    try:   # the fixtures as built: every case must leave them so (one walk here, not one per case)
+        yield d, paths, _snapshot(d)
     finally:
         lock.release()
 
@@ -527,6 +602,13 @@ def build_env(d: Path):
     os.symlink(files / "loop.toml", files / "loop.toml")  # a symlink to itself
     (files / "existing.nc").write_text("a user's file\n")
     (files / "existing.csv").write_text("a,b\n1,2\n")
+    (files / "oldreport").mkdir()   # a report written earlier into an --out the user named
+    (files / "oldreport" / "REPORT.md").write_text("# an earlier report\n")
+    (files / "oldreport" / "report.html").write_text("<p>an earlier report</p>\n")
+    (files / "oldrun" / "branches.zarr").mkdir(parents=True)   # an earlier `continue --out` run
+    (files / "oldrun" / "REPORT.md").write_text("# an earlier run\n")
+    (files / "oldrun" / "bifurcation-diagram.png").write_bytes(b"\x89PNG\r\n")
+    paths["oldreport"], paths["oldrun"] = str(files / "oldreport"), str(files / "oldrun")
     for name in ("text.txt", "binary.toml", "empty.toml", "adir", "big.toml", "sched_noaddr.json", "fifo.toml",
                  "loop.toml"):
         paths[name.split(".")[0]] = str(files / name)
@@ -534,7 +616,7 @@ def build_env(d: Path):
     for name, (template, old, new) in WORKFLOWS.items():
         (files / f"{name}.toml").write_text(_edit(template, old, new))
         paths[f"wf_{name}"] = str(files / f"{name}.toml")
-    for name, text in (("fig", FIG), ("chain", CHAIN), ("rs", RS)):
+    for name, text in (("fig", FIG), ("chain", CHAIN), ("rs", RS), ("rsc", RSC)):
         (files / f"{name}.toml").write_text(text)
         paths[f"wf_{name}"] = str(files / f"{name}.toml")
 
@@ -581,7 +663,7 @@ def test_every_command_has_bad_inputs_in_the_table():
 
 @pytest.mark.parametrize("case", CASES, ids=[_split(c)[0][:90] for c in CASES])
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, monkeypatch):
-    root, paths = env
+    root, paths, built = env
     argv_text, needle = _split(case)
     outdir = tmp_path / "out"   # an existing, empty directory for outputs that must not appear
     outdir.mkdir()
@@ -591,7 +673,6 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, mo
     cwd = tmp_path / "cwd"
     cwd.mkdir()
     monkeypatch.chdir(cwd)
-    before = _snapshot(root)
     started = time.perf_counter()
     result = CliRunner().invoke(cli, argv)
     elapsed = time.perf_counter() - started
@@ -605,7 +686,7 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, mo
     assert result.stdout == ""
     assert list(cwd.iterdir()) == [], "written into the working directory"
     assert not (tmp_path / "new").exists() and list(outdir.iterdir()) == [], "an output was created"
-    assert _snapshot(root) == before, "a fixture was changed"
+    assert _snapshot(root) == built, "a fixture was changed"
 
 
 # -- study chain (kept as one block at the end of the file) -------------------------------------------
@@ -671,7 +752,7 @@ STUDY_CASES = [
 @pytest.fixture(scope="module")
 def study_env(env):
     """``env`` with the chain study's workflows and output directories (in the same checked root)."""
-    root, paths = env
+    root, paths, _ = env
     d = root / "study"
     d.mkdir(exist_ok=True)
     (d / "study.toml").write_text(STUDY)
@@ -687,7 +768,7 @@ def study_env(env):
     with open(d / "big-data" / "data.json", "wb") as fh:   # sparse: no disk used
         fh.truncate(300 << 20)
     extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"), study_big_data=str(d / "big-data"))
-    return root, {**paths, **extra}
+    return root, {**paths, **extra}, _snapshot(root)
 
 
 @pytest.mark.parametrize("case", STUDY_CASES, ids=[_split(c)[0][:90] for c in STUDY_CASES])

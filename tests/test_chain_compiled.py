@@ -213,7 +213,10 @@ def test_cli_engine_and_verify():
                    engine="compiled", verify=0.5)
     line = [x for x in res.output.splitlines() if x.startswith("verify:")]
     assert len(line) == 1 and f"{api.verification['largest_any']:.2e}" in line[0]
-    assert "differ in 0" in line[0]
+    assert "differ in 0" in line[0] and "(one in 2)" in line[0]
+    # a fraction below 1/events checks the first event only: said so, not "one in" a 300-digit number
+    res = CliRunner().invoke(cli, base + ["--engine", "compiled", "--verify", "1e-300"])
+    assert res.exit_code == 0 and "verify: 1 events re-run exactly (the first only)" in res.output, res.output
     for bad in (["--verify", "0.5"], ["--engine", "compiled", "--verify", "2"], ["--engine", "fast"]):
         res = CliRunner().invoke(cli, base + bad)
         assert res.exit_code == 2 and "Traceback" not in res.output

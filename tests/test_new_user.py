@@ -124,3 +124,32 @@ def test_integer_labels_are_shown_as_integers():
     assert "(nearest: 4, 16; 4 … 16, 2 labels)" in str(info.value) and "5.0" not in str(info.value)
     ends = next(a for a in get_model("chain").axes if a.name == "periodic")
     assert (ends.shown(0), ends.shown(1), ends.parse("periodic"), ends.parse("1")) == ("free", "periodic", 1.0, "1")
+
+
+def test_report_replaces_an_out_you_named_only_with_force(tmp_path):
+    """Issue 21: `report --out DIR` run again rewrote DIR's REPORT.md without a word. Now a run into DIR is
+    refused in one line (exit 2, naming --out, the path and --force) with DIR untouched; --force replaces."""
+    from bifurcation.run.tiles import compute_tile, iter_tiles
+    from bifurcation.store import create_store, write_tile
+    from bifurcation.workflow import Workflow
+
+    workflow = Workflow(name="force", laws=("carlson-langer",), nu=(1e-6,), nu_f=(0.3, 0.4), tiles=(2, 1))
+    store = tmp_path / "s.zarr"
+    run_id = create_store(store, workflow)["run_id"]
+    for tile in iter_tiles(workflow):
+        write_tile(store, tile, compute_tile(tile), run_id)
+    out = tmp_path / "rep"   # a report written before (one report run below keeps the test at ~1 s)
+    out.mkdir()
+    (out / "REPORT.md").write_text("edited by the user\n")
+    (out / "report.html").write_text("<p>an earlier report</p>\n")
+    args = ["report", "--store", str(store), "--out", str(out)]
+    before = sorted((p.name, p.stat().st_mtime_ns) for p in out.iterdir())
+    r = CliRunner().invoke(cli, args)
+    assert r.exit_code == 2 and r.stdout == ""
+    [line] = r.stderr.splitlines()
+    assert line == (f"bifurcation: error: --out='{out}': holds an earlier output (REPORT.md, report.html); "
+                    "pass --force to replace it, or choose another directory")
+    assert sorted((p.name, p.stat().st_mtime_ns) for p in out.iterdir()) == before
+    r = CliRunner().invoke(cli, [*args, "--force"])
+    assert r.exit_code == 0, r.output
+    assert (out / "REPORT.md").read_text() != "edited by the user\n"

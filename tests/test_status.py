@@ -68,7 +68,7 @@ def test_part_done_then_complete(store):
         write_tile(path, tile, compute_tile(tile), run_id)
     found = study_status(path)
     assert found.complete and found.done == 12 and found.failed == 0
-    assert str(found).splitlines()[-1].startswith("complete: all 12 points computed and no submit is writing it")
+    assert str(found).splitlines()[-2].startswith("complete: all 12 points computed and no submit is writing it")
 
 
 def test_a_writer_is_named_with_its_rate(store):
@@ -127,3 +127,25 @@ def test_a_status_code_is_named_by_its_flag_value_not_its_position(store):
     write_tile(path, first, values, run_id)
     statuses = study_status(path).per_label["piecewise-linear"]["statuses"]
     assert statuses.get("unresolved") == 1 and not any(k.startswith("code") for k in statuses)
+
+
+def test_status_of_a_result_chunk_with_a_flipped_bit_does_not_vouch_for_it(store):
+    """Issue 21: status read a store with a flipped bit in a delta chunk as a bare "complete"; it reads
+    only done and status, so it says the other chunks are unchecked and names verify, which finds it."""
+    workflow, path, run_id = store
+    for tile in iter_tiles(workflow):
+        write_tile(path, tile, compute_tile(tile), run_id)
+    chunk = next(p for p in sorted((path / "delta").rglob("*")) if p.is_file() and p.name != "zarr.json")
+    data = bytearray(chunk.read_bytes())
+    data[len(data) // 2] ^= 0x04
+    chunk.write_bytes(bytes(data))
+    result = CliRunner().invoke(cli, ["status", "--store", str(path)])
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    assert lines[-2].startswith("complete: all 12 points computed")
+    assert lines[-1] == (f"chunks not checked for damage (status reads only the done and status arrays): "
+                         f"`bifurcation verify --store {path}` checks every one")
+    data = json.loads(CliRunner().invoke(cli, ["status", "--store", str(path), "--json"]).output)
+    assert data["integrity"].startswith("not checked")
+    verified = CliRunner().invoke(cli, ["verify", "--store", str(path)])
+    assert verified.exit_code != 0 and "delta" in verified.output, verified.output

@@ -16,6 +16,8 @@ __all__ = ["COMMANDS", "PAPER_WORKFLOWS"]
 
 #: The paper's workflows, run by ``bifurcation reproduce`` (files in the repository's workflows/).
 PAPER_WORKFLOWS = ("paper-fig2.toml", "paper-fig3.toml", "critical-point.toml")
+#: What marks a directory as holding a report already (`report`, `reproduce`): refused without --force.
+REPORT_FILES = ("REPORT.md", "report.html")
 
 
 @contextlib.contextmanager
@@ -116,13 +118,15 @@ def fit_period(stores, law: str, nu_f: float, as_json: bool, nearest: bool) -> N
     'bifurcation report --store results/paper-fig3.zarr --out results/local/my-report'))
 @_STORE
 @click.option("--out", "out", metavar="DIR", required=True, help="Directory for REPORT.md, report.html, PNGs.")
+@click.option("--force", is_flag=True, help="Replace an earlier report in --out (default: refuse).")
 @O.JSON
-def report(stores, out: str, as_json: bool) -> None:
+def report(stores, out: str, force: bool, as_json: bool) -> None:
     """Report what one or more stores hold (model, laws, axes, transition, fits, figures) into DIR."""
     from ..report import write_store_report
-    from ._common import check_writable_dir
+    from ._common import check_replace, check_writable_dir
 
     check_writable_dir(out)   # before the analysis, not after it (and nothing made if a store is refused)
+    check_replace(out, REPORT_FILES, given=True, force=force)
     sources = _stores(stores)
     with _with_options(_NAMES):
         files = write_store_report(sources, out)
@@ -150,25 +154,29 @@ def _workflow_dir() -> Path:
     'bifurcation reproduce --out results/local/my-paper-report'))
 @click.option("--out", default="results/local/paper", show_default=True, metavar="DIR",
               help="Where the report goes (the stores go to results/<study>.zarr). The committed "
-                   "reference is results/paper: `--out results/paper` rewrites it.")
+                   "reference is results/paper: `--out results/paper --force` rewrites it.")
 @O.SCHEDULER
 @O.WORKERS
 @click.option("--new-stores", is_flag=True,
               help="Replace a results/<study>.zarr that holds an older version of a paper workflow.")
+@click.option("--force", is_flag=True,
+              help="Replace an earlier report in an --out you give (the default --out is replaced on every run).")
 @O.JSON
-def reproduce(out: str, scheduler, workers, new_stores: bool, as_json: bool) -> None:
+def reproduce(out: str, scheduler, workers, new_stores: bool, force: bool, as_json: bool) -> None:
     """Run the paper's workflows (resumable) and write the report to DIR: the main job."""
     from ..errors import InputError
     from ..report import write_report
     from ..run import submit
     from ..run.cluster import check_scheduler, check_workers, connect
 
-    from ._common import check_writable_dir
+    from ._common import check_replace, check_writable_dir
 
     started = time.perf_counter()
     target = check_scheduler(scheduler)
     workers = check_workers(workers, embedded=target is None)
     check_writable_dir(out)
+    given = click.get_current_context().get_parameter_source("out") is not click.core.ParameterSource.DEFAULT
+    check_replace(out, REPORT_FILES, given=given, force=force)
     workflows = _workflow_dir()
     stores, summaries = [], []
     # One cluster for the three workflows (starting an embedded one costs ~1 s and compiles per worker).

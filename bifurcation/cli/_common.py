@@ -15,7 +15,7 @@ import click
 
 from ..errors import InputError
 
-__all__ = ["Group", "as_typed", "check_out_dir", "check_outside_stores", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
+__all__ = ["Group", "as_typed", "check_out_dir", "check_outside_stores", "check_replace", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
 
 def fail(message: str) -> None:
@@ -213,6 +213,18 @@ def check_writable_dir(path, option: str = "--out") -> Path:
         raise InputError(option, str(path), f"{what} ({exc.strerror or exc} in {parent})",
                          "give a directory in a writable place") from None
     return out
+
+
+def check_replace(out, names, *, given: bool, force: bool, option: str = "--out") -> None:
+    """Refuse an ``out`` directory you named that holds an earlier output of this command (``names``),
+    unless ``force``: a command replaces its own default output under results/local/ on a repeat run,
+    never a directory you named (the same rule as ``export --out``). Checked before any work."""
+    if not given or force:
+        return
+    found = [n for n in names if (Path(out) / n).exists() or (Path(out) / n).is_symlink()]
+    if found:
+        raise InputError(option, str(out), f"holds an earlier output ({', '.join(found)})",
+                         "pass --force to replace it, or choose another directory")
 
 
 @contextmanager

@@ -197,21 +197,24 @@ def _cycle(spec, history, precision, as_json) -> None:
 @click.argument("workflow")
 @click.option("--out", default=None,
               help="Output directory (default results/local/<study name>/; the committed reference of "
-                   "workflows/rate-state.toml is results/rate-state: `--out results/rate-state` rewrites it).")
+                   "workflows/rate-state.toml is results/rate-state: `--out results/rate-state --force` rewrites it).")
 @click.option("--damping", default=None, callback=number("--damping", "0.002"),
               help="Radiation damping ETA >= 0 for every branch (replaces the workflow's damping keys).")
-def continue_cmd(workflow: str, out, damping) -> None:
+@click.option("--force", is_flag=True,
+              help="Replace an earlier run in an --out you give (the default --out is replaced on every run).")
+def continue_cmd(workflow: str, out, damping, force: bool) -> None:
     """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
     from ..models.rate_state.spec import _finite
     from ..models.rate_state.study import load_study, run_study
 
-    from ._common import check_writable_dir
+    from ._common import check_replace, check_writable_dir
 
     study = load_study(workflow)  # validate before anything is computed or written
     if damping is not None:
         damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
     # and where it goes (run_study's default)
     check_writable_dir(out if out is not None else f"results/local/{study.name}")
+    check_replace(out, ("REPORT.md", "branches.zarr", "bifurcation-diagram.png"), given=out is not None, force=force)
     run_study(workflow, out, echo=click.echo, damping=damping)
 
 

@@ -52,6 +52,8 @@ class StudyStatus:
     rate: float | None            # points/s over the recent tiles (None: too few to tell)
     eta: float | None             # seconds to finish at that rate, while a writer is active
     submits: list = field(default_factory=list)
+    #: status reads only the done and status arrays: the other chunks' checksums are verify's job
+    integrity: str = "not checked (only the done and status arrays are read): `bifurcation verify` reads every chunk"
 
     @property
     def complete(self) -> bool:
@@ -81,6 +83,9 @@ class StudyStatus:
         else:
             lines.append(f"no submit is writing it: submit the same workflow again to compute the "
                          f"{self.points - self.done} remaining points")
+        # a flipped bit in a result chunk is not seen here: say so rather than imply the data are sound
+        lines.append(f"chunks not checked for damage (status reads only the done and status arrays): "
+                     f"`bifurcation verify --store {self.store}` checks every one")
         return "\n".join(lines)
 
 

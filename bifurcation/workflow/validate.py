@@ -257,8 +257,16 @@ def as_number(key: str, value, fix: str = "") -> float:
     return value
 
 
+def _bound(x) -> str:
+    """A bound as written exactly: 1048576, not 1.04858e+06 (which a value just above it would match)."""
+    x = float(x)
+    if float(f"{x:g}") == x:   # short and exact: 1e+09, 0.99
+        return f"{x:g}"
+    return str(int(x)) if x.is_integer() and abs(x) < 2 ** 53 else repr(x)
+
+
 def check_range(key: str, value, low, high, fix: str = "") -> None:
     if (low is not None and value < low) or (high is not None and value > high):
-        span = (f"in [{low:g}, {high:g}]" if low is not None and high is not None else
-                f">= {low:g}" if low is not None else f"<= {high:g}")
+        span = (f"in [{_bound(low)}, {_bound(high)}]" if low is not None and high is not None else
+                f">= {_bound(low)}" if low is not None else f"<= {_bound(high)}")
         raise InputError(key, value, f"is out of range: must be {span}", fix or f"give a value {span}")
