@@ -99,7 +99,9 @@ def _fit(data, discrete: bool, xmin=None):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")        # powerlaw warns on every edge case of its optimisers
         with np.errstate(all="ignore"):
-            return powerlaw.Fit(data, discrete=discrete, xmin=xmin, verbose=False)
+            # powerlaw 2.0 bounds α to [0, 3] by default (DEFAULT_PARAMETER_RANGES): a steeper tail came
+            # back as α = 3.000 exactly; [1, 20] covers every exponent of a normalisable tail seen here
+            return powerlaw.Fit(data, discrete=discrete, xmin=xmin, verbose=False, parameter_ranges={"alpha": [1.0, 20.0]})
 
 
 def _search(data, discrete: bool, xmin, resolution):
