@@ -67,7 +67,17 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
         L += near_half_section(cfg, data["near_half"])
     if speed:
         L += [speed.rstrip(), ""]
-    L += _verdict(cfg, data, sw, star)
+    old = _verdict(cfg, data, sw, star)
+    from ._report_presets import preset_section, verdict_table
+
+    rows = [r for r in old if r.startswith("| ") and not r.startswith("| claim")]
+    cell = (lambda i: rows[i].rstrip(" |").split(" | ")[-1] if len(rows) > i else "–")
+    L += preset_section(data)
+    L += verdict_table(cfg, data, {"vas": "see \"Readings of the σ = 0, ℓ = 1 runs\" below",
+                                   "vas_word": cell(0), "sak": cell(3)})
+    old[0] = ("## Readings of the σ = 0, ℓ = 1 runs, claim by claim (the seed's friction at ℓ = 1: the claims' "
+              "own models only for Vasconcelos' family; the verdicts are in the table above)")
+    L += old
     return "\n".join(L) + "\n"
 
 

@@ -1,13 +1,14 @@
 """The chain report: lone-block threshold, order parameter and hysteresis with finite-size scaling,
 magnitude–frequency statistics, a verdict table.
 
-    PYTHONPATH=. python -m bifurcation.models.chain.report workflows/chain-report.toml [--out DIR] [--from-data]
+    PYTHONPATH=. python -m bifurcation.models.chain.report workflows/chain-report.toml [--out DIR] [--from-data | --presets-only]
 
 Runs the workflow's ν_f sweeps (several seeds per N), catalogs and lone-block checks on two
 processes and writes ``REPORT.md``, ``data.json`` and the figures into the workflow's ``out``
 directory (``results/local/chain``, ignored by git) or ``--out DIR``. ``--from-data`` re-renders them
 from ``DIR/data.json`` without running anything: ``--from-data --out results/chain`` rewrites the
-committed report byte for byte (deterministic figures, no software tag). A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
+committed report byte for byte (deterministic figures, no software tag). ``--presets-only`` runs the
+``[presets]`` catalogs (``_report_presets``) and takes every other section from ``DIR/data.json``. A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
 carried over unchanged. Sections and verdicts: ``_report_text``.
 """
 
@@ -80,6 +81,9 @@ def _jobs(cfg):
     from ._report_mfd import near_half_jobs, small_nu_jobs
 
     jobs += near_half_jobs(cfg) + small_nu_jobs(cfg)
+    from ._report_presets import preset_jobs
+
+    jobs += preset_jobs(cfg)
     return sorted(jobs, key=lambda j: -j[2])      # the longest first: two workers stay busy to the end
 
 
@@ -99,6 +103,29 @@ def main(argv=None) -> None:
         sys.exit(f"bifurcation: error: --from-data: {out / 'data.json'} does not exist; run the report once "
                  "(without --from-data), or give --out results/chain (the committed data)")
     out.mkdir(parents=True, exist_ok=True)
+    if "--presets-only" in argv[1:]:  # run the [presets] catalogs only; every other section from data.json
+        if not (out / "data.json").is_file():
+            sys.exit(f"bifurcation: error: --presets-only: {out / 'data.json'} does not exist; run the whole report once")
+        from ._report_presets import preset_jobs
+
+        data = json.loads((out / "data.json").read_text())
+        t0 = time.perf_counter()
+        with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
+            futures = [pool.submit(f, a) for f, a, _ in sorted(preset_jobs(cfg), key=lambda j: -j[2])]
+            runs = []
+            for fut in futures:
+                runs.append(fut.result())
+                print(f"{time.perf_counter() - t0:6.0f} s  preset {runs[-1]['preset']}: {runs[-1]['cpu']:.0f} cpu s",
+                      file=sys.stderr, flush=True)
+        data["presets"] = sorted(runs, key=lambda x: (x["preset"], -x["parameters"]["nu_f"]))
+        data["presets_cfg"] = {k: v for k, v in cfg["presets"].items() if k != "run"}
+        data["presets_wall_seconds"] = time.perf_counter() - t0
+        data["workflow"] = path.read_text()
+        (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+        data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
+        _extra_stats(out, cfg, data, None)
+        _render(out, cfg, path, data)
+        return
     if "--from-data" in argv[1:]:     # re-render REPORT.md and figures from data.json, no runs
         data = json.loads((out / "data.json").read_text())
         data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
@@ -108,7 +135,8 @@ def main(argv=None) -> None:
     t0 = time.perf_counter()
     with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
         futures = [(f.__name__, pool.submit(f, a)) for f, a, _ in _jobs(cfg)]
-        results = {"_sweep": [], "_catalog": [], "_threshold": [], "_budgeted_catalog": [], "_sweep_small_nu": []}
+        results = {"_sweep": [], "_catalog": [], "_threshold": [], "_budgeted_catalog": [], "_sweep_small_nu": [],
+                   "_preset_catalog": []}
         for name, fut in futures:
             results[name].append(fut.result())
             r = results[name][-1]
@@ -120,6 +148,9 @@ def main(argv=None) -> None:
             "sweeps": _sweep_stats(results["_sweep"], cfg), "catalogs": [_catalog_stats(c) for c in results["_catalog"]],
             "threshold": sorted(results["_threshold"], key=lambda d: (d["ell"], d["end"]))}
     data["sweeps"]["runs"] = results["_sweep"]
+    if results["_preset_catalog"]:
+        data["presets"] = sorted(results["_preset_catalog"], key=lambda x: (x["preset"], -x["parameters"]["nu_f"]))
+        data["presets_cfg"] = {k: v for k, v in cfg["presets"].items() if k != "run"}
     for st, c in zip(data["catalogs"], results["_catalog"]):
         st["cpu"] = c["cpu"]
     data["catalogs"].sort(key=lambda d: (d["n"], d["nu_f"]))
@@ -141,6 +172,10 @@ def _render(out: Path, cfg, path: Path, data) -> None:
         from ._report_mfd import near_half_figure
 
         near_half_figure(out, data["near_half"])
+    if data.get("presets"):
+        from ._report_presets import presets_figure
+
+        presets_figure(out, data["presets"])
     old = out / "REPORT.md"
     speed = _section(old.read_text(), "## Speed") if old.exists() else ""
     old.write_text(report_text(cfg, path, data, data["wall_seconds"], speed))
