@@ -141,9 +141,19 @@ def preset_section(data) -> list:
          "docs/chain.md \"Engines\") from the seeded random start (amplitude 0.1, seed 1); events of the first "
          f"{runs[0]['transient_cycles']:g} loading cycle(s) dropped. Sizes are potencies P; the fits are "
          "Clauset–Shalizi–Newman's through `powerlaw` (`clauset.clauset_fit`, x_min searched over "
-         f"{data.get('presets_cfg', {}).get('resolution', 10)} data values per decade). Where a preset's own "
-         "number was changed, the row says why. Which numbers of each preset were read in a source: "
-         "docs/chain.md \"Presets\" and presets.py.", "",
+         f"{data.get('presets_cfg', {}).get('resolution', 10)} data values per decade; "
+         f"{data.get('presets_cfg', {}).get('bootstrap', 10)} bootstrap samples for p, chosen to fit the "
+         "CPU budget: each is an x_min search over ~10^6 events, so p is resolved to about ±0.1 and p = 0 means "
+         f"p < 0.1; moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
+         "resamples of blocks of ⌈n^(1/3)⌉ events). Where a preset's own number was changed, the row says why. "
+         "Which numbers of each preset were read in a source: docs/chain.md \"Presets\" and presets.py. "
+         + (f"This section: {sum(x['cpu'] for x in runs):.0f} CPU s in all, "
+            f"{data['presets_wall_seconds']:.0f} s wall on 2 workers of a shared 2-core machine "
+            "(`--presets-only`). " if data.get("presets_wall_seconds") else "")
+         + "The catalogs are chaotic event sequences: which event comes when, and so every digit of an individual "
+         "event, depends on the CPU's rounding (this run: x86_64 with AVX2); the counts, α, b, p and the ratios "
+         "move with the CPU within their errors only, and the verify column (the compiled engine against the "
+         "exact one from the same state) is a rounding-level figure whose digits depend on the CPU.", "",
          "| preset (run as) | events (kept) | loading cycles | CPU s (run + stats) | verify: events re-run by the exact engine, largest difference | sizes: mean / max n_blocks, spanning, ≥ N/2 | CSN fit | large-event excess | peak |",
          "|---|---|---|---|---|---|---|---|---|"]
     for x in runs:

@@ -55,7 +55,10 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
          f", ℓ = {ell:g}, ν = {c['nu']:g}, {c['ends']} ends, random start of amplitude {c['amplitude']}. "
          "Event sequences are chaotic (docs/chain.md, Precision), so digits of individual events of the "
          "sweeps and catalogs depend on the CPU's rounding; the statistics do not, within their errors. "
-         "All numbers: [data.json](data.json).", ""]
+         "All numbers: [data.json](data.json)."
+         + (" The sections before \"Published parameter sets\" come from that full run; the preset catalogs and "
+            "the verdict table were added by `--presets-only` (same workflow, its `[presets]` section)."
+            if data.get("presets_wall_seconds") else ""), ""]
     L += _threshold_section(data, c)
     L += _order_section(cfg, data, sw, star)
     from ._report_mfd_text import near_half_section, small_nu_section
