@@ -151,7 +151,7 @@ def preset_section(data) -> list:
             f"{data['presets_wall_seconds']:.0f} s wall on 2 workers of a shared 2-core machine "
             "(`--presets-only`). " if data.get("presets_wall_seconds") else "")
          + "The catalogs are chaotic event sequences: which event comes when, and so every digit of an individual "
-         "event, depends on the CPU's rounding (this run: x86_64 with AVX2); the counts, α, b, p and the ratios "
+         "event, depends on the CPU's rounding and instruction set (numba and heyoka compile for the host CPU); the counts, α, b, p and the ratios "
          "move with the CPU within their errors only, and the verify column (the compiled engine against the "
          "exact one from the same state) is a rounding-level figure whose digits depend on the CPU.", "",
          "| preset (run as) | events (kept) | loading cycles | CPU s (run + stats) | verify: events re-run by the exact engine, largest difference | sizes: mean / max n_blocks, spanning, ≥ N/2 | CSN fit | large-event excess | peak |",
