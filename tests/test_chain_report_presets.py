@@ -57,3 +57,14 @@ def test_the_characteristic_peak_rule(counts, peak):
     assert (got is not None) == peak
     if peak:
         assert got["m"] == pytest.approx(0.3)
+
+
+def test_presets_only_needs_the_full_run_data(tmp_path):
+    # --presets-only takes every other section from DIR/data.json: without it, one line and nothing run
+    from bifurcation.models.chain.report import main
+
+    wf = tmp_path / "w.toml"
+    wf.write_text('[study]\nname = "w"\nout = "x"\n[presets]\n[[presets.run]]\npreset = "vasconcelos-1996"\nevents = 10\n')
+    with pytest.raises(SystemExit, match="--presets-only: .*data.json does not exist"):
+        main([str(wf), "--out", str(tmp_path / "o"), "--presets-only"])
+    assert not (tmp_path / "o").exists()

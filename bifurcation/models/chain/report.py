@@ -102,10 +102,11 @@ def main(argv=None) -> None:
     if "--from-data" in argv[1:] and not (out / "data.json").is_file():
         sys.exit(f"bifurcation: error: --from-data: {out / 'data.json'} does not exist; run the report once "
                  "(without --from-data), or give --out results/chain (the committed data)")
+    if "--presets-only" in argv[1:] and not (out / "data.json").is_file():
+        sys.exit(f"bifurcation: error: --presets-only: {out / 'data.json'} does not exist; run the whole report once "
+                 "(without --presets-only), or give --out results/chain (the committed data)")
     out.mkdir(parents=True, exist_ok=True)
     if "--presets-only" in argv[1:]:  # run the [presets] catalogs only; every other section from data.json
-        if not (out / "data.json").is_file():
-            sys.exit(f"bifurcation: error: --presets-only: {out / 'data.json'} does not exist; run the whole report once")
         from ._report_presets import preset_jobs
 
         data = json.loads((out / "data.json").read_text())
