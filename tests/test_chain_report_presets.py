@@ -37,6 +37,10 @@ def test_the_verdict_table_has_one_row_per_claim_and_prints_its_rules():
     assert "**not tested**" in rows[2] and "**not tested**" in rows[3] and "**not tested** on its model" in rows[4]
     # CL: p = 0 rules the power law out; 6 ≥ N/2 events, 6× the prediction: an excess by the printed rule
     assert "power law ruled out" in rows[1] and "**excess**" in rows[1] and "not a test of the paper" in rows[1]
+    # a tail of less than one decade above x_min is not read as a power law
+    short = _run("carlson-langer-1991", 0.2, potency_range=[1e-3, 0.05])
+    text = "\n".join(verdict_table({}, {"presets": [short]}, {}))
+    assert "no scaling range" in text and "power law ruled out" not in text
     assert "Rules: " + PRESET_RULES in text
     # MK reports both α, the larger ν_f (α = 1) first
     assert rows[3].index("α = 1:") < rows[3].index("α = 2:")
@@ -48,15 +52,20 @@ def test_a_repeated_single_event_is_not_fitted():
     assert "no size distribution to fit" in text and "3.0e-14" in text
 
 
-@pytest.mark.parametrize("counts,peak", [([100, 50, 20, 80, 10, 5], True),     # a bump 1.5 decades up
-                                         ([100, 50, 20, 10, 5, 2], False),     # monotone
-                                         ([100, 50, 20, 22, 10, 5], False)])   # within 3 Poisson σ
-def test_the_characteristic_peak_rule(counts, peak):
+_BODY = [1000, 600, 400, 300, 200, 150, 100, 80, 60, 50]     # the mode, then a decade of decay
+
+
+@pytest.mark.parametrize("tail,peak", [([40, 30, 20, 60, 90, 70, 20], 1.4),   # rises again: 90 vs 20 (> 3σ = 31)
+                                       ([40, 30, 20, 15, 10, 5, 2], None),    # monotone
+                                       ([40, 30, 20, 25, 30, 20, 10], None),  # 30 vs 20: within 3σ (21)
+                                       ([90, 30, 20, 10, 10, 5, 2], None)])   # above the mode's decade only falls
+def test_the_characteristic_peak_rule(tail, peak):
+    counts = _BODY + tail
     edges = [i / 10 for i in range(len(counts) + 1)]
-    got = _peak(edges, counts, xmin=10 ** -1.05)
-    assert (got is not None) == peak
-    if peak:
-        assert got["m"] == pytest.approx(0.3)
+    got = _peak(edges, counts)
+    assert (got is None) == (peak is None)
+    if peak is not None:
+        assert got["m"] == pytest.approx(peak) and got["m_low"] == pytest.approx(1.2)
 
 
 def test_presets_only_needs_the_full_run_data(tmp_path):

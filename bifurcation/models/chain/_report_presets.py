@@ -22,9 +22,11 @@ PRESET_RULES = (
     "a power law is **ruled out** when the CSN bootstrap p ≤ 0.1 (resolution ±√(p(1 − p)/B), B the bootstrap "
     "samples; p = 0 of B means p < 1/B); an alternative is **favoured** when its normalised likelihood ratio is "
     "negative with p < 0.1; an **excess of large events** is ≥ 3× more events with n_blocks ≥ N/2 than the "
-    "fitted power law predicts above their smallest potency (with ≥ 5 such events); a **characteristic peak** "
-    "is a 0.1-wide bin of m = log10 P, at least 1 decade above x_min, holding more events than each of its two "
-    "neighbours by 3 Poisson σ; a claim is **not tested** when no run was on its model, and a run on a preset "
+    "fitted power law predicts above their smallest potency (with ≥ 5 such events; undecided when x_min lies above "
+    "that potency); a **characteristic peak**: ≥ 1 decade above the most populated 0.1-bin of m = log10 P, some "
+    "bin exceeds an earlier (smaller-m) bin by more than 3 Poisson σ of the two, i.e. the distribution rises again; "
+    "a fit whose tail spans < 1 decade (largest P / x_min < 10) has **no scaling range** and is not read as a "
+    "power law; a claim is **not tested** when no run was on its model, and a run on a preset "
     "with numbers NOT READ in the paper (presets.py) **reproduces the preset, not the paper**; b is quoted as "
     "b_P = α − 1 (potency) and b_M = 1.5 (α − 1) (moment magnitude, Hanks–Kanamori), with the moving-block "
     "bootstrap's error")
@@ -53,7 +55,7 @@ def _preset_catalog(args):
     t, pot, nb = np.asarray(r.t_start), np.asarray(r.potency), np.asarray(r.n_blocks)
     cycles = par["nu"] * (t - t[0]) if t.size else t
     keep = cycles >= float(p.get("transient_cycles", 1.0))
-    out = {"preset": pre.name, "verified_preset": pre.verified, "overrides": over, "parameters": par,
+    out = {"run_cfg": run, "preset": pre.name, "verified_preset": pre.verified, "overrides": over, "parameters": par,
            "why": run.get("why", ""), "claim": run.get("claim", ""), "events": int(t.size), "status": str(r.status),
            "cpu_run": cpu_run, "loading_cycles": float(cycles[-1]) if t.size else 0.0,
            "transient_cycles": float(p.get("transient_cycles", 1.0)), "kept": int(keep.sum())}
@@ -85,7 +87,6 @@ def _preset_catalog(args):
                       "bootstrap": f.bootstrap, "ratios": {k: list(v) for k, v in f.ratios.items()},
                       "b_P": f.b_potency, "b_M": f.b_magnitude, "words": f.verdict()}
         out["excess"] = _excess(pot, nb, n, f)
-        out["peak"] = _peak(edges, counts, f.xmin)
     out["cpu_stats"] = time.process_time() - c1
     out["cpu"] = out["cpu_run"] + out["cpu_stats"]
     return out
@@ -103,14 +104,55 @@ def _excess(pot, nb, n, f) -> dict:
             "ratio": obs / exp if exp and math.isfinite(exp) and exp > 0 else math.nan}
 
 
-def _peak(edges, counts, xmin) -> dict | None:
-    """The first 0.1-bin ≥ 1 decade above x_min that beats both neighbours by 3 Poisson σ (or None)."""
-    lo = math.log10(xmin) + 1.0
-    for i in range(1, len(counts) - 1):
-        c = counts[i]
-        if edges[i] >= lo and c > 0 and all(c - counts[j] > 3 * math.sqrt(c) for j in (i - 1, i + 1)):
-            return {"m": float(edges[i]), "count": int(c), "left": int(counts[i - 1]), "right": int(counts[i + 1])}
-    return None
+def _peak(edges, counts) -> dict | None:
+    """A rise of the 0.1-bin counts ≥ 1 decade above the most populated bin (PRESET_RULES), or None:
+    the highest bin there against the lowest bin before it."""
+    c = np.asarray(counts, dtype=float)
+    e = np.asarray(edges, dtype=float)[:-1]
+    sel = np.nonzero(e >= e[int(np.argmax(c))] + 1.0 - 1e-9)[0]
+    best = None
+    for i in sel:
+        before = [j for j in sel if j < i]
+        if not before:
+            continue
+        j = min(before, key=lambda k: c[k])
+        if c[i] - c[j] > 3 * math.sqrt(c[i] + c[j]) and (best is None or c[i] - c[j] > best[2] - best[3]):
+            best = (float(e[i]), float(e[j]), c[i], c[j])
+    return None if best is None else {"m": best[0], "count": int(best[2]), "m_low": best[1], "low": int(best[3])}
+
+
+def _scaling_decades(x) -> float:
+    f = x.get("fit")
+    return math.log10(x["potency_range"][1] / f["xmin"]) if f else math.nan
+
+
+def _excess_words(ex) -> str:
+    if not ex:
+        return "–"
+    if not ex["large"]:
+        return "no event with n_blocks ≥ N/2"
+    if not math.isfinite(ex.get("ratio", math.nan)):
+        return (f"{ex['large']} events ≥ N/2, smallest P = {ex['p_large']:.3g}, below x_min: no extrapolation "
+                "(undecided)")
+    return (f"{ex['observed_above']} events with P ≥ {ex['p_large']:.3g} against {ex['expected']:.3g} predicted "
+            f"({ex['ratio']:.3g}×)")
+
+
+def _excess_word(ex) -> str:
+    if not ex or not ex.get("large"):
+        return "no excess (no event ≥ N/2)"
+    if not math.isfinite(ex.get("ratio", math.nan)):
+        return "excess undecided (x_min above the large events)"
+    return "**excess**" if ex["large"] >= 5 and ex["ratio"] >= 3 else "no excess"
+
+
+def _fit_word(x) -> str:
+    f = x.get("fit")
+    if f is None:
+        return "no fit"
+    if _scaling_decades(x) < 1:
+        return "no scaling range"
+    return "power law ruled out" if f["p"] <= 0.1 else "power law plausible"
 
 
 def _par(x) -> str:
@@ -126,7 +168,9 @@ def _fit_cell(x) -> str:
                 "(rounding): no size distribution to fit")
     lr = ", ".join(f"{k.replace('_', ' ')} R = {r:+.1f} (p = {p:.2g})" for k, (r, p) in f["ratios"].items())
     res = math.sqrt(max(f["p"] * (1 - f["p"]), 1 / f["bootstrap"]) / f["bootstrap"]) if f["bootstrap"] else math.nan
-    return (f"α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} (block bootstrap, blocks of {f['block']}; i.i.d. "
+    dec = _scaling_decades(x)
+    return ((f"**no scaling range** ({dec:.2f} decades above x_min): " if dec < 1 else "")
+            + f"α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} (block bootstrap, blocks of {f['block']}; i.i.d. "
             f"{f['alpha_err']:.3f}) above x_min = {f['xmin']:.3g} ({f['n_tail']} of {f['n']} events); b_P = "
             f"{f['b_P']:.3f}, b_M = {f['b_M']:.3f}; KS {f['ks']:.4f}; p = {f['p']:.2f} ± {res:.2f} "
             f"({f['bootstrap']} samples); LR: {lr}")
@@ -159,12 +203,10 @@ def preset_section(data) -> list:
     for x in runs:
         nb, v = x["n_blocks"], x["verify"]
         ex = x.get("excess") or {}
-        exc = ("–" if not ex else f"{ex['large']} events ≥ N/2: none" if not ex["large"] else
-               f"{ex['observed_above']} events with P ≥ {ex['p_large']:.3g} against {ex['expected']:.3g} predicted "
-               f"({ex['ratio']:.3g}×)")
-        pk = x.get("peak")
-        peak = "–" if x.get("fit") is None else ("none" if not pk else f"m = {pk['m']:.1f}: {pk['count']} "
-                                                 f"(neighbours {pk['left']}, {pk['right']})")
+        exc = _excess_words(ex)
+        pk = _peak(x["mfd"]["edges"], x["mfd"]["counts"]) if x.get("fit") else None
+        peak = "–" if x.get("fit") is None else ("none" if not pk else f"m = {pk['m']:.1f}: {pk['count']} events "
+                                                 f"against {pk['low']} at m = {pk['m_low']:.1f}")
         L.append(f"| `{x['preset']}` ({_par(x)}){'; ' + x['why'] if x['why'] else ''} | {x['events']} ({x['kept']}), "
                  f"{x['status']} | {x['loading_cycles']:.2f} | {x['cpu_run']:.0f} + {x['cpu_stats']:.0f} | "
                  f"{v['checked']}, {v['largest']:.1e}{', ' + str(v['mismatched']) + ' differ in size' if v['mismatched'] else ''} | "
@@ -195,14 +237,14 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
         x = cl[0]
         f = x.get("fit")
         ex = x.get("excess") or {}
-        pl = ("ruled out" if f and f["p"] <= 0.1 else "plausible") if f else "no fit"
-        exc = (f"{ex['ratio']:.3g}× the power law above n_blocks ≥ N/2" if ex.get("large") else "no event with n_blocks ≥ N/2")
-        word = (f"power law {pl}" + (f" (b_P = {f['b_P']:.2f}, b_M = {f['b_M']:.2f})" if f else "")
-                + "; large events: " + ("**excess**" if ex.get("large", 0) >= 5 and ex.get("ratio", 0) >= 3 else "no excess"))
+        pk = _peak(x["mfd"]["edges"], x["mfd"]["counts"]) if f else None
+        exc = _excess_words(ex) + ("; rise at m = " + format(pk["m"], ".1f") if pk else "; no rise")
+        word = (_fit_word(x) + (f" (b_P = {f['b_P']:.2f}, b_M = {f['b_M']:.2f})" if f else "")
+                + "; large events: " + _excess_word(ex) + ("; characteristic peak" if pk else ""))
         rows.append(("Carlson & Langer (PRL 62, 2632; PRA 40, 6470 (1989)) / CLST (PRA 44, 884 (1991)): power-law "
                      "small events plus an excess of large ones",
                      f"`carlson-langer-1991` ({_par(x)}): {_fit_cell(x)}; {exc}",
-                     f"**{word}** — on the preset, which reproduces J. Xia's reimplementation (ℓ, α, ν) with σ, N, "
+                     f"{word} — on the preset, which reproduces J. Xia's reimplementation (ℓ, α, ν) with σ, N, "
                      "ends NOT READ and ν lowered to approach CLST's ν → 0 limit: **not a test of the paper** until "
                      "those are read"))
     else:
@@ -213,12 +255,14 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
     if mk:
         cells = []
         for x in mk:
-            f, pk, ex = x.get("fit"), x.get("peak"), x.get("excess") or {}
+            f, ex = x.get("fit"), x.get("excess") or {}
+            pk = _peak(x["mfd"]["edges"], x["mfd"]["counts"]) if f else None
             cells.append(f"α = {0.5 / x['parameters']['nu_f']:g}: " + (
-                f"b_P = {f['b_P']:.3f} ± {f['alpha_block_err']:.3f} (b_M = {f['b_M']:.2f}), p = {f['p']:.2f}, "
-                f"{'peak at m = ' + format(pk['m'], '.1f') if pk else 'no peak'}, "
-                + (f"large-event excess {ex['ratio']:.3g}×" if ex.get("large") else "no event ≥ N/2")
-                if f else "no fit"))
+                f"{_fit_word(x)}, b_P = {f['b_P']:.3f} ± {f['alpha_block_err']:.3f} (b_M = {f['b_M']:.2f}) above "
+                f"x_min = {f['xmin']:.3g}, p = {f['p']:.2f}; "
+                + (f"**characteristic peak** at m = {pk['m']:.1f} ({pk['count']} against {pk['low']} at "
+                   f"m = {pk['m_low']:.1f})" if pk else "no characteristic peak")
+                + f"; {_excess_word(ex)}" if f else "no fit"))
         rows.append(("Mori & Kawamura, PRL 94, 058501 (2005); JGR 111, B07302 (2006): GR-like at α = 1, "
                      "characteristic peak at α ≥ 2",
                      f"`mori-kawamura-2006` ({_par(mk[0]).split(', ν_f')[0]}): " + "; ".join(cells),

@@ -8,7 +8,8 @@ processes and writes ``REPORT.md``, ``data.json`` and the figures into the workf
 directory (``results/local/chain``, ignored by git) or ``--out DIR``. ``--from-data`` re-renders them
 from ``DIR/data.json`` without running anything: ``--from-data --out results/chain`` rewrites the
 committed report byte for byte (deterministic figures, no software tag). ``--presets-only`` runs the
-``[presets]`` catalogs (``_report_presets``) and takes every other section from ``DIR/data.json``. A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
+``[presets]`` catalogs (``_report_presets``) and takes every other section from ``DIR/data.json``; a
+``[[presets.run]]`` already there with the same entry and the same shared ``[presets]`` settings is kept. A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
 carried over unchanged. Sections and verdicts: ``_report_text``.
 """
 
@@ -111,9 +112,14 @@ def main(argv=None) -> None:
 
         data = json.loads((out / "data.json").read_text())
         t0 = time.perf_counter()
+        shared = {k: v for k, v in cfg["presets"].items() if k != "run"}
+        done = {json.dumps(x.get("run_cfg"), sort_keys=True): x for x in data.get("presets", [])
+                if data.get("presets_cfg") == shared and x.get("run_cfg")}
+        jobs = sorted(preset_jobs(cfg), key=lambda j: -j[2])
+        runs = [done[json.dumps(a[1], sort_keys=True)] for f, a, _ in jobs if json.dumps(a[1], sort_keys=True) in done]
+        jobs = [j for j in jobs if json.dumps(j[1][1], sort_keys=True) not in done]   # a run already in data.json is kept
         with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
-            futures = [pool.submit(f, a) for f, a, _ in sorted(preset_jobs(cfg), key=lambda j: -j[2])]
-            runs = []
+            futures = [pool.submit(f, a) for f, a, _ in jobs]
             for fut in futures:
                 runs.append(fut.result())
                 print(f"{time.perf_counter() - t0:6.0f} s  preset {runs[-1]['preset']}: {runs[-1]['cpu']:.0f} cpu s",
