@@ -180,7 +180,7 @@ def preset_section(data) -> list:
     runs = data.get("presets") or []
     if not runs:
         return []
-    L = ["## Published parameter sets (presets), 10^6-event catalogs", "",
+    L = ["## Published parameter sets (presets): catalogs of 10^6 events", "",
          "One catalog per row, compiled engine (`bifurcation.chain(preset=..., engine=\"compiled\")`, "
          "docs/chain.md \"Engines\") from the seeded random start (amplitude 0.1, seed 1); events of the first "
          f"{runs[0]['transient_cycles']:g} loading cycle(s) dropped. Sizes are potencies P; the fits are "
@@ -191,9 +191,8 @@ def preset_section(data) -> list:
          f"p < 0.1; moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
          "resamples of blocks of ⌈n^(1/3)⌉ events). Where a preset's own number was changed, the row says why. "
          "Which numbers of each preset were read in a source: docs/chain.md \"Presets\" and presets.py. "
-         + (f"This section: {sum(x['cpu'] for x in runs):.0f} CPU s in all, "
-            f"{data['presets_wall_seconds']:.0f} s wall on 2 workers of a shared 2-core machine "
-            "(`--presets-only`). " if data.get("presets_wall_seconds") else "")
+         + f"This section: {sum(x['cpu'] for x in runs):.0f} CPU s in all (each run's own CPU time, on a 2-core "
+         "machine shared with other jobs; `--presets-only`). "
          + "The catalogs are chaotic event sequences: which event comes when, and so every digit of an individual "
          "event, depends on the CPU's rounding and instruction set (numba and heyoka compile for the host CPU); the counts, α, b, p and the ratios "
          "move with the CPU within their errors only, and the verify column (the compiled engine against the "
