@@ -708,6 +708,10 @@ STUDY_WORKFLOWS = {
     "cycles": ("cycles = [[60, 24, 10], [15, 5, 2]]", "cycles = [[60, 24], [15, 5, 2]]"),
     "scan_points": ("scan_points = 41", "scan_points = 1"),
     "no_threshold": (STUDY[STUDY.index("[threshold]"):STUDY.index("[near_half]")], ""),
+    "preset": ('preset = "vasconcelos-1996"', 'preset = "nope"'),
+    "preset_events": ("events = 1000000\n\n[[presets.run]]\npreset = \"carlson-langer-1991\"",
+                      "events = 0\n\n[[presets.run]]\npreset = \"carlson-langer-1991\""),
+    "preset_key": ('bootstrap = 10 ', 'bootstraps = 10 '),
 }
 STUDY_CASES = [
     "study chain {missing} ## WORKFLOW",
@@ -736,6 +740,11 @@ STUDY_CASES = [
     "study chain {study_cycles} ## near_half.cycles[0]",
     "study chain {study_scan_points} ## threshold.scan_points",
     "study chain {study_no_threshold} ## threshold=None: is missing",
+    "study chain {study_preset} ## presets.run[0].preset",
+    "study chain {study_preset_events} ## presets.run[0].events",
+    "study chain {study_preset_key} ## presets.bootstraps",
+    "study chain {study} --presets-only --from-data --out {outdir} ## --presets-only",
+    "study chain {study} --presets-only --out {outdir} ## --presets-only",     # no data.json to take the rest from
     "study chain {study} --out {text} ## --out",
     "study chain {study} --out /proc/x ## --out",
     "study chain {study} --out {sb}/chain ## --out",                  # inside a store

@@ -199,7 +199,7 @@ transient_cycles = 0.5
     main([str(wf)])
     text = (out / "REPORT.md").read_text()
     for head in ("## Lone-block threshold", "## Order parameter", "### Finite-size scaling", "## Magnitude–frequency",
-                 "## Speed (bench)", "## Verdict on the four claims"):
+                 "## Speed (bench)", "## Verdict table (issue 17)", "## Readings of the σ = 0, ℓ = 1 runs"):
         assert head in text
     assert "rates 1.5x" in text and "old verdict" not in text
     for fig in ("fig_order", "fig_fss", "fig_mfd", "fig_threshold"):

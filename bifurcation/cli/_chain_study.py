@@ -30,9 +30,12 @@ _MAX_DATA_BYTES = 256 << 20
                    "results/chain: `--from-data --out results/chain` rewrites it from its data.")
 @click.option("--from-data", "from_data", is_flag=True,
               help="Run nothing: re-render REPORT.md and the figures from DIR/data.json (byte for byte).")
+@click.option("--presets-only", "presets_only", is_flag=True,
+              help="Run only the workflow's [presets] catalogs (~15 CPU minutes for workflows/chain-report.toml) and "
+                   "take every other section from DIR/data.json (refused without it).")
 @click.option("--force", is_flag=True, help="Run again into a DIR that holds a study (its data.json is replaced); "
                                             "default: refuse.")
-def chain_study_cmd(workflow: str, out, from_data: bool, force: bool) -> None:
+def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, force: bool) -> None:
     """The chain study of WORKFLOW: lone-block threshold, order parameter and hysteresis with finite-size
     scaling, magnitude–frequency statistics, a verdict table (≤ 10 minutes on 2 cores for
     workflows/chain-report.toml)."""
@@ -45,6 +48,12 @@ def chain_study_cmd(workflow: str, out, from_data: bool, force: bool) -> None:
     out = Path(out if out is not None else cfg["study"].get("out", f"results/local/{cfg['study']['name']}"))
     check_writable_dir(out)
     data = out / "data.json"
+    if from_data and presets_only:
+        raise InputError("--presets-only", "with --from-data", "runs the preset catalogs, which --from-data never does",
+                         "give one of --from-data and --presets-only")
+    if presets_only and not data.is_file():
+        raise InputError("--presets-only", str(data), "does not exist: the other sections are read from it",
+                         "run the whole study once (without --presets-only), or give --out results/chain")
     if from_data:
         if not data.is_file():
             raise InputError("--from-data", str(data), "does not exist",
@@ -63,6 +72,7 @@ def chain_study_cmd(workflow: str, out, from_data: bool, force: bool) -> None:
                          "replaces", "give --force to run it again, --from-data to re-render it, or another --out")
     from ..models.chain.report import main
 
-    main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else [])])
+    main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else []),
+          *(["--presets-only"] if presets_only else [])])
     if from_data:   # (a run says where it wrote, and in how long, itself)
         click.echo(f"wrote {out / 'REPORT.md'} and its figures from {data}")

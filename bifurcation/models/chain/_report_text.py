@@ -44,7 +44,7 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
     ell = float(c["ell"])
     star = 0.5 / math.sqrt(1 + 2 * ell**2)
     L = ["# Burridge–Knopoff chains, event-exact: report", "",
-         f"Produced by `PYTHONPATH=. python -m bifurcation.models.chain.report {path}` in {wall:.0f} s of wall "
+         f"Produced by `bifurcation study chain {path}` in {wall:.0f} s of wall "
          f"time on {cfg['study'].get('workers', 2)} worker processes"
          + (f", {data['cpu_seconds']:.0f} CPU seconds in all (5-minute load average "
             f"{data['load_average']:.1f} at the end"
@@ -55,7 +55,10 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
          f", ℓ = {ell:g}, ν = {c['nu']:g}, {c['ends']} ends, random start of amplitude {c['amplitude']}. "
          "Event sequences are chaotic (docs/chain.md, Precision), so digits of individual events of the "
          "sweeps and catalogs depend on the CPU's rounding; the statistics do not, within their errors. "
-         "All numbers: [data.json](data.json).", ""]
+         "All numbers: [data.json](data.json)."
+         + (" The sections before \"Published parameter sets\" come from that full run; the preset catalogs and "
+            "the verdict table were added by `--presets-only` (same workflow, its `[presets]` section)."
+            if data.get("presets_wall_seconds") else ""), ""]
     L += _threshold_section(data, c)
     L += _order_section(cfg, data, sw, star)
     from ._report_mfd_text import near_half_section, small_nu_section
@@ -67,7 +70,17 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
         L += near_half_section(cfg, data["near_half"])
     if speed:
         L += [speed.rstrip(), ""]
-    L += _verdict(cfg, data, sw, star)
+    old = _verdict(cfg, data, sw, star)
+    from ._report_presets import preset_section, verdict_table
+
+    rows = [r for r in old if r.startswith("| ") and not r.startswith("| claim")]
+    cell = (lambda i: rows[i].rstrip(" |").split(" | ")[-1] if len(rows) > i else "–")
+    L += preset_section(data)
+    L += verdict_table(cfg, data, {"vas": "see \"Readings of the σ = 0, ℓ = 1 runs\" below",
+                                   "vas_word": cell(0), "sak": cell(3)})
+    old[0] = ("## Readings of the σ = 0, ℓ = 1 runs, claim by claim (the seed's friction at ℓ = 1: the claims' "
+              "own models only for Vasconcelos' family; the verdicts are in the table above)")
+    L += old
     return "\n".join(L) + "\n"
 
 

@@ -23,9 +23,21 @@ from ...errors import InputError
 
 __all__ = ["PRESETS", "Preset", "get_preset", "preset_names", "workflow_preset"]
 
-#: sources that were read for these presets (the `search` tool; what could not be read is named)
+#: Sources read for these presets with the `search` tool (stored public pages; issue 17, item 3).
+#: Only what these pages show was used; a number that none of them shows is marked NOT READ.
 XIA = "J. Xia, 'Results for 1D BK model', physics.clarku.edu/~jcxia/EQProject/BK1D.html (2005)"
+XIA_CUT = "J. Xia, velocity-cutoff page, physics.clarku.edu/~jcxia/EQProject/evnt_vcutoff.html"
 SEED = "Vasconcelos, PRL 76, 4865 (1996)"
+#: Carlson & Langer, PRA 40, 6470 (1989), first page and abstract (de.scribd.com/document/250510769/Carlson-Langer-1):
+#: a uniform chain, inertia kept, no imposed noise or inhomogeneity, velocity-weakening stick-slip friction,
+#: "size distributions ... consistent with the Gutenberg-Richter law". Its parameter values were not on that page.
+CL_PRA = "Carlson & Langer, PRA 40, 6470 (1989), p. 1 (abstract), de.scribd.com/document/250510769/Carlson-Langer-1"
+#: Mori & Kawamura, PRL 94, 058501 (2005) = arXiv cond-mat/0408396, opening (ar5iv.labs.arxiv.org/html/cond-mat/0408396):
+#: the 1D spring-block (BK) model; the parameter section was not reachable (the stored page gives its first part only).
+MK_PRL = "Mori & Kawamura, PRL 94, 058501 (2005), arXiv cond-mat/0408396 (opening only, ar5iv)"
+#: Searched and NOT found as text: CL PRL 62, 2632 (1989); CLST PRA 44, 884 (1991); CLS RMP 66, 657 (1994)
+#: beyond its abstract (scec.org/publication/171, arXiv adap-org/9307001); MK JGR 111, B07302 (2006) beyond
+#: its title; de Sousa Vieira, Vasconcelos & Nagel, PRE 47, R2221 (1993): nothing.
 
 
 @dataclass(frozen=True)
@@ -71,25 +83,28 @@ PRESETS = {p.name: p for p in (
         title="Carlson–Langer chain with a friction drop (Carlson, Langer, Shaw, Tang, PRA 44, 884 (1991))",
         law="carlson-langer", n=1000, ell=10.0, nu=0.01, nu_f=0.2, sigma=0.01, ends="free",
         provenance={
-            "law": f"{SEED}, Eq. (19) names Φ = 1/(1 + x) the Carlson–Langer law; CL's own formula and the "
-                   "meaning of α (x = 2αV) were NOT READ in CL/CLST (only CL 1989's abstract was found)",
-            "ell": f"{XIA}: 'default values ... 10, 2.5, and 0.01' for ℓ, α, ν, following CL; not read in CLST",
-            "nu": f"{XIA} (as ell); not read in CLST",
-            "nu_f": f"α = 2.5 from {XIA}; ν_f = 1/(2α) = 0.2 by the mapping of the module text (not read in CLST)",
-            "sigma": "NOT READ: CLST's full text could not be found; Xia states a drop σ 'as they did (1991 PRA)' "
-                     "without its value; 0.01 is the value the issue (17) quotes",
-            "n": f"NOT READ for CLST; {XIA} tabulates N = 1000 and 5000 (for a long-range variant); 1000 taken",
+            "law": f"{SEED}, Eq. (19) names Φ = 1/(1 + x) the Carlson–Langer law; {CL_PRA}: velocity-weakening "
+                   "stick-slip friction (its formula and the meaning of α, x = 2αV, NOT READ in CL or CLST)",
+            "ell": f"{XIA}: 'The default values we used for these three parameters [ℓ, α, ν] are 10, 2.5, and "
+                   "0.01' (a reimplementation, not CLST's text; NOT READ in CLST)",
+            "nu": f"{XIA} (as ell); NOT READ in CLST",
+            "nu_f": f"α = 2.5 from {XIA}; ν_f = 1/(2α) = 0.2 by the mapping in this module's docstring (NOT READ in CLST)",
+            "sigma": f"NOT READ: {XIA} says a drop σ was used 'as they did (1991 PRA)' without its value; "
+                     "0.01 is the value issue 17 quotes",
+            "n": f"NOT READ in CLST; {XIA} tabulates N = 1000 and 5000; 1000 taken",
             "ends": "NOT READ: free ends assumed",
         },
         note="CLST also study the ν → 0 limit (Xia: 'moving only in one direction at the zero-loading velocity "
-             "limit'); this engine runs at the finite ν given"),
+             "limit'); this engine runs at the finite ν given. Xia's velocity cutoff for event membership is "
+             f"0.01 at ν = 0.01 ({XIA_CUT}), in a model whose drive is frozen during events"),
     Preset(
         name="mori-kawamura-2006",
         title="Mori & Kawamura's one-dimensional chain (PRL 94, 058501 (2005); JGR 111, B07302 (2006))",
         law="carlson-langer", n=800, ell=3.0, nu=0.01, nu_f=0.25, sigma=0.01, ends="periodic",
         provenance={
-            "law": "NOT READ in MK (full texts not found); the Carlson–Langer form with a drop, as the issue (17) states",
-            "n": "NOT READ: N = 800 periodic is the issue's (17) summary of MK",
+            "law": f"NOT READ: {MK_PRL} names the 1D BK model and CL's friction parameter, not the formula; "
+                   "the Carlson–Langer form with a drop is the issue's (17) summary",
+            "n": "NOT READ: N = 800 is the issue's (17) summary ('commonly cited as'), not read in MK",
             "ends": "NOT READ: periodic, the issue's (17) summary",
             "ell": "NOT READ: ℓ = 3, the issue's (17) summary",
             "nu": "NOT READ: ν ≈ 0.01, the issue's (17) summary",
@@ -97,7 +112,8 @@ PRESETS = {p.name: p for p in (
             "nu_f": "NOT READ: α = 1 … 3 in the issue's summary (ν_f = 1/2 … 1/6); α = 2 (ν_f = 0.25) taken, the "
                     "characteristic-peak side of MK's claim as the issue states it",
         },
-        note="every number unverified: a reproduction of MK needs their text"),
+        note="every number unverified (searched: MK 2005's opening only, MK 2006's title only): a run on it "
+             "reproduces the issue's summary of MK, not MK"),
 )}
 
 

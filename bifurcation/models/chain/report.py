@@ -1,13 +1,15 @@
 """The chain report: lone-block threshold, order parameter and hysteresis with finite-size scaling,
 magnitude–frequency statistics, a verdict table.
 
-    PYTHONPATH=. python -m bifurcation.models.chain.report workflows/chain-report.toml [--out DIR] [--from-data]
+    bifurcation study chain workflows/chain-report.toml [--out DIR] [--from-data | --presets-only]
 
 Runs the workflow's ν_f sweeps (several seeds per N), catalogs and lone-block checks on two
 processes and writes ``REPORT.md``, ``data.json`` and the figures into the workflow's ``out``
 directory (``results/local/chain``, ignored by git) or ``--out DIR``. ``--from-data`` re-renders them
 from ``DIR/data.json`` without running anything: ``--from-data --out results/chain`` rewrites the
-committed report byte for byte (deterministic figures, no software tag). A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
+committed report byte for byte (deterministic figures, no software tag). ``--presets-only`` runs the
+``[presets]`` catalogs (``_report_presets``) and takes every other section from ``DIR/data.json``; a
+``[[presets.run]]`` already there with the same entry and the same shared ``[presets]`` settings is kept. A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
 carried over unchanged. Sections and verdicts: ``_report_text``.
 """
 
@@ -79,6 +81,9 @@ def _jobs(cfg):
     from ._report_mfd import near_half_jobs, small_nu_jobs
 
     jobs += near_half_jobs(cfg) + small_nu_jobs(cfg)
+    from ._report_presets import preset_jobs
+
+    jobs += preset_jobs(cfg)
     return sorted(jobs, key=lambda j: -j[2])      # the longest first: two workers stay busy to the end
 
 
@@ -104,7 +109,36 @@ def main(argv=None) -> None:
     if "--from-data" in argv[1:] and not (out / "data.json").is_file():
         sys.exit(f"bifurcation: error: --from-data: {out / 'data.json'} does not exist; run the report once "
                  "(without --from-data), or give --out results/chain (the committed data)")
+    if "--presets-only" in argv[1:] and not (out / "data.json").is_file():
+        sys.exit(f"bifurcation: error: --presets-only: {out / 'data.json'} does not exist; run the whole report once "
+                 "(without --presets-only), or give --out results/chain (the committed data)")
     out.mkdir(parents=True, exist_ok=True)
+    if "--presets-only" in argv[1:]:  # run the [presets] catalogs only; every other section from data.json
+        from ._report_presets import preset_jobs
+
+        data = json.loads((out / "data.json").read_text())
+        t0 = time.perf_counter()
+        shared = {k: v for k, v in cfg["presets"].items() if k != "run"}
+        done = {json.dumps(x.get("run_cfg"), sort_keys=True): x for x in data.get("presets", [])
+                if data.get("presets_cfg") == shared and x.get("run_cfg")}
+        jobs = sorted(preset_jobs(cfg), key=lambda j: -j[2])
+        runs = [done[json.dumps(a[1], sort_keys=True)] for f, a, _ in jobs if json.dumps(a[1], sort_keys=True) in done]
+        jobs = [j for j in jobs if json.dumps(j[1][1], sort_keys=True) not in done]   # a run already in data.json is kept
+        with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
+            futures = [pool.submit(f, a) for f, a, _ in jobs]
+            for fut in futures:
+                runs.append(fut.result())
+                print(f"{time.perf_counter() - t0:6.0f} s  preset {runs[-1]['preset']}: {runs[-1]['cpu']:.0f} cpu s",
+                      file=sys.stderr, flush=True)
+        data["presets"] = sorted(runs, key=lambda x: (x["preset"], -x["parameters"]["nu_f"]))
+        data["presets_cfg"] = {k: v for k, v in cfg["presets"].items() if k != "run"}
+        data["presets_wall_seconds"] = time.perf_counter() - t0
+        data["workflow"] = path.read_text()
+        (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+        data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
+        _extra_stats(out, cfg, data, None)
+        _render(out, cfg, path, data)
+        return
     if "--from-data" in argv[1:]:     # re-render REPORT.md and figures from data.json, no runs
         data = json.loads((out / "data.json").read_text())
         data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
@@ -114,7 +148,8 @@ def main(argv=None) -> None:
     t0 = time.perf_counter()
     with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
         futures = [(f.__name__, pool.submit(f, a)) for f, a, _ in _jobs(cfg)]
-        results = {"_sweep": [], "_catalog": [], "_threshold": [], "_budgeted_catalog": [], "_sweep_small_nu": []}
+        results = {"_sweep": [], "_catalog": [], "_threshold": [], "_budgeted_catalog": [], "_sweep_small_nu": [],
+                   "_preset_catalog": []}
         for name, fut in futures:
             results[name].append(fut.result())
             r = results[name][-1]
@@ -126,6 +161,9 @@ def main(argv=None) -> None:
             "sweeps": _sweep_stats(results["_sweep"], cfg), "catalogs": [_catalog_stats(c) for c in results["_catalog"]],
             "threshold": sorted(results["_threshold"], key=lambda d: (d["ell"], d["end"]))}
     data["sweeps"]["runs"] = results["_sweep"]
+    if results["_preset_catalog"]:
+        data["presets"] = sorted(results["_preset_catalog"], key=lambda x: (x["preset"], -x["parameters"]["nu_f"]))
+        data["presets_cfg"] = {k: v for k, v in cfg["presets"].items() if k != "run"}
     for st, c in zip(data["catalogs"], results["_catalog"]):
         st["cpu"] = c["cpu"]
     data["catalogs"].sort(key=lambda d: (d["n"], d["nu_f"]))
@@ -147,6 +185,10 @@ def _render(out: Path, cfg, path: Path, data) -> None:
         from ._report_mfd import near_half_figure
 
         near_half_figure(out, data["near_half"])
+    if data.get("presets"):
+        from ._report_presets import presets_figure
+
+        presets_figure(out, data["presets"])
     old = out / "REPORT.md"
     speed = _section(old.read_text(), "## Speed") if old.exists() else ""
     old.write_text(report_text(cfg, path, data, data["wall_seconds"], speed))

@@ -15,7 +15,7 @@ from .model import CHAIN, REPORT_WORKFLOW
 
 __all__ = ["load_report_workflow"]
 
-_TABLES = ("study", "chain", "sweep", "catalog", "threshold", "near_half", "sweep_small_nu")
+_TABLES = ("study", "chain", "sweep", "catalog", "threshold", "near_half", "sweep_small_nu", "presets")
 _SWEEP = ("sizes", "seeds", "nu_f", "nu_f_max", "cycles_per_step", "transient_cycles", "max_events_per_step",
           "longest_event")
 #: Runs per N, steps, events: a typo such as 1e9 is refused here rather than run for days.
@@ -131,7 +131,41 @@ def load_report_workflow(path) -> dict:
         for name, check in checks.items():
             if small.has(name):
                 check()
+    presets = root.table("presets", ("transient_cycles", "bootstrap", "block_bootstrap", "resolution", "verify",
+                                     "run"), required=False)
+    if presets is not None:   # published parameter sets by the compiled engine (_report_presets.py)
+        _presets(presets)
     return doc
+
+
+def _presets(table: Table) -> None:
+    from .presets import preset_names
+
+    table.number("transient_cycles", 1.0, low=0)
+    table.integer("bootstrap", 10, low=1, high=10_000)
+    table.integer("block_bootstrap", 100, low=1, high=100_000)
+    table.integer("resolution", 10, low=1, high=1000)
+    table.number("verify", 0.0, low=0, high=1)
+    for run in table.tables("run", ("preset", "events", "nu", "nu_f", "ell", "n", "sigma", "ends", "amplitude",
+                                    "seed", "t_max", "why", "claim"), most=_MOST_LIST):
+        if run.string("preset") not in preset_names():
+            raise InputError(run.path("preset"), run.raw("preset"), "is not a preset",
+                             f"use one of {', '.join(preset_names())}")
+        run.integer("events", 10**5, **_axis("events"))
+        for name in ("nu", "nu_f", "ell", "sigma", "amplitude"):
+            if run.has(name):
+                run.number(name, **_axis(name))
+        if run.has("n"):
+            run.integer("n", **_axis("n"))
+        if run.has("seed"):
+            run.integer("seed", **_axis("seed"))
+        if run.has("ends") and run.string("ends") not in ENDS:
+            raise InputError(run.path("ends"), run.raw("ends"), "is not a kind of ends", f"use one of {', '.join(ENDS)}")
+        if run.has("t_max"):
+            run.number("t_max", above=0)
+        for name in ("why", "claim"):
+            if run.has(name):
+                run.string(name)
 
 
 def _sweep_lists(table: Table, *, nu_f_max: bool) -> None:

@@ -1,0 +1,80 @@
+"""The chain report's preset section and verdict table (issue 17, item 6;
+bifurcation/models/chain/_report_presets.py), from hand-made statistics: no runs, < 1 s."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from bifurcation.models.chain._report_presets import PRESET_RULES, _peak, preset_section, verdict_table
+
+
+def _run(preset, nu_f, fit=True, **kw):
+    par = {"n": 800, "ell": 3.0, "nu": 1e-5, "nu_f": nu_f, "sigma": 0.01, "ends": "periodic"}
+    x = {"preset": preset, "verified_preset": False, "overrides": {"nu": 1e-5}, "parameters": par, "why": "ν lowered",
+         "claim": "", "events": 1000, "status": "complete", "cpu_run": 1.0, "cpu_stats": 1.0, "cpu": 2.0,
+         "loading_cycles": 5.0, "transient_cycles": 1.0, "kept": 900,
+         "verify": {"checked": 2, "largest": 1e-13, "mismatched": 0},
+         "n_blocks": {"max": 800, "mean": 3.0, "spanning": 2, "large": 6, "one": 500},
+         "distinct_potencies": 900, "potency_range": [1e-3, 900.0], "relative_spread": 1.0,
+         "mfd": {"edges": [0.0, 0.1, 0.2], "counts": [5, 3]}, "peak": None,
+         "excess": {"large": 6, "p_large": 100.0, "observed_above": 30, "expected": 5.0, "ratio": 6.0}}
+    x["fit"] = ({"n": 900, "n_tail": 300, "xmin": 0.01, "alpha": 1.6, "alpha_err": 0.03, "alpha_block_err": 0.04,
+                 "block": 10, "ks": 0.02, "p": 0.0, "bootstrap": 10, "b_P": 0.6, "b_M": 0.9, "words": "",
+                 "ratios": {"exponential": [5.0, 1e-5], "lognormal": [-2.0, 0.04]}} if fit else None)
+    x.update(kw)
+    return x
+
+
+def test_the_verdict_table_has_one_row_per_claim_and_prints_its_rules():
+    data = {"presets": [_run("carlson-langer-1991", 0.2), _run("mori-kawamura-2006", 0.5),
+                        _run("mori-kawamura-2006", 0.25)]}
+    text = "\n".join(verdict_table({}, data, {"vas": "x", "vas_word": "**undecided**", "sak": "y"}))
+    rows = [r for r in text.splitlines() if r.startswith("| ") and not r.startswith("| claim")]
+    assert len(rows) == 5
+    for claim in ("Vasconcelos", "Carlson & Langer", "de Sousa Vieira", "Mori & Kawamura", "Sakaguchi"):
+        assert sum(r.split(" | ")[0].startswith("| " + claim) for r in rows) == 1
+    # unread papers and models not run are "not tested", whatever the numbers beside them
+    assert "**not tested**" in rows[2] and "**not tested**" in rows[3] and "**not tested** on its model" in rows[4]
+    # CL: p = 0 rules the power law out; 6 ≥ N/2 events, 6× the prediction: an excess by the printed rule
+    assert "power law ruled out" in rows[1] and "**excess**" in rows[1] and "not a test of the paper" in rows[1]
+    # a tail of less than one decade above x_min is not read as a power law
+    short = _run("carlson-langer-1991", 0.2, potency_range=[1e-3, 0.05])
+    text = "\n".join(verdict_table({}, {"presets": [short]}, {}))
+    assert "no scaling range" in text and "power law ruled out" not in text
+    assert "Rules: " + PRESET_RULES in text
+    # MK reports both α, the larger ν_f (α = 1) first
+    assert rows[3].index("α = 1:") < rows[3].index("α = 2:")
+
+
+def test_a_repeated_single_event_is_not_fitted():
+    x = _run("vasconcelos-1996", 0.5, fit=False, relative_spread=3e-14, potency_range=[0.198, 0.198])
+    text = "\n".join(preset_section({"presets": [x]}))
+    assert "no size distribution to fit" in text and "3.0e-14" in text
+
+
+_BODY = [1000, 600, 400, 300, 200, 150, 100, 80, 60, 50]     # the mode, then a decade of decay
+
+
+@pytest.mark.parametrize("tail,peak", [([40, 30, 20, 60, 90, 70, 20], 1.4),   # rises again: 90 vs 20 (> 3σ = 31)
+                                       ([40, 30, 20, 15, 10, 5, 2], None),    # monotone
+                                       ([40, 30, 20, 25, 30, 20, 10], None),  # 30 vs 20: within 3σ (21)
+                                       ([90, 30, 20, 10, 10, 5, 2], None)])   # above the mode's decade only falls
+def test_the_characteristic_peak_rule(tail, peak):
+    counts = _BODY + tail
+    edges = [i / 10 for i in range(len(counts) + 1)]
+    got = _peak(edges, counts)
+    assert (got is None) == (peak is None)
+    if peak is not None:
+        assert got["m"] == pytest.approx(peak) and got["m_low"] == pytest.approx(1.2)
+
+
+def test_presets_only_needs_the_full_run_data(tmp_path):
+    # --presets-only takes every other section from DIR/data.json: without it, one line and nothing run
+    from bifurcation.models.chain.report import main
+
+    wf = Path(__file__).resolve().parents[1] / "workflows" / "chain-report.toml"   # (checked whole first)
+    with pytest.raises(SystemExit, match="--presets-only: .*data.json does not exist"):
+        main([str(wf), "--out", str(tmp_path / "o"), "--presets-only"])
+    assert not (tmp_path / "o").exists()
