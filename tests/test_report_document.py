@@ -19,15 +19,13 @@ def test_a_section_reads_as_its_heading_then_its_blocks():
         [("Study report: 'x'", 1), ("Store s", 2), ("Law carlson-langer", 3)]
 
 
-def test_the_renderer_writes_the_same_markdown_for_typed_blocks_and_the_older_tuples():
-    # the chain's store section still builds tuples: both forms must give one text, byte for byte
-    tuples = [("h1", "Study report: 'x'"), ("p", "units: $\\nu$ in V0."), ("h2", "Store s"),
-              ("table", ["law", "points"], [["carlson-langer", "3"]]), ("h3", "Law carlson-langer"),
-              ("ul", ["one", "two"])]
-    assert _markdown(_tree()) == _markdown(tuples)
+def test_the_renderer_writes_the_markdown_of_the_tree_and_refuses_what_is_not_a_block():
     assert _markdown(_tree()) == ("# Study report: 'x'\n\nunits: $\\nu$ in V0.\n\n## Store s\n\n"
                                   "| law | points |\n|---|---|\n| carlson-langer | 3 |\n\n"
                                   "### Law carlson-langer\n\n- one\n- two\n")
+    # the older ("table", head, rows) tuples are gone: every report builds typed blocks
+    with pytest.raises(TypeError, match="not a report block"):
+        _markdown([("p", "text")])
 
 
 def test_html_embeds_the_figure_and_takes_its_title_from_the_first_heading(tmp_path):

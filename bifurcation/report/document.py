@@ -7,8 +7,7 @@ blocks. Text may hold the inline math of ``report._math`` ($...$, x_i, ...).
 
 Every report is built of these blocks: the paper's (``report.render``), the one of any store
 (``report.study``), the rate-state study's (``models.rate_state.report``) and the models' store
-sections. ``flatten`` still reads the older tuples (``("table", head, rows)``) for a section that has
-not moved over yet (the chain's store section).
+sections; anything else is refused (``flatten``: a TypeError naming the block).
 """
 
 from __future__ import annotations
@@ -92,21 +91,13 @@ class Section:
 
 Block = Heading | Paragraph | Items | Table | Figure | Section
 
-_TUPLES = {"h1": lambda text: Heading(text, 1), "h2": lambda text: Heading(text, 2),
-           "h3": lambda text: Heading(text, 3), "p": Paragraph, "ul": Items, "table": Table, "figure": Figure}
-
-
 def flatten(blocks) -> list:
-    """The leaves of ``blocks`` in reading order: a ``Section`` becomes its ``Heading`` then its blocks; an
-    older tuple block (``("p", text)``, ``("table", head, rows)``, ...) becomes its typed block."""
+    """The leaves of ``blocks`` in reading order: a ``Section`` becomes its ``Heading`` then its blocks."""
     out = []
     for block in blocks:
         if isinstance(block, Section):
             out.append(Heading(block.title, block.level))
             out.extend(flatten(block.blocks))
-        elif isinstance(block, tuple):
-            kind, *rest = block
-            out.append(_TUPLES[kind](*rest))
         elif isinstance(block, (Heading, Paragraph, Items, Table, Figure)):
             out.append(block)
         else:
@@ -120,7 +111,7 @@ def _md_cell(text: str) -> str:
 
 
 def to_markdown(blocks) -> str:
-    """``blocks`` (typed blocks and sections, or the older tuples) as Markdown: one blank line between blocks."""
+    """``blocks`` as Markdown: one blank line between blocks."""
     out = []
     for block in flatten(blocks):
         if isinstance(block, Heading):

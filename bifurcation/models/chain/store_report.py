@@ -58,13 +58,15 @@ def chain_store_blocks(ds, model, out=None, figures=None, stem: str = "store") -
         if r >= MAX_RUNS:
             continue
         rows.append([*cells, names.get(int(status[index]), str(int(status[index]))), str(k), mean_p, big, spanning])
-    blocks = [("h3", "Chain runs and their catalogs"),
-              ("p", f"{len(runs)} of {done.size} runs done; per-event catalogs are read with "
+    from ...report.document import Figure, Heading, Paragraph, Table
+
+    blocks = [Heading("Chain runs and their catalogs", 3),
+              Paragraph(f"{len(runs)} of {done.size} runs done; per-event catalogs are read with "
                     "`bifurcation query --store S --catalog` (one run) or `bifurcation.store.catalog.read_catalog`."
                     + (f" The first {MAX_RUNS} runs are listed." if len(runs) > MAX_RUNS else ""))]
     if rows:
-        blocks.append(("table", [*varying, "status", "events", "mean potency", "largest event (blocks)",
-                                 "system-spanning share"], rows))
+        blocks.append(Table([*varying, "status", "events", "mean potency", "largest event (blocks)",
+                             "system-spanning share"], rows))
     if out is not None and curves:
         from pathlib import Path
 
@@ -74,7 +76,7 @@ def chain_store_blocks(ds, model, out=None, figures=None, stem: str = "store") -
         F.save(_figure_mfd(curves), Path(out) / name)
         if figures is not None:
             figures.append(Path(out) / name)
-        blocks.append(("figure", name, f"Magnitude–frequency of {len(curves)} of the {len(runs)} runs: the number "
+        blocks.append(Figure(name, f"Magnitude–frequency of {len(curves)} of the {len(runs)} runs: the number "
                                        "of catalogued events with potency ≥ P (every event of the catalog, "
                                        "the transient included)."))
     return blocks
