@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from bifurcation.models.chain._report_presets import PRESET_RULES, _peak, preset_section, verdict_table
+from bifurcation.report.document import Table, flatten, to_markdown
 
 
 def _run(preset, nu_f, fit=True, **kw):
@@ -30,18 +31,19 @@ def _run(preset, nu_f, fit=True, **kw):
 def test_the_verdict_table_has_one_row_per_claim_and_prints_its_rules():
     data = {"presets": [_run("carlson-langer-1991", 0.2), _run("mori-kawamura-2006", 0.5),
                         _run("mori-kawamura-2006", 0.25)]}
-    text = "\n".join(verdict_table({}, data, {"vas": "x", "vas_word": "**undecided**", "sak": "y"}))
-    rows = [r for r in text.splitlines() if r.startswith("| ") and not r.startswith("| claim")]
-    assert len(rows) == 5
+    blocks = verdict_table({}, data, {"vas": "x", "vas_word": "**undecided**", "sak": "y"})
+    (table,) = [b for b in flatten(blocks) if isinstance(b, Table)]
+    assert table.head == ("claim", "run and numbers", "verdict") and len(table.rows) == 5
     for claim in ("Vasconcelos", "Carlson & Langer", "de Sousa Vieira", "Mori & Kawamura", "Sakaguchi"):
-        assert sum(r.split(" | ")[0].startswith("| " + claim) for r in rows) == 1
+        assert sum(r[0].startswith(claim) for r in table.rows) == 1
+    rows = [" | ".join(r) for r in table.rows]
     # unread papers and models not run are "not tested", whatever the numbers beside them
     assert "**not tested**" in rows[2] and "**not tested**" in rows[3] and "**not tested** on its model" in rows[4]
     # CL: p = 0 rules the power law out; 6 ≥ N/2 events, 6× the prediction: an excess by the printed rule
     assert "power law ruled out" in rows[1] and "**excess**" in rows[1] and "not a test of the paper" in rows[1]
     # a tail of less than one decade above x_min is not read as a power law
     short = _run("carlson-langer-1991", 0.2, potency_range=[1e-3, 0.05])
-    text = "\n".join(verdict_table({}, {"presets": [short]}, {}))
+    text = to_markdown(verdict_table({}, {"presets": [short]}, {}))
     assert "no scaling range" in text and "power law ruled out" not in text
     assert "Rules: " + PRESET_RULES in text
     # MK reports both α, the larger ν_f (α = 1) first
@@ -50,7 +52,7 @@ def test_the_verdict_table_has_one_row_per_claim_and_prints_its_rules():
 
 def test_a_repeated_single_event_is_not_fitted():
     x = _run("vasconcelos-1996", 0.5, fit=False, relative_spread=3e-14, potency_range=[0.198, 0.198])
-    text = "\n".join(preset_section({"presets": [x]}))
+    text = to_markdown(preset_section({"presets": [x]}))
     assert "no size distribution to fit" in text and "3.0e-14" in text
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from ...report.document import Figure, Paragraph, Section, Table
 from .scaling import MERGED
 
 __all__ = ["near_half_section", "small_nu_section", "verdict_notes"]
@@ -30,9 +31,9 @@ def _law(f) -> str:
 
 
 def near_half_section(cfg, nh) -> list:
-    """The report section (markdown lines)."""
+    """The report section (typed blocks)."""
     c = cfg["near_half"]
-    L = ["## Magnitude–frequency near ν_f = 1/2 and its finite-size scaling", "",
+    B = [Paragraph(
          "Large groups of blocks keep the single block's threshold ν_f = 1/2 (their softest mode feels the "
          "pulling springs only, docs/chain.md \"Threshold\"), so this is where Mori & Kawamura place near-critical "
          "behaviour. One catalog per (ν, ν_f, N) from the seeded random start (seed "
@@ -47,38 +48,40 @@ def near_half_section(cfg, nh) -> list:
          "means (scaling.moment_cutoff; docs/chain.md \"Cutoff and finite-size scaling\"). Spanning: "
          "n_blocks = N, σ = √k/events. Slipping fraction: Σ duration / elapsed time; an event ends only when "
          "the whole chain is stuck, so where this is near 1 one catalogued event holds many separate slips "
-         "(the events per block and loading cycle fall with N) and its potency adds them up.", "", "![mfd near 1/2](fig_mfd_half.png)", "",
-         "| ν | ν_f | N | cycles (asked) | events | cut | b (Page) [m range] | tapered b | P_corner | tapered KS / crit | "
-         "largest P (n_blocks, cycles) | ⟨P⟩ | P_c = ⟨P²⟩/⟨P⟩ | spanning: count, fraction (per cycle) | "
-         "excess over GR | slipping fraction (events per block and cycle) | CPU s |", "|" + "---|" * 17]
+         "(the events per block and loading cycle fall with N) and its potency adds them up."),
+         Figure("fig_mfd_half.png", alt="mfd near 1/2")]
+    rows = []
     for r in nh["rows"]:
-        head = f"| {r['nu']:g} | {r['nu_f']:g} | {r['n']} | {r['cycles']:.1f} ({r['cycles_asked']:g}) | {r['events']} | {r['cut']} |"
+        head = [f"{r['nu']:g}", f"{r['nu_f']:g}", f"{r['n']}", f"{r['cycles']:.1f} ({r['cycles_asked']:g})",
+                f"{r['events']}", f"{r['cut']}"]
         if not r.get("fit"):
-            L.append(head + " fewer than 20 events" + " |" * 10 + f" {r['cpu']:.0f} |")
+            rows.append([*head, "fewer than 20 events", *[""] * 9, f"{r['cpu']:.0f}"])
             continue
         f, t, m, lg = r["fit"], r["tapered"], r["moments"], r["largest"]
-        L.append(head + f" {_pm(f['b'], f['sigma'])} [{f['m_min']:.1f}, {f['m_max']:.1f}] | {_pm(t['b'], t['b_sigma'])} | "
-                 f"{_g(t['corner'], t['corner_sigma'])} | {t['ks']:.3f} / {t['ks_crit']:.3f} | "
-                 f"{lg['potency']:.3g} ({lg['n_blocks']}, {lg['duration_cycles']:.2f}) | {_g(m['mean'], m['mean_sigma'])} | "
-                 f"{_g(m['cutoff'], m['cutoff_sigma'])} | {r['span_count']}, {r['span_fraction']:.2g} "
-                 f"({r['span_per_cycle']:.2g}) | {r['spanning']['excess']:.3g} | {r['slip_fraction']:.2f} "
-                 f"({r['events_per_block_cycle']:.3g}) | {r['cpu']:.0f} |")
-    L += ["", "Finite-size fits over N (analysis.finite_size_fit, power law y = A N^a with a = −θ, weighted on "
+        rows.append([*head, f"{_pm(f['b'], f['sigma'])} [{f['m_min']:.1f}, {f['m_max']:.1f}]", _pm(t["b"], t["b_sigma"]),
+                     _g(t["corner"], t["corner_sigma"]), f"{t['ks']:.3f} / {t['ks_crit']:.3f}",
+                     f"{lg['potency']:.3g} ({lg['n_blocks']}, {lg['duration_cycles']:.2f})", _g(m["mean"], m["mean_sigma"]),
+                     _g(m["cutoff"], m["cutoff_sigma"]), f"{r['span_count']}, {r['span_fraction']:.2g} "
+                     f"({r['span_per_cycle']:.2g})", f"{r['spanning']['excess']:.3g}", f"{r['slip_fraction']:.2f} "
+                     f"({r['events_per_block_cycle']:.3g})", f"{r['cpu']:.0f}"])
+    B += [Table(["ν", "ν_f", "N", "cycles (asked)", "events", "cut", "b (Page) [m range]", "tapered b", "P_corner",
+                 "tapered KS / crit", "largest P (n_blocks, cycles)", "⟨P⟩", "P_c = ⟨P²⟩/⟨P⟩",
+                 "spanning: count, fraction (per cycle)", "excess over GR",
+                 "slipping fraction (events per block and cycle)", "CPU s"], rows),
+          Paragraph("Finite-size fits over N (analysis.finite_size_fit, power law y = A N^a with a = −θ, weighted on "
           "ln y; spanning fraction over the sizes with at least one spanning event) and the reading "
           "(scaling.mfd_reading: *critical-like* = the cutoff grows with N and one tapered power law with the "
           "same b > 0 fits every N without a spanning excess; *characteristic-size* = an exponential law (b ≈ 0) "
           "at the largest N, or spanning events in excess of the power law with a spanning fraction that "
-          "does not decrease with N):", "",
-          "| ν | ν_f | cutoff P_c | mean ⟨P⟩ | spanning fraction | reading |", "|---|---|---|---|---|---|"]
-    for g in nh["groups"]:
-        f = g["fss"]
-        L.append(f"| {g['nu']:g} | {g['nu_f']:g} | {_law(f['cutoff'])} | {_law(f['mean'])} | {_law(f['span'])} | "
-                 f"**{g['reading'][0]}**: {g['reading'][1]} |")
-    L += _summary(nh)
-    L += _patch_section(nh)
-    L += _nu_comparison(nh)
-    L.append("")
-    return L
+          "does not decrease with N):"),
+          Table(["ν", "ν_f", "cutoff P_c", "mean ⟨P⟩", "spanning fraction", "reading"], _group_rows(nh["groups"]))]
+    B += _summary(nh) + _patch_section(nh) + _nu_comparison(nh)
+    return [Section("Magnitude–frequency near ν_f = 1/2 and its finite-size scaling", B)]
+
+
+def _group_rows(groups) -> list:
+    return [[f"{g['nu']:g}", f"{g['nu_f']:g}", _law(g["fss"]["cutoff"]), _law(g["fss"]["mean"]), _law(g["fss"]["span"]),
+             f"**{g['reading'][0]}**: {g['reading'][1]}"] for g in groups]
 
 
 def _patch_section(nh) -> list:
@@ -87,34 +90,32 @@ def _patch_section(nh) -> list:
     if not rows:
         return []
     events = {(r["nu"], r["nu_f"], r["n"]): r["events"] for r in nh["rows"]}
-    L = ["", "### By connected slip patches", "",
+    B = [Paragraph(
          "Each catalogued event cut into its connected slip patches: runs of adjacent blocks that moved "
          "(U_j(end) − U_j(start) > 0), separated by blocks that did not (scaling.slip_clusters; a stuck block "
          "transmits no slip, so two patches never interacted within the event). A patch has the potency and "
          "block count of its run; a patch of N blocks spans the chain. Slips at the same place at different "
          "times of one event still add up in one patch. The same statistics, fits and rules as above, "
-         "without the merged-events rule:", "",
-         "| ν | ν_f | N | events → patches | b (Page) | tapered b | P_corner | tapered KS / crit | largest patch P "
-         "(blocks) | P_c = ⟨P²⟩/⟨P⟩ | spanning patches per cycle | excess over GR |", "|" + "---|" * 12]
-    for r in rows:
-        f, t, m, lg = r["fit"], r["tapered"], r["moments"], r["largest"]
-        L.append(f"| {r['nu']:g} | {r['nu_f']:g} | {r['n']} | {events[(r['nu'], r['nu_f'], r['n'])]} → {r['events']} | "
-                 f"{_pm(f['b'], f['sigma'])} | {_pm(t['b'], t['b_sigma'])} | {_g(t['corner'], t['corner_sigma'])} | "
-                 f"{t['ks']:.3f} / {t['ks_crit']:.3f} | {lg['potency']:.3g} ({lg['n_blocks']}) | "
-                 f"{_g(m['cutoff'], m['cutoff_sigma'])} | {r['span_per_cycle']:.2g} | {r['spanning']['excess']:.3g} |")
-    L += ["", "In words, per N over the (ν, ν_f) near 1/2: " + "; ".join(
+         "without the merged-events rule:"),
+         Table(["ν", "ν_f", "N", "events → patches", "b (Page)", "tapered b", "P_corner", "tapered KS / crit",
+                "largest patch P (blocks)", "P_c = ⟨P²⟩/⟨P⟩", "spanning patches per cycle", "excess over GR"],
+               [[f"{r['nu']:g}", f"{r['nu_f']:g}", f"{r['n']}", f"{events[(r['nu'], r['nu_f'], r['n'])]} → {r['events']}",
+                 _pm(r["fit"]["b"], r["fit"]["sigma"]), _pm(r["tapered"]["b"], r["tapered"]["b_sigma"]),
+                 _g(r["tapered"]["corner"], r["tapered"]["corner_sigma"]),
+                 f"{r['tapered']['ks']:.3f} / {r['tapered']['ks_crit']:.3f}",
+                 f"{r['largest']['potency']:.3g} ({r['largest']['n_blocks']})",
+                 _g(r["moments"]["cutoff"], r["moments"]["cutoff_sigma"]), f"{r['span_per_cycle']:.2g}",
+                 f"{r['spanning']['excess']:.3g}"] for r in rows]),
+         Paragraph("In words, per N over the (ν, ν_f) near 1/2: " + "; ".join(
         f"N = {n}: tapered b {_span([r['tapered']['b'] for r in rs])}, KS rejects it in "
         f"{sum(r['tapered']['ks'] > r['tapered']['ks_crit'] for r in rs)} of {len(rs)}, P_c = "
         f"{_span([r['moments']['cutoff'] for r in rs], '{:.3g}')}, largest patch "
         f"{_span([r['largest']['potency'] for r in rs], '{:.3g}')} ({_span([r['largest']['n_blocks'] for r in rs], '{:.0f}')} "
         f"blocks), spanning patches {_span([r['span_per_cycle'] for r in rs])} per cycle"
-        for n in sorted({r["n"] for r in rows}) for rs in [[r for r in rows if r["n"] == n]]) + "."]
-    L += ["", "| ν | ν_f | patch cutoff P_c | mean patch ⟨P⟩ | spanning fraction | reading |", "|---|---|---|---|---|---|"]
-    for g in nh["patch_groups"]:
-        f = g["fss"]
-        L.append(f"| {g['nu']:g} | {g['nu_f']:g} | {_law(f['cutoff'])} | {_law(f['mean'])} | {_law(f['span'])} | "
-                 f"**{g['reading'][0]}**: {g['reading'][1]} |")
-    return L
+        for n in sorted({r["n"] for r in rows}) for rs in [[r for r in rows if r["n"] == n]]) + "."),
+         Table(["ν", "ν_f", "patch cutoff P_c", "mean patch ⟨P⟩", "spanning fraction", "reading"],
+               _group_rows(nh["patch_groups"]))]
+    return [Section("By connected slip patches", B, level=3)]
 
 
 def _span(xs, fmt="{:.2g}") -> str:
@@ -131,7 +132,7 @@ def _summary(nh) -> list:
     if not rows:
         return []
     sizes = sorted({r["n"] for r in rows})
-    L = ["", "**In words.**"]
+    L = ["**In words.**"]
     for n in sizes:
         rs = [r for r in rows if r["n"] == n]
         ks_fail = sum(r["tapered"]["ks"] > r["tapered"]["ks_crit"] for r in rs)
@@ -162,7 +163,7 @@ def _summary(nh) -> list:
                  f"characteristic-size, {words.count('undecided')} undecided of {len(words)}"
                  + ("; the patches below cut each event at the blocks that did not move." if nh.get("patch_rows")
                     else "; telling the two pictures apart needs events defined by connected slip."))
-    return L
+    return [Paragraph("\n".join(L))]
 
 
 def _nu_comparison(nh) -> list:
@@ -178,39 +179,38 @@ def _nu_comparison(nh) -> list:
         return []
     def ratio(f):
         return _span([f(b) / f(a) for a, b in pairs if f(a) > 0])
-    L = ["", f"The same (ν_f, N) at ν = {hi:g} and ν = {lo:g} (first / second value). From ν = {hi:g} to {lo:g}, "
+    head = (f"The same (ν_f, N) at ν = {hi:g} and ν = {lo:g} (first / second value). From ν = {hi:g} to {lo:g}, "
          f"events per loading cycle × {ratio(lambda r: r['events'] / r['cycles'])}, ⟨P⟩ × "
          f"{ratio(lambda r: r['moments']['mean'])} (the many creep events of lone blocks, ν_f > ν_f*, whose "
          f"potency is O(ν)), P_c × {ratio(lambda r: r['moments']['cutoff'])}, tapered b × "
-         f"{ratio(lambda r: r['tapered']['b'])}, slipping fraction × {ratio(lambda r: r['slip_fraction'])}:", "",
-         "| ν_f | N | events per cycle | 1-block events | ⟨P⟩ | P_c | tapered b | spanning per cycle | longest event (cycles) |",
-         "|---|---|---|---|---|---|---|---|---|"]
+         f"{ratio(lambda r: r['tapered']['b'])}, slipping fraction × {ratio(lambda r: r['slip_fraction'])}:")
+    rows = []
     for a, b in pairs:
         def two(f, fmt):
             return f"{fmt(f(a))} / {fmt(f(b))}"
-        L.append(f"| {a['nu_f']:g} | {a['n']} | {two(lambda r: r['events'] / r['cycles'], lambda x: f'{x:.3g}')} | "
-                 f"{two(lambda r: r['one_block_fraction'], lambda x: f'{100 * x:.0f} %')} | "
-                 f"{two(lambda r: r['moments']['mean'], lambda x: f'{x:.3g}')} | "
-                 f"{two(lambda r: r['moments']['cutoff'], lambda x: f'{x:.3g}')} | "
-                 f"{two(lambda r: (r['tapered']['b'], r['tapered']['b_sigma']), lambda x: _pm(*x))} | "
-                 f"{two(lambda r: r['span_per_cycle'], lambda x: f'{x:.2g}')} | "
-                 f"{two(lambda r: r['largest']['duration_cycles'], lambda x: f'{x:.2f}')} |")
-    return L
+        rows.append([f"{a['nu_f']:g}", f"{a['n']}", two(lambda r: r["events"] / r["cycles"], lambda x: f"{x:.3g}"),
+                     two(lambda r: r["one_block_fraction"], lambda x: f"{100 * x:.0f} %"),
+                     two(lambda r: r["moments"]["mean"], lambda x: f"{x:.3g}"),
+                     two(lambda r: r["moments"]["cutoff"], lambda x: f"{x:.3g}"),
+                     two(lambda r: (r["tapered"]["b"], r["tapered"]["b_sigma"]), lambda x: _pm(*x)),
+                     two(lambda r: r["span_per_cycle"], lambda x: f"{x:.2g}"),
+                     two(lambda r: r["largest"]["duration_cycles"], lambda x: f"{x:.2f}")])
+    return [Paragraph(head), Table(["ν_f", "N", "events per cycle", "1-block events", "⟨P⟩", "P_c", "tapered b",
+                                    "spanning per cycle", "longest event (cycles)"], rows)]
 
 
 def small_nu_section(cfg, small, main) -> list:
     """D (up branch) per ν_f at the small ν beside the main ν for the same N, and jump / loop width."""
     nu0, nu1 = cfg["chain"]["nu"], cfg["sweep_small_nu"]["nu"]
     grid = small["table"][0]["nu_f"]
-    L = [f"### The sweep at ν = {nu1:g} against ν = {nu0:g}", "",
+    B = [Paragraph(
          f"The same ν_f sweep (up, then down) at ν = {nu1:g} for the small chains "
          f"(`[sweep_small_nu]`: N = {', '.join(str(r['n']) for r in small['table'])}, seeds "
          f"{', '.join(str(r['seeds']) for r in small['table'])}, steps of "
          f"{', '.join(f'{x:g}' for x in cfg['sweep_small_nu']['cycles_per_step'])} loading cycles). D on the up branch "
          "(mean ± standard error over seeds); the single block's D → 0 for ν_f > 1/2 and a lone block's slip → 0 "
-         "above ν_f* as ν → 0, so the curves sharpen where they are first-order-like:", "",
-         "| N | ν | " + " | ".join(f"{x:g}" for x in grid) + " | D jump (at) | D loop width (at) | events | CPU s |",
-         "|---|---|" + "---|" * len(grid) + "---|---|---|---|"]
+         "above ν_f* as ν → 0, so the curves sharpen where they are first-order-like:")]
+    rows = []
     by_n = {r["n"]: r for r in main["table"]}
     for r in small["table"]:
         for nu, row in ((nu0, by_n.get(r["n"])), (nu1, r)):
@@ -219,11 +219,12 @@ def small_nu_section(cfg, small, main) -> list:
             d = row["slip_per_block"]
             cells = [_pm(d["up"][row["nu_f"].index(x)], d["se_up"][row["nu_f"].index(x)], 3)
                      if x in row["nu_f"] and math.isfinite(d["up"][row["nu_f"].index(x)]) else "" for x in grid]
-            L.append(f"| {r['n']} | {nu:g} | " + " | ".join(cells) +
-                     f" | {_pm(d['jump_sign'] * d['jump'], d['jump_sigma'], 3)} ({d['jump_at'][0]:g}→{d['jump_at'][1]:g}) | "
-                     f"{_pm(d['width'], d['width_sigma'], 3)} ({d['width_at']:g}) | {row['events']} | {row['seconds']:.0f} |")
-    L.append("")
-    return L
+            rows.append([f"{r['n']}", f"{nu:g}", *cells,
+                         f"{_pm(d['jump_sign'] * d['jump'], d['jump_sigma'], 3)} ({d['jump_at'][0]:g}→{d['jump_at'][1]:g})",
+                         f"{_pm(d['width'], d['width_sigma'], 3)} ({d['width_at']:g})", f"{row['events']}",
+                         f"{row['seconds']:.0f}"])
+    B.append(Table(["N", "ν", *(f"{x:g}" for x in grid), "D jump (at)", "D loop width (at)", "events", "CPU s"], rows))
+    return [Section(f"The sweep at ν = {nu1:g} against ν = {nu0:g}", B, level=3)]
 
 
 def verdict_notes(cfg, data) -> dict:

@@ -15,6 +15,8 @@ import time
 
 import numpy as np
 
+from ...report.document import Figure, Paragraph, Section, Table
+
 __all__ = ["PRESET_RULES", "preset_jobs", "preset_section", "verdict_table"]
 
 #: the rules of the verdict words, printed beside the table
@@ -180,8 +182,7 @@ def preset_section(data) -> list:
     runs = data.get("presets") or []
     if not runs:
         return []
-    L = ["## Published parameter sets (presets): catalogs of 10^6 events", "",
-         "One catalog per row, compiled engine (`bifurcation.chain(preset=..., engine=\"compiled\")`, "
+    intro = ("One catalog per row, compiled engine (`bifurcation.chain(preset=..., engine=\"compiled\")`, "
          "docs/chain.md \"Engines\") from the seeded random start (amplitude 0.1, seed 1); events of the first "
          f"{runs[0]['transient_cycles']:g} loading cycle(s) dropped. Sizes are potencies P; the fits are "
          "Clauset–Shalizi–Newman's through `powerlaw` (`clauset.clauset_fit`, x_min searched over "
@@ -200,9 +201,8 @@ def preset_section(data) -> list:
          + "The catalogs are chaotic event sequences: which event comes when, and so every digit of an individual "
          "event, depends on the CPU's rounding and instruction set (numba and heyoka compile for the host CPU); the counts, α, b, p and the ratios "
          "move with the CPU within their errors only, and the verify column (the compiled engine against the "
-         "exact one from the same state) is a rounding-level figure whose digits depend on the CPU.", "",
-         "| preset (run as) | events (kept) | loading cycles | CPU s (run + stats) | verify: events re-run by the exact engine, largest difference | sizes: mean / max n_blocks, spanning, ≥ N/2 | CSN fit | large-event excess | peak |",
-         "|---|---|---|---|---|---|---|---|---|"]
+         "exact one from the same state) is a rounding-level figure whose digits depend on the CPU.")
+    rows = []
     for x in runs:
         nb, v = x["n_blocks"], x["verify"]
         ex = x.get("excess") or {}
@@ -210,12 +210,17 @@ def preset_section(data) -> list:
         pk = _peak(x["mfd"]["edges"], x["mfd"]["counts"]) if x.get("fit") else None
         peak = "–" if x.get("fit") is None else ("none" if not pk else f"m = {pk['m']:.1f}: {pk['count']} events "
                                                  f"against {pk['low']} at m = {pk['m_low']:.1f}")
-        L.append(f"| `{x['preset']}` ({_par(x)}){'; ' + x['why'] if x['why'] else ''} | {x['events']} ({x['kept']}), "
-                 f"{x['status']} | {x['loading_cycles']:.2f} | {x['cpu_run']:.0f} + {x['cpu_stats']:.0f} | "
-                 f"{v['checked']}, {v['largest']:.1e}{', ' + str(v['mismatched']) + ' differ in size' if v['mismatched'] else ''} | "
-                 f"{nb['mean']:.2f} / {nb['max']}, {nb['spanning']}, {nb['large']} | {_fit_cell(x)} | {exc} | {peak} |")
-    L += ["", "![magnitude-frequency of the preset catalogs](fig_presets.png)", ""]
-    return L
+        rows.append([f"`{x['preset']}` ({_par(x)}){'; ' + x['why'] if x['why'] else ''}",
+                     f"{x['events']} ({x['kept']}), {x['status']}", f"{x['loading_cycles']:.2f}",
+                     f"{x['cpu_run']:.0f} + {x['cpu_stats']:.0f}",
+                     f"{v['checked']}, {v['largest']:.1e}{', ' + str(v['mismatched']) + ' differ in size' if v['mismatched'] else ''}",
+                     f"{nb['mean']:.2f} / {nb['max']}, {nb['spanning']}, {nb['large']}", _fit_cell(x), exc, peak])
+    return [Section("Published parameter sets (presets): catalogs of 10^6 events", [
+        Paragraph(intro),
+        Table(["preset (run as)", "events (kept)", "loading cycles", "CPU s (run + stats)",
+               "verify: events re-run by the exact engine, largest difference",
+               "sizes: mean / max n_blocks, spanning, ≥ N/2", "CSN fit", "large-event excess", "peak"], rows),
+        Figure("fig_presets.png", alt="magnitude-frequency of the preset catalogs")])]
 
 
 def verdict_table(cfg, data, old_rows: dict) -> list:
@@ -280,14 +285,12 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
                  "its model has friction with a state variable (its abstract); the chains here have velocity-only "
                  "friction. On the σ = 0 Carlson–Langer chains: " + old_rows.get("sak", "–"),
                  "**not tested** on its model"))
-    L = ["## Verdict table (issue 17): one row per claim, each on its own model", "",
-         "| claim | run and numbers | verdict |", "|---|---|---|"]
-    L += [f"| {a} | {b} | {c} |" for a, b, c in rows]
-    L += ["", "Rules: " + PRESET_RULES + ". Published numbers beside ours: none could be read for these claims "
+    return [Section("Verdict table (issue 17): one row per claim, each on its own model", [
+        Table(["claim", "run and numbers", "verdict"], rows),
+        Paragraph("Rules: " + PRESET_RULES + ". Published numbers beside ours: none could be read for these claims "
           "(CL 1989's abstract: sizes \"consistent with the Gutenberg-Richter law\", no b; MK's and CLST's texts "
           "were not found; Sakaguchi–Morita arXiv:1309.4583 give b ≈ 2/3 for another, heterogeneous, model), so "
-          "no row compares digits with a paper.", ""]
-    return L
+          "no row compares digits with a paper.")])]
 
 
 def presets_figure(out, runs) -> None:

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["fss_words", "report_text"]
+from ...report.document import Figure, Paragraph, Section, Table
+
+__all__ = ["fss_words", "report_blocks"]
 
 
 def _pm(x, s, d=3) -> str:
@@ -39,11 +41,15 @@ def fss_words(f: dict) -> tuple[str, str]:
     return "undecided", "neither a constant nor a power law fits the scatter: " + fits
 
 
-def report_text(cfg, path, data, wall, speed: str) -> str:
+def report_blocks(cfg, path, data, wall, speed: list) -> list:
+    """The report as typed blocks (``report.document``); ``speed``: the blocks of a "## Speed" section
+    carried over from an earlier REPORT.md (none if empty)."""
+    from ...report.document import Heading, Paragraph
+
     c, sw = cfg["chain"], data["sweeps"]
     ell = float(c["ell"])
     star = 0.5 / math.sqrt(1 + 2 * ell**2)
-    L = ["# Burridge–Knopoff chains, event-exact: report", "",
+    B = [Heading("Burridge–Knopoff chains, event-exact: report", 1), Paragraph(
          f"Produced by `bifurcation study chain {path}` in {wall:.0f} s of wall "
          f"time on {cfg['study'].get('workers', 2)} worker processes"
          + (f", {data['cpu_seconds']:.0f} CPU seconds in all (5-minute load average "
@@ -58,71 +64,71 @@ def report_text(cfg, path, data, wall, speed: str) -> str:
          "All numbers: [data.json](data.json)."
          + (" The sections before \"Published parameter sets\" come from that full run; the preset catalogs and "
             "the verdict table were added by `--presets-only` (same workflow, its `[presets]` section)."
-            if data.get("presets_wall_seconds") else ""), ""]
-    L += _threshold_section(data, c)
-    L += _order_section(cfg, data, sw, star)
+            if data.get("presets_wall_seconds") else ""))]
+    B += _threshold_section(data, c)
+    B += _order_section(cfg, data, sw, star)
     from ._report_mfd_text import near_half_section, small_nu_section
 
     if data.get("sweeps_small_nu", {}).get("table"):
-        L += small_nu_section(cfg, data["sweeps_small_nu"], sw)
-    L += _mfd_section(data)
+        B += small_nu_section(cfg, data["sweeps_small_nu"], sw)
+    B += _mfd_section(data)
     if data.get("near_half"):
-        L += near_half_section(cfg, data["near_half"])
-    if speed:
-        L += [speed.rstrip(), ""]
-    old = _verdict(cfg, data, sw, star)
+        B += near_half_section(cfg, data["near_half"])
+    B += speed
+    readings = _verdict(cfg, data, sw, star)
     from ._report_presets import preset_section, verdict_table
 
-    rows = [r for r in old if r.startswith("| ") and not r.startswith("| claim")]
-    cell = (lambda i: rows[i].rstrip(" |").split(" | ")[-1] if len(rows) > i else "–")
-    L += preset_section(data)
-    L += verdict_table(cfg, data, {"vas": "see \"Readings of the σ = 0, ℓ = 1 runs\" below",
+    rows = readings[0].rows     # the last cell of each claim's row: its verdict
+    cell = (lambda i: rows[i][-1] if len(rows) > i else "–")
+    B += preset_section(data)
+    B += verdict_table(cfg, data, {"vas": "see \"Readings of the σ = 0, ℓ = 1 runs\" below",
                                    "vas_word": cell(0), "sak": cell(3)})
-    old[0] = ("## Readings of the σ = 0, ℓ = 1 runs, claim by claim (the seed's friction at ℓ = 1: the claims' "
-              "own models only for Vasconcelos' family; the verdicts are in the table above)")
-    L += old
-    return "\n".join(L) + "\n"
+    B.append(Section("Readings of the σ = 0, ℓ = 1 runs, claim by claim (the seed's friction at ℓ = 1: the claims' "
+                     "own models only for Vasconcelos' family; the verdicts are in the table above)", readings))
+    return B
 
 
 def _threshold_section(data, c) -> list:
     th = data["threshold"]
     nus = [r["nu"] for r in th[0]["rows"]]
-    L = ["## Lone-block threshold", "",
+    rows = []
+    for t in th:
+        r0 = t["rows"][-1]
+        rows.append([f"{t['ell']:g}", "free end" if t["end"] else "interior", f"{r0['k']:g}", f"{r0['nu_f_star']:.5f}",
+                     *(f"{r['nu_f_cross']:.5f} ({100 * r['relative_offset']:+.2f} %)" for r in t["rows"]),
+                     f"{r0['delta_below']:.3g} / {r0['delta_above']:.2e}"])
+    offs = [abs(t["rows"][-1]["relative_offset"]) for t in th]
+    B = [Paragraph(
          "A block slipping alone among stuck neighbours has stiffness k = 1 + 2ℓ² (interior) or 1 + ℓ² (free "
          "end); docs/chain.md derives ν_f* = 1/(2√k). Measured on the chain engine (threshold.py: the one "
          "loaded block of an N = 5 or N = 3 chain, no rescaling used): the ν_f where k·P falls through "
-         f"{th[0]['rows'][0]['level']} (k·P is O(1) in stick-slip, O(ν) in creep), by bisection.", "",
-         "| ℓ | block | k | ν_f* | " + " | ".join(f"crossing at ν = {nu:g} (offset)" for nu in nus)
-         + " | k·P at 0.8 ν_f* / 1.25 ν_f* (ν = " + f"{nus[-1]:g}) |",
-         "|---|---|---|---|" + "---|" * len(nus) + "---|"]
-    for t in th:
-        r0 = t["rows"][-1]
-        cells = " | ".join(f"{r['nu_f_cross']:.5f} ({100 * r['relative_offset']:+.2f} %)" for r in t["rows"])
-        L.append(f"| {t['ell']:g} | {'free end' if t['end'] else 'interior'} | {r0['k']:g} | {r0['nu_f_star']:.5f} | "
-                 f"{cells} | {r0['delta_below']:.3g} / {r0['delta_above']:.2e} |")
-    offs = [abs(t["rows"][-1]["relative_offset"]) for t in th]
-    L += ["", f"The crossing lies above ν_f* and closes on it as ν decreases (largest offset at ν = {nus[-1]:g}: "
-          f"{100 * max(offs):.2f} %), like the single block's own transition at ν_f = 1/2, which finite ν "
-          "smooths towards larger ν_f (docs/physics.md). The curves k·P against ν_f/ν_f* fall on one "
-          "curve for every ℓ and both ends (the single block's Δ):", "", "![threshold](fig_threshold.png)", ""]
+         f"{th[0]['rows'][0]['level']} (k·P is O(1) in stick-slip, O(ν) in creep), by bisection."),
+         Table(["ℓ", "block", "k", "ν_f*", *(f"crossing at ν = {nu:g} (offset)" for nu in nus),
+                f"k·P at 0.8 ν_f* / 1.25 ν_f* (ν = {nus[-1]:g})"], rows),
+         Paragraph(f"The crossing lies above ν_f* and closes on it as ν decreases (largest offset at ν = {nus[-1]:g}: "
+                   f"{100 * max(offs):.2f} %), like the single block's own transition at ν_f = 1/2, which finite ν "
+                   "smooths towards larger ν_f (docs/physics.md). The curves k·P against ν_f/ν_f* fall on one "
+                   "curve for every ℓ and both ends (the single block's Δ):"),
+         Figure("fig_threshold.png", alt="threshold")]
     cats = data["catalogs"]
     if cats:
-        L += ["Inside the catalogs below, every event that involves one block only starts stuck at σ = 1 with "
-              "stuck neighbours, so its potency must be the closed form Δ(ν/√k, √k ν_f)/k of the single-block "
-              "engine:", "", "| N | ν_f | 1-block events interior / end | closed form P interior / end | "
-              "largest relative deviation |", "|---|---|---|---|---|"]
+        rows = []
         for s in cats:
             o = s["one_block"]
             dev = max((o[k]["max_rel_dev"] for k in ("interior", "end") if o[k]["count"]), default=math.nan)
-            L.append(f"| {s['n']} | {s['nu_f']} | {o['interior']['count']} / {o['end']['count']} | "
-                     f"{o['interior']['closed_form']:.6g} / {o['end']['closed_form']:.6g} | {dev:.1e} |")
-        L.append("")
-    return L
+            rows.append([f"{s['n']}", f"{s['nu_f']}", f"{o['interior']['count']} / {o['end']['count']}",
+                         f"{o['interior']['closed_form']:.6g} / {o['end']['closed_form']:.6g}", f"{dev:.1e}"])
+        B += [Paragraph("Inside the catalogs below, every event that involves one block only starts stuck at σ = 1 "
+                        "with stuck neighbours, so its potency must be the closed form Δ(ν/√k, √k ν_f)/k of the "
+                        "single-block engine:"),
+              Table(["N", "ν_f", "1-block events interior / end", "closed form P interior / end",
+                     "largest relative deviation"], rows)]
+    return [Section("Lone-block threshold", B)]
 
 
 def _order_section(cfg, data, sw, star) -> list:
     scfg = cfg["sweep"]
-    L = ["## Order parameter and hysteresis (ν_f up, then down, within one run)", "",
+    B = [Paragraph(
          "Each ν_f step lasts until the driver has advanced by ν ΔT ≥ " +
          ", ".join(f"{x:g}" for x in sorted(set(scfg["cycles_per_step"]))) +
          " units of slip per block (loading cycles; `cycles_per_step` per N in the workflow), after a "
@@ -130,18 +136,17 @@ def _order_section(cfg, data, sw, star) -> list:
          "(docs/chain.md): **D** = ΣP/Σn_blocks, the mean slip of a block in an event it takes part in "
          "(the single block's Δ at N = 1: O(1) in stick-slip, O(ν) in creep), and **Ψ** = slip carried by "
          "system-spanning events / (N ν ΔT). Mean over seeds ± standard error (seed-to-seed spread / √seeds). "
-         f"Gray lines: the lone-block threshold ν_f* = {star:.4f} (solid) and the uniform mode's 1/2 (dotted).",
-         "", "![order parameter](fig_order.png)", "",
-         "| N | seeds | events | shortest step (cycles) | closure ΣP/(NνΔT) min – max | largest slipping fraction "
-         "of a step | longest event (cycles) | CPU seconds |",
-         "|---|---|---|---|---|---|---|---|"]
-    for r in sw["table"]:
-        L.append(f"| {r['n']} | {r['seeds']} | {r['events']} | {r['cycles_min']:.2f} | "
-                 f"{r['closure'][0]:.2f} – {r['closure'][1]:.2f} | {r.get('slip_fraction_max', math.nan):.2f} | "
-                 f"{r.get('longest_event', math.nan):.2f} | {r['seconds']:.0f} |")
+         f"Gray lines: the lone-block threshold ν_f* = {star:.4f} (solid) and the uniform mode's 1/2 (dotted)."),
+         Figure("fig_order.png", alt="order parameter"),
+         Table(["N", "seeds", "events", "shortest step (cycles)", "closure ΣP/(NνΔT) min – max",
+                "largest slipping fraction of a step", "longest event (cycles)", "CPU seconds"],
+               [[f"{r['n']}", f"{r['seeds']}", f"{r['events']}", f"{r['cycles_min']:.2f}",
+                 f"{r['closure'][0]:.2f} – {r['closure'][1]:.2f}", f"{r.get('slip_fraction_max', math.nan):.2f}",
+                 f"{r.get('longest_event', math.nan):.2f}", f"{r['seconds']:.0f}"] for r in sw["table"]])]
     lim = sw.get("longest_event_limit", 0.5)
     merged = ", ".join(f"N = {r['n']}: {r['merged_steps']}" for r in sw["table"] if r.get("merged_steps"))
-    L += ["", "The slipping fraction is the share of a step's time during which some block slips: at ν = "
+    B.append(Paragraph(
+          "The slipping fraction is the share of a step's time during which some block slips: at ν = "
           f"{cfg['chain']['nu']:g} a chain of N ≳ 16 is all stuck only part of the time, so one catalogued event (all blocks "
           "stuck again at its end, docs/chain.md) can hold several separate slips; D still counts each block's "
           "slip once as long as no block slips twice in an event. Where an event lasts longer than "
@@ -149,62 +154,61 @@ def _order_section(cfg, data, sw, star) -> list:
           "measures that event, not a block's slip: D is left out at those steps (blank in the tables, "
           f"not in the fits; steps left out: {merged or 'none'}). Ψ is kept: it is 1 for a chain sliding as one "
           "whether that is stick-slip or steady sliding, which is why D and the slipping fraction are "
-          "reported with it."]
+          "reported with it."))
     for key, name in (("slip_per_block", "D"), ("psi", "Ψ")):
         grid = max((r["nu_f"] for r in sw["table"]), key=len)
-        L += ["", f"{name} per ν_f (up / down):", "",
-              "| N | branch | " + " | ".join(f"{x:g}" for x in grid) + " |", "|---|---|" + "---|" * len(grid)]
+        rows = []
         for r in sw["table"]:
             d = r[key]
             for br in ("up", "down"):
                 cells = [_pm(v, s, 3) if v == v else "" for v, s in zip(d[br], d["se_" + br])]
                 cells += [""] * (len(grid) - len(cells))
-                L.append(f"| {r['n']} | {br} | " + " | ".join(cells) + " |")
-    L += ["", "Jump (largest change between neighbouring ν_f on the up branch), loop width (largest "
-          "|up − down|, biased up by about one σ where there is no loop) and loop area Σ(down − up)Δν_f:", "",
-          "| N | D jump (at ν_f) | D width (at) | D area | Ψ jump (at) | Ψ width (at) | Ψ area |",
-          "|---|---|---|---|---|---|---|"]
+                rows.append([f"{r['n']}", br, *cells])
+        B += [Paragraph(f"{name} per ν_f (up / down):"), Table(["N", "branch", *(f"{x:g}" for x in grid)], rows)]
+    rows = []
     for r in sw["table"]:
-        cells = []
+        cells = [f"{r['n']}"]
         for key in ("slip_per_block", "psi"):
             d = r[key]
             cells += [f"{_pm(d['jump_sign'] * d['jump'], d['jump_sigma'])} ({d['jump_at'][0]:g}→{d['jump_at'][1]:g})",
                       f"{_pm(d['width'], d['width_sigma'])} ({d['width_at']:g})", _pm(d["area"], d["area_sigma"], 4)]
-        L.append(f"| {r['n']} | " + " | ".join(cells) + " |")
-    L += ["", "### Finite-size scaling", "",
-          "Fits of y(N) = A N^-θ (weighted least squares on ln y) against y = constant, over the chains "
-          "(N > 1; N = 1 is deterministic and has no loop by construction: every event starts from the same "
-          "state). analysis.finite_size_fit; rules for the words: _report_text.fss_words.", "",
-          "![fss](fig_fss.png)", "", "| quantity | reading |", "|---|---|"]
+        rows.append(cells)
+    B += [Paragraph("Jump (largest change between neighbouring ν_f on the up branch), loop width (largest "
+                    "|up − down|, biased up by about one σ where there is no loop) and loop area Σ(down − up)Δν_f:"),
+          Table(["N", "D jump (at ν_f)", "D width (at)", "D area", "Ψ jump (at)", "Ψ width (at)", "Ψ area"], rows)]
+    rows = []
     for k, f in sw["fss"].items():
         name = k.replace("slip_per_block", "D").replace("psi", "Ψ").replace(".", " ")
         verdict, words = fss_words(f)
-        L.append(f"| {name} | **{verdict}**: {words} |")
-    L.append("")
-    return L
+        rows.append([name, f"**{verdict}**: {words}"])
+    B.append(Section("Finite-size scaling", [
+        Paragraph("Fits of y(N) = A N^-θ (weighted least squares on ln y) against y = constant, over the chains "
+                  "(N > 1; N = 1 is deterministic and has no loop by construction: every event starts from the same "
+                  "state). analysis.finite_size_fit; rules for the words: _report_text.fss_words."),
+        Figure("fig_fss.png", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
+    return [Section("Order parameter and hysteresis (ν_f up, then down, within one run)", B)]
 
 
 def _mfd_section(data) -> list:
-    L = ["## Magnitude–frequency", "",
-         "m = log10 P. b by maximum likelihood for a Gutenberg–Richter law truncated to the fit range "
-         "(Page's estimator, analysis.b_value; σ from the Fisher information), over the multi-block events "
-         "(the 1-block events form an atom at the closed-form potency above) from the most populated "
-         "0.1-bin of m (maximum curvature) to just below the smallest system-spanning event (or the "
-         "largest event). KS: distance between the fitted law and the magnitudes in the range, against the "
-         "5 % critical value 1.36/√n; KS > critical means the range is not a power law. Spanning excess: "
-         "observed system-spanning events over the fit's extrapolation N(≥ m_span). Large events: "
-         "n_blocks ≥ N/2.", "", "![mfd](fig_mfd.png)", "",
-         "| N | ν_f | events | b | fit range m (n) | KS / crit | spanning (expected, excess) | "
-         "large events | recurrence of large: mean, CV | of spanning: mean, CV |",
-         "|---|---|---|---|---|---|---|---|---|---|"]
+    rows = []
     for s in data["catalogs"]:
         f, sp, rl, rs = s["fit"], s["spanning"], s["recurrence_large"], s["recurrence_spanning"]
-        L.append(f"| {s['n']} | {s['nu_f']} | {s['events']} | {_pm(f['b'], f['sigma'], 2)} | "
-                 f"[{f['m_min']:.2f}, {f['m_max']:.2f}] ({f['n']}) | {f['ks']:.3f} / {f['ks_crit']:.3f} | "
-                 f"{sp['spanning']} ({sp['expected']:.2g}, {sp['excess']:.3g}) | {100 * s['large_fraction']:.1f} % | "
-                 f"{rl['mean']:.4g}, {rl['cv']:.2f} | {rs['mean']:.4g}, {rs['cv']:.2f} |")
-    L.append("")
-    return L
+        rows.append([f"{s['n']}", f"{s['nu_f']}", f"{s['events']}", _pm(f["b"], f["sigma"], 2),
+                     f"[{f['m_min']:.2f}, {f['m_max']:.2f}] ({f['n']})", f"{f['ks']:.3f} / {f['ks_crit']:.3f}",
+                     f"{sp['spanning']} ({sp['expected']:.2g}, {sp['excess']:.3g})", f"{100 * s['large_fraction']:.1f} %",
+                     f"{rl['mean']:.4g}, {rl['cv']:.2f}", f"{rs['mean']:.4g}, {rs['cv']:.2f}"])
+    return [Section("Magnitude–frequency", [
+        Paragraph("m = log10 P. b by maximum likelihood for a Gutenberg–Richter law truncated to the fit range "
+                  "(Page's estimator, analysis.b_value; σ from the Fisher information), over the multi-block events "
+                  "(the 1-block events form an atom at the closed-form potency above) from the most populated "
+                  "0.1-bin of m (maximum curvature) to just below the smallest system-spanning event (or the "
+                  "largest event). KS: distance between the fitted law and the magnitudes in the range, against the "
+                  "5 % critical value 1.36/√n; KS > critical means the range is not a power law. Spanning excess: "
+                  "observed system-spanning events over the fit's extrapolation N(≥ m_span). Large events: "
+                  "n_blocks ≥ N/2."),
+        Figure("fig_mfd.png", alt="mfd"),
+        Table(["N", "ν_f", "events", "b", "fit range m (n)", "KS / crit", "spanning (expected, excess)",
+               "large events", "recurrence of large: mean, CV", "of spanning: mean, CV"], rows)])]
 
 
 def _verdict(cfg, data, sw, star) -> list:
@@ -258,42 +262,41 @@ def _verdict(cfg, data, sw, star) -> list:
            else "supported" if vj == "vanishes" else "contradicted" if vj == "persists" else "undecided")
     chain_word = ("undecided" if not sharper or vj not in ("persists", "vanishes")
                   else "first-order-like change that " + vj)
-    L = ["## Verdict on the four claims (from this run)", "",
-         "| claim | evidence here | verdict |", "|---|---|---|",
-         "| Vasconcelos (1996): the transition stays first order in chains, hysteresis persists up to the "
-         f"transition, no critical state | Lone block: threshold ν_f* = 1/(2√k) confirmed on the engine (offsets of "
+    rows = [
+        ("Vasconcelos (1996): the transition stays first order in chains, hysteresis persists up to the "
+         "transition, no critical state", f"Lone block: threshold ν_f* = 1/(2√k) confirmed on the engine (offsets of "
          f"the crossing at the smallest ν: {offs}; closing as ν → 0); the 1-block events of the catalogs have the "
          f"closed-form potency to {dev:.1e}. Chain, order parameter D: largest change between neighbouring ν_f "
          f"(up branch) {jumps}; the single block at the same ν already changes by {one['jump']:.3f} "
          f"({one['jump_at'][0]:g}→{one['jump_at'][1]:g}): its first-order jump (from Δ0 = 0.1507 to 0 at ν_f = 1/2 "
          f"as ν → 0, docs/physics.md) is smeared at ν = {nu:g} ({smear}). Chains changing more sharply than the "
          f"single block (beyond 2σ): {', '.join(f'N = {n}' for n in sharper) or 'none'}. FSS of that change: {wj}. Loop widths of D: {loop_txt} ({len(sig)} of {len(loops)} "
-         f"above 2σ); FSS: {ww}. | lone block: {lone}. Chain: **{chain_word}** at ν = {nu:g}; loops "
+         f"above 2σ); FSS: {ww}.", f"lone block: {lone}. Chain: **{chain_word}** at ν = {nu:g}; loops "
          f"{'resolved at 2σ for N = ' + ', '.join(map(str, sig)) if sig else 'within the noise'}; telling a "
-         "persisting jump from a vanishing one needs a smaller ν (the large workflow) |",
-         f"| Carlson & Langer (1989): power-law small events with an excess of large ones | {mfd_cells}. "
-         f"{notes['cl'][0]} | **{notes['cl'][1] or cl}**"
+         "persisting jump from a vanishing one needs a smaller ν (the large workflow)"),
+         ("Carlson & Langer (1989): power-law small events with an excess of large ones", f"{mfd_cells}. "
+         f"{notes['cl'][0]}", f"**{notes['cl'][1] or cl}**"
          + (" (ν_f = " + ", ".join(sorted({f"{s['nu_f']:g}" for s in cats})) + "; near ν_f = 1/2 see Mori & Kawamura)"
             if notes["cl"][0] and not notes["cl"][1] else "")
          + f" (ℓ = {cfg['chain']['ell']:g}, ν = {nu:g}"
          + (f" and {cfg['near_half']['nus'][-1]:g}" if notes["cl"][0] else "")
-         + "; Carlson & Langer used ℓ ≈ 10 and a far smaller ν) |",
-         f"| Mori & Kawamura (2005–08): near-critical behaviour at weak weakening (ν_f ≈ 1/2) | b from "
+         + "; Carlson & Langer used ℓ ≈ 10 and a far smaller ν)"),
+         ("Mori & Kawamura (2005–08): near-critical behaviour at weak weakening (ν_f ≈ 1/2)", "b from "
          f"ν_f = 0.2 to 0.35: {bs} (the distribution broadens towards weak weakening, but KS rejects an exponential "
-         f"in every case, see the table). {slide}. {notes['mk'][0]} | "
-         + (f"**{notes['mk'][1]}** near ν_f = 1/2 (rules: scaling.mfd_reading)" if notes["mk"][1] else
+         f"in every case, see the table). {slide}. {notes['mk'][0]}",
+         (f"**{notes['mk'][1]}** near ν_f = 1/2 (rules: scaling.mfd_reading)" if notes["mk"][1] else
             "**undecided**: broader distributions towards ν_f = 1/2, then, for the longest chain, a switch to "
             "sliding of the whole chain, not a scale-free state; the MFD at ν_f near 1/2 and its finite-size "
-            "scaling were not measured") + " |",
-         f"| Sakaguchi (2002): the transition becomes continuous in long chains | largest change of D per N: "
-         f"{jumps} (on a grid, the slope of a smooth curve also gives a change); its FSS: {wj}. {notes['sak'][0]} | "
-         f"**{sak}**" + (f"; **{notes['sak'][1]}**" if notes["sak"][1] else "") + " |", "",
-         "Caveats: one law, one ℓ; the sweeps of all N at one ν (" + f"{nu:g}"
+            "scaling were not measured")),
+         ("Sakaguchi (2002): the transition becomes continuous in long chains", "largest change of D per N: "
+         f"{jumps} (on a grid, the slope of a smooth curve also gives a change); its FSS: {wj}. {notes['sak'][0]}",
+         f"**{sak}**" + (f"; **{notes['sak'][1]}**" if notes["sak"][1] else ""))]
+    caveats = ("Caveats: one law, one ℓ; the sweeps of all N at one ν (" + f"{nu:g}"
          + (f"; N ≤ {max(cfg['sweep_small_nu']['sizes'])} also at ν = {cfg['sweep_small_nu']['nu']:g}"
             if data.get("sweeps_small_nu", {}).get("table") else "") + "); errors are seed-to-seed standard errors from "
          + ", ".join(f"{r['seeds']}" for r in table) + " seeds (N = " + ", ".join(str(r["n"]) for r in table)
          + f"); the change of D is measured on a grid of spacing {table[0]['nu_f'][1] - table[0]['nu_f'][0]:.2f} "
          "in ν_f, so a continuous curve also shows a finite change; the loop width is a maximum over noisy "
          "differences (biased up by ~1σ). `workflows/chain-report-large.toml` (same runner; a cluster node or a "
-         "free machine) has longer steps, more seeds, ν = 1e-4 and N up to 1024."]
-    return L
+         "free machine) has longer steps, more seeds, ν = 1e-4 and N up to 1024.")
+    return [Table(["claim", "evidence here", "verdict"], rows), Paragraph(caveats)]

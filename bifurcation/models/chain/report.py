@@ -177,8 +177,9 @@ def main(argv=None) -> None:
 
 
 def _render(out: Path, cfg, path: Path, data) -> None:
+    from ...report.document import to_html, to_markdown
     from ._report_figures import figures
-    from ._report_text import report_text
+    from ._report_text import report_blocks
 
     figures(out, data)
     if data.get("near_half"):
@@ -190,8 +191,10 @@ def _render(out: Path, cfg, path: Path, data) -> None:
 
         presets_figure(out, data["presets"])
     old = out / "REPORT.md"
-    speed = _section(old.read_text(), "## Speed") if old.exists() else ""
-    old.write_text(report_text(cfg, path, data, data["wall_seconds"], speed))
+    speed = _carried_blocks(_section(old.read_text(), "## Speed")) if old.exists() else []
+    blocks = report_blocks(cfg, path, data, data["wall_seconds"], speed)
+    old.write_text(to_markdown(blocks), encoding="utf-8")
+    (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")
 
 
 _RAW = ("t_start", "potency", "n_blocks", "hypocentre", "duration", "c_size", "c_potency", "c_event")
@@ -228,6 +231,34 @@ def _section(text: str, head: str) -> str:
         return ""
     j = text.find("\n## ", i + 1)
     return text[i + 1: None if j < 0 else j].rstrip() + "\n"
+
+
+def _carried_blocks(text: str) -> list:
+    """A section carried over from an earlier REPORT.md (the "## Speed" one, written from ``bifurcation
+    bench``) read back into typed blocks: its chunks between blank lines are a heading, a table (cells split
+    at unescaped ``|``), a bullet list, a figure or a paragraph; a chunk that is none of these stays a paragraph."""
+    import re
+
+    from ...report.document import Figure, Heading, Items, Paragraph, Table
+
+    def cells(line):
+        return [c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
+
+    blocks = []
+    for chunk in (c.strip("\n") for c in text.split("\n\n") if c.strip()):
+        lines = chunk.split("\n")
+        if m := re.fullmatch(r"(#{1,3}) (.+)", chunk):
+            blocks.append(Heading(m.group(2), len(m.group(1))))
+        elif (chunk.startswith("| ") and len(lines) > 1 and re.fullmatch(r"\|(---\|)+", lines[1])
+              and all(len(cells(r)) == lines[1].count("---") for r in lines[:1] + lines[2:])):
+            blocks.append(Table(cells(lines[0]), [cells(r) for r in lines[2:]]))
+        elif all(line.startswith("- ") for line in lines):
+            blocks.append(Items([line[2:] for line in lines]))
+        elif m := re.fullmatch(r"!\[([^\]]*)\]\(([^)\s]+)\)", chunk):
+            blocks.append(Figure(m.group(2), alt=m.group(1)))
+        else:
+            blocks.append(Paragraph(chunk))
+    return blocks
 
 
 def _sweep_stats(runs, cfg) -> dict:
