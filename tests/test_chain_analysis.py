@@ -136,12 +136,12 @@ def test_sweep_steps_are_measured_in_loading_cycles():
 
 
 @pytest.mark.slow   # 3 s; the chain's report section and its figure stay fast in test_chain_store.py
-def test_report_runner_writes_report_figures_and_data(tmp_path):
+def test_report_runner_writes_study_figures_and_data(tmp_path):
     """A tiny workflow through the report runner: every section, the figures, data.json, and a Speed
     section of an existing REPORT.md carried over unchanged."""
     import json
 
-    from bifurcation.models.chain.report import main
+    from bifurcation.models.chain.study import main
 
     out = tmp_path / "out"
     out.mkdir()

@@ -1,5 +1,5 @@
 """The chain report's preset section and verdict table (issue 17, item 6;
-bifurcation/models/chain/_report_presets.py), from hand-made statistics: no runs, < 1 s."""
+bifurcation/models/chain/_study_presets.py), from hand-made statistics: no runs, < 1 s."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from bifurcation.models.chain._report_presets import PRESET_RULES, _peak, preset_section, verdict_table
+from bifurcation.models.chain._study_presets import PRESET_RULES, _peak, preset_section, verdict_table
 from bifurcation.report.document import Table, flatten, to_markdown
 
 
@@ -74,7 +74,7 @@ def test_the_characteristic_peak_rule(tail, peak):
 
 def test_presets_only_needs_the_full_run_data(tmp_path):
     # --presets-only takes every other section from DIR/data.json: without it, one line and nothing run
-    from bifurcation.models.chain.report import main
+    from bifurcation.models.chain.study import main
 
     wf = Path(__file__).resolve().parents[1] / "workflows" / "chain-report.toml"   # (checked whole first)
     with pytest.raises(SystemExit, match="--presets-only: .*data.json does not exist"):

@@ -1,5 +1,5 @@
 """`bifurcation study chain WORKFLOW` (the chain model's ``study`` hook) runs the chain study
-(``models.chain.report.main``) on a workflow checked whole first. The study itself takes minutes; here its
+(``models.chain.study.main``) on a workflow checked whole first. The study itself takes minutes; here its
 entry point is replaced by a recorder, so only the command's own work is tested (bad input:
 tests/test_bad_inputs.py, its study block)."""
 
@@ -21,10 +21,10 @@ REPO = Path(__file__).resolve().parents[1]
 @pytest.fixture
 def runs(monkeypatch, tmp_path):
     """The argument lists the study was started with (nothing runs), from an empty working directory."""
-    from bifurcation.models.chain import report
+    from bifurcation.models.chain import study
 
     calls = []
-    monkeypatch.setattr(report, "main", lambda argv: calls.append(argv))
+    monkeypatch.setattr(study, "main", lambda argv: calls.append(argv))
     monkeypatch.chdir(tmp_path)
     shutil.copy(REPO / "workflows" / "chain-report.toml", tmp_path / "study.toml")
     return calls
@@ -39,7 +39,7 @@ def test_the_study_group_holds_each_models_study_hook_under_its_name():
 
 @pytest.mark.parametrize("name", ["chain-report.toml", "chain-report-large.toml"])
 def test_the_shipped_workflows_pass_the_check_unchanged(name):
-    from bifurcation.models.chain.report_workflow import load_report_workflow
+    from bifurcation.models.chain.study_workflow import load_report_workflow
 
     path = REPO / "workflows" / name
     assert load_report_workflow(path) == tomllib.loads(path.read_text())

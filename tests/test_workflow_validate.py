@@ -101,7 +101,7 @@ CHAIN_REPORT = (Path(__file__).resolve().parents[1] / "workflows" / "chain-repor
 def test_the_chain_reports_workflow_is_read_through_the_same_validator(tmp_path):
     import tomllib
 
-    from bifurcation.models.chain.report_workflow import load_report_workflow
+    from bifurcation.models.chain.study_workflow import load_report_workflow
 
     for name in ("chain-report.toml", "chain-report-large.toml"):   # the shipped ones, as the report reads them
         path = Path(__file__).resolve().parents[1] / "workflows" / name
@@ -124,7 +124,7 @@ def test_the_chain_reports_workflow_is_read_through_the_same_validator(tmp_path)
 
 
 def test_a_bad_chain_report_workflow_is_one_line_exit_2_and_writes_nothing(tmp_path, capsys):
-    from bifurcation.models.chain.report import main
+    from bifurcation.models.chain.study import main
 
     path = tmp_path / "c.toml"
     path.write_text(CHAIN_REPORT.replace('out = "results/local/chain"', f'out = "{tmp_path / "out"}"')

@@ -1,8 +1,8 @@
 """``bifurcation study chain WORKFLOW``: the chain study (the chain model's ``study`` hook; docs/chain.md).
 
-Runs ``bifurcation.models.chain.report`` on a checked workflow: the lone-block threshold, order
+Runs ``bifurcation.models.chain.study`` on a checked workflow: the lone-block threshold, order
 parameter and hysteresis with finite-size scaling, magnitude–frequency statistics and a verdict table,
-into ``REPORT.md``, ``data.json`` and the figures.
+into ``REPORT.md``, ``report.html``, ``data.json`` and the figures.
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
     workflows/chain-report.toml)."""
     import json
 
-    from ..models.chain.report_workflow import load_report_workflow
+    from ..models.chain.study_workflow import load_report_workflow
     from ._common import check_writable_dir
 
     cfg = load_report_workflow(workflow)   # the whole workflow, before anything runs or is written
@@ -70,7 +70,7 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
     elif not force and any((out / mark).exists() for mark in _MARKS):
         raise InputError("--out", str(out), "already holds a chain study (REPORT.md or data.json), which a run "
                          "replaces", "give --force to run it again, --from-data to re-render it, or another --out")
-    from ..models.chain.report import main
+    from ..models.chain.study import main
 
     main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else []),
           *(["--presets-only"] if presets_only else [])])

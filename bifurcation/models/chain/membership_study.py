@@ -30,7 +30,7 @@ CASES = (
 
 
 def _stats(n, p, nb, t_start, bootstrap, seed) -> dict:
-    from .report import _catalog_stats
+    from .study import _catalog_stats
 
     keep = nb > 0     # events with no member block (threshold definition) have no size
     p, nb, t = p[keep], nb[keep], t_start[keep]

@@ -3,7 +3,7 @@
 Per run (at most ``MAX_RUNS`` rows): the parameters that vary across the store, the status, the
 events catalogued, and from the run's catalog the mean potency, the largest event (blocks) and the
 share of system-spanning events (n_blocks = N). The full chain analysis (magnitude–frequency, b-value,
-hysteresis) is ``bifurcation.models.chain.report``.
+hysteresis) is ``bifurcation.models.chain.study``.
 """
 
 from __future__ import annotations

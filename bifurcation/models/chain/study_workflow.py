@@ -133,7 +133,7 @@ def load_report_workflow(path) -> dict:
                 check()
     presets = root.table("presets", ("transient_cycles", "bootstrap", "block_bootstrap", "resolution", "verify",
                                      "run"), required=False)
-    if presets is not None:   # published parameter sets by the compiled engine (_report_presets.py)
+    if presets is not None:   # published parameter sets by the compiled engine (_study_presets.py)
         _presets(presets)
     return doc
 

@@ -1,5 +1,5 @@
 """Text of the chain report's near-1/2 magnitude–frequency section, of the small-ν sweep and their
-evidence for the verdict table (data from ``_report_mfd``; every number comes from ``data``)."""
+evidence for the verdict table (data from ``_study_mfd``; every number comes from ``data``)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Figures of the chain report (``report.main``): order parameter loops, finite-size scaling,
+"""Figures of the chain report (``study.main``): order parameter loops, finite-size scaling,
 magnitude–frequency, lone-block threshold."""
 
 from __future__ import annotations

@@ -1,16 +1,20 @@
-"""The chain report: lone-block threshold, order parameter and hysteresis with finite-size scaling,
-magnitude–frequency statistics, a verdict table.
+"""The chain study, the entry of ``bifurcation study chain`` (it writes the chain report): lone-block
+threshold, order parameter and hysteresis with finite-size scaling, magnitude–frequency statistics, a
+verdict table.
 
     bifurcation study chain workflows/chain-report.toml [--out DIR] [--from-data | --presets-only]
 
 Runs the workflow's ν_f sweeps (several seeds per N), catalogs and lone-block checks on two
-processes and writes ``REPORT.md``, ``data.json`` and the figures into the workflow's ``out``
+processes and writes ``REPORT.md`` and ``report.html`` (one document of ``report.document``'s typed blocks, by
+its one renderer), ``data.json`` and the figures into the workflow's ``out``
 directory (``results/local/chain``, ignored by git) or ``--out DIR``. ``--from-data`` re-renders them
 from ``DIR/data.json`` without running anything: ``--from-data --out results/chain`` rewrites the
 committed report byte for byte (deterministic figures, no software tag). ``--presets-only`` runs the
-``[presets]`` catalogs (``_report_presets``) and takes every other section from ``DIR/data.json``; a
-``[[presets.run]]`` already there with the same entry and the same shared ``[presets]`` settings is kept. A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is
-carried over unchanged. Sections and verdicts: ``_report_text``.
+``[presets]`` catalogs (``_study_presets``) and takes every other section from ``DIR/data.json``; a
+``[[presets.run]]`` already there with the same entry and the same shared ``[presets]`` settings is kept.
+A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is carried over, read
+back into blocks. Sections and verdicts: ``_study_text`` (prose), ``_study_mfd_text``, ``_study_presets``;
+figures: ``_study_figures``, ``_study_mfd``; the workflow's check: ``study_workflow``.
 """
 
 from __future__ import annotations
@@ -78,10 +82,10 @@ def _jobs(cfg):
     for n, events in zip(cat["sizes"], cat["events"]):
         jobs += [(_catalog, (c, cat, n, nf, events), events * n / 500) for nf in cat["nu_f"]]
     jobs += [(_threshold, (c, th, ell, end), 0) for ell in th["ells"] for end in (False, True)]
-    from ._report_mfd import near_half_jobs, small_nu_jobs
+    from ._study_mfd import near_half_jobs, small_nu_jobs
 
     jobs += near_half_jobs(cfg) + small_nu_jobs(cfg)
-    from ._report_presets import preset_jobs
+    from ._study_presets import preset_jobs
 
     jobs += preset_jobs(cfg)
     return sorted(jobs, key=lambda j: -j[2])      # the longest first: two workers stay busy to the end
@@ -98,7 +102,7 @@ def main(argv=None) -> None:
         del argv[i:i + 2]
     path = Path(argv[0])
     from ...errors import InputError
-    from .report_workflow import load_report_workflow
+    from .study_workflow import load_report_workflow
 
     try:   # every key checked before anything runs or is written
         cfg = load_report_workflow(path)
@@ -114,7 +118,7 @@ def main(argv=None) -> None:
                  "(without --presets-only), or give --out results/chain (the committed data)")
     out.mkdir(parents=True, exist_ok=True)
     if "--presets-only" in argv[1:]:  # run the [presets] catalogs only; every other section from data.json
-        from ._report_presets import preset_jobs
+        from ._study_presets import preset_jobs
 
         data = json.loads((out / "data.json").read_text())
         t0 = time.perf_counter()
@@ -178,16 +182,16 @@ def main(argv=None) -> None:
 
 def _render(out: Path, cfg, path: Path, data) -> None:
     from ...report.document import to_html, to_markdown
-    from ._report_figures import figures
-    from ._report_text import report_blocks
+    from ._study_figures import figures
+    from ._study_text import report_blocks
 
     figures(out, data)
     if data.get("near_half"):
-        from ._report_mfd import near_half_figure
+        from ._study_mfd import near_half_figure
 
         near_half_figure(out, data["near_half"])
     if data.get("presets"):
-        from ._report_presets import presets_figure
+        from ._study_presets import presets_figure
 
         presets_figure(out, data["presets"])
     old = out / "REPORT.md"
@@ -203,7 +207,7 @@ _RAW = ("t_start", "potency", "n_blocks", "hypocentre", "duration", "c_size", "c
 def _extra_stats(out: Path, cfg, data, results) -> None:
     """The ``[near_half]`` catalogs and the ``[sweep_small_nu]`` sweeps into ``data``. Their raw
     catalogs are kept in ``near_half.npz`` (``--from-data`` recomputes the statistics from it)."""
-    from ._report_mfd import near_half_stats
+    from ._study_mfd import near_half_stats
 
     raw = out / "near_half.npz"
     if results is not None:

@@ -1,4 +1,4 @@
-"""Text of the chain report (``report.main``): every number in it comes from ``data`` (data.json)."""
+"""Text of the chain report (``study.main``): every number in it comes from ``data`` (data.json)."""
 
 from __future__ import annotations
 
@@ -67,7 +67,7 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
             if data.get("presets_wall_seconds") else ""))]
     B += _threshold_section(data, c)
     B += _order_section(cfg, data, sw, star)
-    from ._report_mfd_text import near_half_section, small_nu_section
+    from ._study_mfd_text import near_half_section, small_nu_section
 
     if data.get("sweeps_small_nu", {}).get("table"):
         B += small_nu_section(cfg, data["sweeps_small_nu"], sw)
@@ -76,7 +76,7 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
         B += near_half_section(cfg, data["near_half"])
     B += speed
     readings = _verdict(cfg, data, sw, star)
-    from ._report_presets import preset_section, verdict_table
+    from ._study_presets import preset_section, verdict_table
 
     rows = readings[0].rows     # the last cell of each claim's row: its verdict
     cell = (lambda i: rows[i][-1] if len(rows) > i else "–")
@@ -184,7 +184,7 @@ def _order_section(cfg, data, sw, star) -> list:
     B.append(Section("Finite-size scaling", [
         Paragraph("Fits of y(N) = A N^-θ (weighted least squares on ln y) against y = constant, over the chains "
                   "(N > 1; N = 1 is deterministic and has no loop by construction: every event starts from the same "
-                  "state). analysis.finite_size_fit; rules for the words: _report_text.fss_words."),
+                  "state). analysis.finite_size_fit; rules for the words: _study_text.fss_words."),
         Figure("fig_fss.png", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
     return [Section("Order parameter and hysteresis (ν_f up, then down, within one run)", B)]
 
@@ -212,7 +212,7 @@ def _mfd_section(data) -> list:
 
 
 def _verdict(cfg, data, sw, star) -> list:
-    from ._report_mfd_text import verdict_notes
+    from ._study_mfd_text import verdict_notes
 
     notes = verdict_notes(cfg, data)
     fss, nu = sw["fss"], cfg["chain"]["nu"]

@@ -1,7 +1,7 @@
 """The chain report's magnitude–frequency study near the uniform mode's ν_f = 1/2 (``[near_half]`` of the
 workflow): budgeted catalogs per (ν, ν_f, N), their cutoff and spanning statistics, finite-size fits,
 the reading (``scaling.mfd_reading``) and its figure; the small-ν sweeps (``[sweep_small_nu]``).
-Text: ``_report_mfd_text``.
+Text: ``_study_mfd_text``.
 """
 
 from __future__ import annotations
@@ -81,7 +81,7 @@ def near_half_jobs(cfg) -> list:
 
 def _row(r) -> dict:
     """Statistics of one budgeted catalog (docs/chain.md, "Cutoff and finite-size scaling")."""
-    from .report import _catalog_stats
+    from .study import _catalog_stats
 
     n, p, nb = r["n"], np.array(r["potency"]), np.array(r["n_blocks"], dtype=int)
     out = {k: r[k] for k in ("nu", "nu_f", "n", "cycles_asked", "cycles", "cut", "message", "cpu")}
@@ -189,7 +189,7 @@ def near_half_figure(out, nh) -> None:
 
 def _sweep_small_nu(args) -> dict:
     """A sweep of ``[sweep_small_nu]``: the main sweep's runner (``report._sweep``) at another ν."""
-    from .report import _sweep
+    from .study import _sweep
 
     return _sweep(args)
 
