@@ -64,3 +64,30 @@ def test_force_runs_again_into_a_study_and_from_data_re_renders(runs, tmp_path):
     assert r.exit_code == 0, r.output
     assert runs == [["study.toml", "--out", str(done)], ["study.toml", "--out", str(done), "--from-data"]]
     assert r.stdout == f"wrote {done / 'REPORT.md'} and its figures from {done / 'data.json'}\n"
+
+
+def test_the_committed_chain_report_is_one_typed_document_in_both_formats():
+    """The chain study's report is built of report.document's blocks (issue 20, item 3): rendered from the
+    committed data (what `--from-data` reads, 0.3 s; nothing written), Markdown and HTML read back to the
+    outline of those blocks, every table row has its header's cell count, and the Markdown is the committed
+    results/chain/REPORT.md (regenerate it with `bifurcation study chain workflows/chain-report.toml
+    --from-data --out results/chain --force` after changing the report's text)."""
+    from _report_outline import from_blocks, from_html, from_markdown
+
+    from bifurcation.models.chain.study import saved_data, study_blocks
+    from bifurcation.models.chain.study_workflow import load_report_workflow
+    from bifurcation.report.document import to_html, to_markdown
+
+    out, workflow = REPO / "results" / "chain", "workflows/chain-report.toml"
+    cfg = load_report_workflow(REPO / workflow)
+    blocks = study_blocks(out, cfg, workflow, saved_data(out, cfg))
+    expected = from_blocks(blocks, out)
+    # the title, 8 sections (the Speed one carried over from REPORT.md), 3 subsections, the 6 figures and
+    # 19 tables (2 of them the Speed section's, read back from REPORT.md)
+    assert [k for k in expected if k[0] == "h"] == [("h", 1)] + [("h", 2)] * 2 + [("h", 3)] * 2 + [("h", 2)] * 2 \
+        + [("h", 3)] + [("h", 2)] * 4
+    assert sum(k[0] == "figure" for k in expected) == 6 and sum(k[0] == "table" for k in expected) == 19
+    md = to_markdown(blocks)
+    assert from_markdown(md, out) == expected
+    assert from_html(to_html(blocks, out)) == expected
+    assert md == (out / "REPORT.md").read_text(encoding="utf-8")

@@ -31,7 +31,7 @@ import numpy as np
 from .analysis import (b_value, finite_size_fit, hysteresis, magnitude_frequency, recurrence, spanning_excess,
                        sweep_nu_f)
 
-__all__ = ["main"]
+__all__ = ["main", "saved_data", "study_blocks"]
 
 
 def _sweep(args):
@@ -144,10 +144,7 @@ def main(argv=None) -> None:
         _render(out, cfg, path, data)
         return
     if "--from-data" in argv[1:]:     # re-render REPORT.md and figures from data.json, no runs
-        data = json.loads((out / "data.json").read_text())
-        data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
-        _extra_stats(out, cfg, data, None)
-        _render(out, cfg, path, data)
+        _render(out, cfg, path, saved_data(out, cfg))
         return
     t0 = time.perf_counter()
     with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
@@ -183,7 +180,6 @@ def main(argv=None) -> None:
 def _render(out: Path, cfg, path: Path, data) -> None:
     from ...report.document import to_html, to_markdown
     from ._study_figures import figures
-    from ._study_text import report_blocks
 
     figures(out, data)
     if data.get("near_half"):
@@ -194,11 +190,28 @@ def _render(out: Path, cfg, path: Path, data) -> None:
         from ._study_presets import presets_figure
 
         presets_figure(out, data["presets"])
+    blocks = study_blocks(out, cfg, path, data)
+    (out / "REPORT.md").write_text(to_markdown(blocks), encoding="utf-8")
+    (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")
+
+
+def saved_data(out: Path, cfg) -> dict:
+    """The study's data as ``--from-data`` reads it: ``out/data.json`` with the statistics recomputed (the
+    near-1/2 ones from ``out/near_half.npz``)."""
+    data = json.loads((out / "data.json").read_text())
+    data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
+    _extra_stats(out, cfg, data, None)
+    return data
+
+
+def study_blocks(out: Path, cfg, path, data) -> list:
+    """The report as typed blocks (``report.document``); a "## Speed" section of ``out/REPORT.md`` is carried
+    over, read back into blocks."""
+    from ._study_text import report_blocks
+
     old = out / "REPORT.md"
     speed = _carried_blocks(_section(old.read_text(), "## Speed")) if old.exists() else []
-    blocks = report_blocks(cfg, path, data, data["wall_seconds"], speed)
-    old.write_text(to_markdown(blocks), encoding="utf-8")
-    (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")
+    return report_blocks(cfg, path, data, data["wall_seconds"], speed)
 
 
 _RAW = ("t_start", "potency", "n_blocks", "hypocentre", "duration", "c_size", "c_potency", "c_event")
