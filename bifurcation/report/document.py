@@ -6,8 +6,9 @@ renderer (``to_markdown``, ``to_html``) reads ``flatten(blocks)``: a section is 
 blocks. Text may hold the inline math of ``report._math`` ($...$, x_i, ...).
 
 Every report is built of these blocks: the paper's (``report.render``), the one of any store
-(``report.study``), the rate-state study's (``models.rate_state.report``) and the models' store
-sections; anything else is refused (``flatten``: a TypeError naming the block).
+(``report.study``), the rate-state study's (``models.rate_state.report``), the chain study's
+(``models.chain.study``) and the models' store sections; anything else is refused (``flatten``: a
+TypeError naming the block).
 """
 
 from __future__ import annotations
