@@ -85,3 +85,12 @@ def test_a_cell_with_a_bar_stays_one_cell(tmp_path):
     assert from_markdown(md, tmp_path) == [("table", 2, 1)]
     with pytest.raises(AssertionError, match="other than 2 cells"):
         from_markdown("| x | |T − 1| |\n|---|---|\n", tmp_path)
+
+
+def test_html_renders_the_inline_markdown_the_reports_write_and_no_other_link(tmp_path):
+    page = _html([Heading("T", 1), Paragraph("**bold ν_f**, `x_i < 2`, [data](data.json), [x](javascript:alert(1))"),
+                  Table(["a", "b"], [["**yes**", "`q`"]])], tmp_path)
+    assert "<strong>bold ν<sub>f</sub></strong>" in page and "<code>x_i &lt; 2</code>" in page
+    assert '<a href="data.json">data</a>' in page
+    assert "javascript" in page and 'href="javascript' not in page   # left as text, never a link
+    assert "<td><strong>yes</strong></td><td><code>q</code></td>" in page and "**" not in page

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import base64
 import html
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -142,12 +143,36 @@ _CSS = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 
         ".card dd{margin:0}.tag{font-size:0.8em;border-radius:3px;padding:1px 6px;margin-left:0.6em;"
         "background:#eee}")
 
+#: The inline Markdown the reports write: `code`, **bold**, [text](relative link or http(s) address).
+_INLINE = re.compile(r"`([^`]+)`|\*\*(.+?)\*\*|\[([^\]]+)\]\(([^)\s]+)\)")
+
+
+def _inline(text) -> str:
+    """``text`` as HTML: the reports' inline Markdown as its elements, the rest through ``inline_html``
+    (escaped, exponents and subscripts). A link to anything but a relative path or http(s) stays text."""
+    text, out, at = str(text), [], 0
+    for match in _INLINE.finditer(text):
+        out.append(inline_html(text[at:match.start()]))
+        code, bold, label, href = match.groups()
+        if code is not None:
+            out.append(f"<code>{html.escape(code)}</code>")
+        elif bold is not None:
+            out.append(f"<strong>{_inline(bold)}</strong>")
+        elif ":" in href.split("/", 1)[0] and not href.startswith(("http://", "https://")):
+            out.append(inline_html(match.group(0)))   # javascript:, data:, ...: not a link
+        else:
+            out.append(f'<a href="{html.escape(href)}">{_inline(label)}</a>')
+        at = match.end()
+    out.append(inline_html(text[at:]))
+    return "".join(out)
+
+
 #: A table whose cells average more characters than this reads better as one card per row.
 _CARD_CELL_CHARS = 45
 
 
 def _table_html(head, rows) -> str:
-    m = inline_html
+    m = _inline
     cells = [str(c) for r in rows for c in r]
     if len(head) < 4 or not cells or sum(map(len, cells)) / len(cells) < _CARD_CELL_CHARS:
         return ("<table><tr>" + "".join(f"<th>{m(h)}</th>" for h in head) + "</tr>"
@@ -167,7 +192,7 @@ def _table_html(head, rows) -> str:
 def to_html(blocks, figure_dir) -> str:
     """``blocks`` as one self-contained HTML page: its title is the first heading, each figure is read from
     ``figure_dir`` and embedded (base64), so the page needs no file beside it."""
-    e, m = html.escape, inline_html
+    e, m = html.escape, _inline
     blocks = flatten(blocks)
     title = next(b.text for b in blocks if isinstance(b, Heading))
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
