@@ -60,6 +60,10 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         records = LaneRecords(recorded, lane)
         runs.append(Run(pars[:, lane], state[:, lane], records, records, lambda lane=lane: hi[lane]))
 
+    actions = c.actions   # switches, sets and rungs: acted on in heyoka's callbacks, no return
+    actions.runs, ended = runs, actions.ended
+    ended.clear()
+
     def load(lane: int) -> bool:
         """Next point into ``lane`` (time 0); False when the queue is empty (the lane idles)."""
         i = next(queue, -1)
@@ -104,14 +108,14 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
             outcome, _, _, n = results[lane]
             steps[lane] += n
             code = int(outcome)
-            if code == success:  # stopped because another lane had an event
-                if steps[lane] >= max_steps:
+            if code == success or code >= 0:  # stopped because another lane had an event (code i ≥ 0:
+                if steps[lane] >= max_steps:  # its last step ended at event i, acted on in its callback)
                     finish(lane, Status.NO_STOP, f"no stop within max_steps = {max_steps}")
                     done.append(lane)
                 continue
-            index = -code - 1  # terminal event i comes back as −(i + 1)
-            if 0 <= index < n_events:   # only ends, sets, switches and rungs are terminal in batch mode
-                status = act(c, index, runs[lane])
+            index = -code - 1  # terminal event i that stopped the integration comes back as −(i + 1)
+            if 0 <= index < n_events:   # an end, or an action that ended the run in its callback
+                status = ended.pop(lane, None) or act(c, index, runs[lane])
                 if status is not None:
                     finish(lane, status, runs[lane].message)
                     done.append(lane)
