@@ -125,7 +125,8 @@ class LaneRecorder:
             if not views or views[0][2] is not ta:   # d_output is a live view: fetched once per integrator
                 views[:] = [(np.zeros(len(values)), ta.d_output, ta)]   # (per call: ~1 µs of ~20 per point)
             times, d_output, _ = views[0]
-            times[:] = ta.time
+            # only this lane's time matters: the other lanes' dense output (at whatever time they had
+            # last) is not read, and update_d_output checks no range (saves ~0.5 µs per call)
             times[lane] = time
             ta.update_d_output(times)
             if d_output[index, lane] > values[lane]:
