@@ -99,36 +99,59 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     pars[:, :] = 1.0
     live = [lane for lane in range(lanes) if load(lane)]
     ta.set_dtime(new_hi, new_lo)
-    success = int(_SUCCESS)
+    success, step_limit = int(_SUCCESS), int(hy.taylor_outcome.step_limit)
+    fired = actions.fired   # (lane, event index) of the end events (and ending actions) of a call
+    # Steps by a clock: heyoka steps every lane once per iteration of a call, and a lane that is
+    # neither done nor non-finite counts each of them, so a point's steps are the clock's advance
+    # since its load; the loop then reads only the lanes that fired, and looks at every lane (slow
+    # path) only when one of them counted less (a non-finite state, t_max) or is near max_steps.
+    clock = 0
+    start = [0] * lanes
+    oldest = 0
+    t_near = float(t_max) * (1 - 1e-12)
     while live:
-        ta.propagate_until(target, max_steps=max_steps)
-        results = ta.propagate_res
+        fired.clear()
+        # at most until the oldest point reaches max_steps: a point without a stop gets exactly
+        # max_steps steps, whichever neighbours it had
+        ta.propagate_until(target, max_steps=max_steps - (clock - oldest))
+        counts = [r[3] for r in ta.propagate_res]
+        it = max(counts)
+        before, clock = clock, clock + it
         done = []
-        for lane in live:
-            outcome, _, _, n = results[lane]
-            steps[lane] += n
-            code = int(outcome)
-            if code == success or code >= 0:  # stopped because another lane had an event (code i ≥ 0:
-                if steps[lane] >= max_steps:  # its last step ended at event i, acted on in its callback)
-                    finish(lane, Status.NO_STOP, f"no stop within max_steps = {max_steps}")
-                    done.append(lane)
-                continue
-            index = -code - 1  # terminal event i that stopped the integration comes back as −(i + 1)
-            if 0 <= index < n_events:   # an end, or an action that ended the run in its callback
-                status = ended.pop(lane, None) or act(c, index, runs[lane])
-                if status is not None:
-                    finish(lane, status, runs[lane].message)
-                    done.append(lane)
-            else:
-                finish(lane, *limit(outcome, hi[lane], steps[lane], t_max, max_steps))
+        for lane, index in fired:
+            status = ended.pop(lane, None) or act(c, index, runs[lane])
+            if status is not None:
+                steps[lane] = before + counts[lane] - start[lane]
+                finish(lane, status, runs[lane].message)
                 done.append(lane)
+        # (a lane that reached t_max in the call's last iteration counted it all: seen by its time)
+        if it == 0 or counts.count(it) != len(live) or clock - oldest >= max_steps or hi.max() >= t_near:
+            results = ta.propagate_res
+            for lane in live:
+                if lane in done:
+                    continue
+                outcome = results[lane][0]
+                steps[lane] = before + counts[lane] - start[lane]
+                code = int(outcome)
+                # stopped because another lane had an event or by the call's step budget (code i ≥ 0:
+                # its last step ended at event i, acted on in the callback)
+                if code == success or code >= 0 or code == step_limit:
+                    if steps[lane] >= max_steps:
+                        finish(lane, Status.NO_STOP, f"no stop within max_steps = {max_steps}")
+                        done.append(lane)
+                    continue
+                if not 0 <= -code - 1 < n_events:   # time or step limit, non-finite state
+                    finish(lane, *limit(outcome, hi[lane], steps[lane], t_max, max_steps))
+                    done.append(lane)
         if done:
             new_hi[:] = hi
             new_lo[:] = lo
             for lane in done:
+                start[lane] = clock
                 if not load(lane):
                     live.remove(lane)
             ta.set_dtime(new_hi, new_lo)
+            oldest = min((start[lane] for lane in live), default=clock)
     out = {"time": out_time, **out_state, **out_records, "steps": out_steps, "status": out_status,
            "messages": messages, "info": c.info}
     for r in c.first_records:

@@ -154,6 +154,7 @@ class LaneActions:
 
     def __init__(self) -> None:
         self.compiled, self.runs, self.ended = None, (), {}
+        self.fired = []   # (lane, event index) of each stopping event since the batch loop last looked
 
     def __deepcopy__(self, memo) -> "LaneActions":
         return self   # heyoka deep-copies each event callback on construction
@@ -166,9 +167,21 @@ class LaneActions:
             if status is None:
                 return True
             self.ended[lane] = status
+            self.fired.append((lane, index))
             return False
 
         return on_event
+
+    def end(self, index: int):
+        """The callback of an end event: note the lane, stop the integration (the batch loop reloads
+        the lane; only there can its time be reset). The loop then reads only the noted lanes."""
+        fired = self.fired
+
+        def on_end(ta, d_sgn, lane) -> bool:
+            fired.append((lane, index))
+            return False
+
+        return on_end
 
 
 #: Terminal events whose action a batch callback takes without returning (``LaneActions``).
@@ -203,6 +216,8 @@ def _events(model, system, law: FrictionLaw, fp_type, recorder: LaneRecorder | N
             kind = _KINDS[event.action]
             if actions is not None and kind in _IN_CALLBACK:
                 fp["callback"] = actions.callback(len(events))
+            elif actions is not None and kind is EventKind.STOP:
+                fp["callback"] = actions.end(len(events))
             events.append(make(expression, direction=direction(way), cooldown=cooldown, **fp))
             fp.pop("callback", None)
             kinds.append(kind)

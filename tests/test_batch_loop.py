@@ -1,0 +1,44 @@
+"""The batch loop's bookkeeping (engine._batch): a point's outcome, steps included, is its own whatever
+its lane, its neighbours and the lane count, also where the loop takes its slow path (no stop within
+max_steps or t_max), and switches acted on in heyoka's callbacks give the scalar loop's piece
+sequence (equal to rounding, as test_engine's batch test)."""
+
+import numpy as np
+import pytest
+
+import bifurcation as bf
+
+FIELDS = ("delta", "creep_time", "slip_duration", "stop_time", "max_velocity", "steps", "status")
+
+
+def _same(a, b, where=slice(None)):
+    for field in FIELDS:
+        np.testing.assert_array_equal(getattr(a, field)[where], getattr(b, field)[where], err_msg=field)
+
+
+@pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear"])
+def test_points_without_a_stop_do_not_depend_on_neighbours(law):
+    rng = np.random.default_rng(3)
+    nu = 10.0 ** -rng.uniform(3, 14, 21)
+    nu_f = rng.uniform(0.05, 0.95, 21)
+    free = bf.slip(law, nu=nu, nu_f=nu_f, batch=8)
+    # steps on this sample run from 5 to ~40: a budget of 12 stops some points and not others
+    capped = bf.slip(law, nu=nu, nu_f=nu_f, batch=8, max_steps=12)
+    perm = rng.permutation(nu.size)
+    other = bf.slip(law, nu=nu[perm], nu_f=nu_f[perm], batch=3, max_steps=12)
+    for field in FIELDS:
+        np.testing.assert_array_equal(getattr(capped, field)[perm], getattr(other, field), err_msg=field)
+    stopped = free.steps <= 12
+    assert 0 < stopped.sum() < nu.size
+    _same(capped, free, stopped)   # a point that stops within the budget: its own bits
+    assert np.all(capped.steps[~stopped] == 12)   # exactly the budget, whichever return noticed it
+    assert np.all(capped.status[~stopped] == int(bf.Status.NO_STOP))
+    # a time limit: the points that stop before it are unchanged, the others end exactly at it
+    t_cap = float(np.mean(np.sort(free.stop_time)[10:12]))   # between two stop times
+    timed = bf.slip(law, nu=nu, nu_f=nu_f, batch=8, t_max=t_cap)
+    timed3 = bf.slip(law, nu=nu[perm], nu_f=nu_f[perm], batch=3, t_max=t_cap)
+    for field in FIELDS:
+        np.testing.assert_array_equal(getattr(timed, field)[perm], getattr(timed3, field), err_msg=field)
+    early = free.stop_time < t_cap
+    _same(timed, free, early)
+    assert np.all(np.isnan(timed.delta[~early]))
