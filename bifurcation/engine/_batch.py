@@ -23,6 +23,7 @@ from .result import Status
 __all__ = ["run_batch"]
 
 _SUCCESS = hy.taylor_outcome.success
+_IDLE = 1 << 62   # the step clock's start of a lane without a point: never the oldest
 
 
 def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_steps: int) -> dict:
@@ -106,14 +107,14 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     # since its load; the loop then reads only the lanes that fired, and looks at every lane (slow
     # path) only when one of them counted less (a non-finite state, t_max) or is near max_steps.
     clock = 0
-    start = [0] * lanes
+    start = [0 if lane in live else _IDLE for lane in range(lanes)]
     oldest = 0
     t_near = float(t_max) * (1 - 1e-12)
     while live:
         fired.clear()
         # at most until the oldest point reaches max_steps: a point without a stop gets exactly
         # max_steps steps, whichever neighbours it had
-        ta.propagate_until(target, max_steps=max_steps - (clock - oldest))
+        ta.propagate_until(target, max_steps=max(max_steps - (clock - oldest), 1))
         counts = [r[3] for r in ta.propagate_res]
         it = max(counts)
         before, clock = clock, clock + it
@@ -125,7 +126,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
                 finish(lane, status, runs[lane].message)
                 done.append(lane)
         # (a lane that reached t_max in the call's last iteration counted it all: seen by its time)
-        if it == 0 or counts.count(it) != len(live) or clock - oldest >= max_steps or hi.max() >= t_near:
+        if it == 0 or counts.count(it) != len(live) or clock - oldest >= max_steps or max(hi.tolist()) >= t_near:
             results = ta.propagate_res
             for lane in live:
                 if lane in done:
@@ -150,8 +151,9 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
                 start[lane] = clock
                 if not load(lane):
                     live.remove(lane)
+                    start[lane] = _IDLE
             ta.set_dtime(new_hi, new_lo)
-            oldest = min((start[lane] for lane in live), default=clock)
+            oldest = min(start)   # an idle lane's start is _IDLE
     out = {"time": out_time, **out_state, **out_records, "steps": out_steps, "status": out_status,
            "messages": messages, "info": c.info}
     for r in c.first_records:

@@ -123,14 +123,16 @@ class LaneRecorder:
 
         def callback(ta, time, d_sgn, lane) -> None:
             if not views or views[0][2] is not ta:   # d_output is a live view: fetched once per integrator
-                views[:] = [(np.zeros(len(values)), ta.d_output, ta)]   # (per call: ~1 µs of ~20 per point)
+                views[:] = [([0.0] * len(values), ta.d_output, ta)]   # (per call: ~1 µs of ~20 per point)
             times, d_output, _ = views[0]
             # only this lane's time matters: the other lanes' dense output (at whatever time they had
-            # last) is not read, and update_d_output checks no range (saves ~0.5 µs per call)
+            # last) is not read, and update_d_output checks no range (saves ~0.5 µs per call); a list
+            # converts in half the time of an ndarray (0.8 against 1.5 µs)
             times[lane] = time
             ta.update_d_output(times)
-            if d_output[index, lane] > values[lane]:
-                values[lane] = d_output[index, lane]
+            value = d_output[index, lane]
+            if value > values[lane]:
+                values[lane] = value
 
         return callback
 
