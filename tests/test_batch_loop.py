@@ -42,3 +42,28 @@ def test_points_without_a_stop_do_not_depend_on_neighbours(law):
     early = free.stop_time < t_cap
     _same(timed, free, early)
     assert np.all(np.isnan(timed.delta[~early]))
+
+
+def test_batch_order_is_a_permutation_by_decade_of_nu_then_nu_f():
+    from bifurcation.engine.cycle import batch_order
+    from bifurcation.models.single_block import SINGLE_BLOCK
+
+    nu = np.array([1e-9, 3e-4, 2e-9, 5e-4, 1e-12])
+    nu_f = np.array([0.5, 0.2, 0.1, 0.1, 0.9])
+    order = batch_order(SINGLE_BLOCK, {"nu_f": nu_f, "nu": nu})
+    # decades -12, -9 (ν_f 0.1 then 0.5), -4 (ν_f 0.1 then 0.2)
+    assert order.tolist() == [4, 2, 0, 3, 1]
+
+
+def test_default_path_returns_points_in_input_order_whatever_the_order():
+    # the batch run reorders the points (batch_order) and must put results and messages back
+    rng = np.random.default_rng(7)
+    nu = 10.0 ** -rng.uniform(3, 14, 40)
+    nu_f = rng.uniform(0.05, 0.95, 40)
+    base = bf.slip("piecewise-linear", nu=nu, nu_f=nu_f, max_steps=12)
+    perm = rng.permutation(40)
+    other = bf.slip("piecewise-linear", nu=nu[perm], nu_f=nu_f[perm], max_steps=12)
+    for field in FIELDS:
+        np.testing.assert_array_equal(getattr(base, field)[perm], getattr(other, field), err_msg=field)
+    assert base.messages and {int(perm[i]): m for i, m in other.messages.items()} == base.messages
+    assert sorted(base.messages) == np.flatnonzero(base.status == int(bf.Status.NO_STOP)).tolist()

@@ -21,7 +21,8 @@ from ._integrator import Compiled, compiled
 from ._validate import check_batch, check_nu, check_nu_f, check_precision, check_work
 from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult
 
-__all__ = ["AUTO_BATCH_MIN_POINTS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "auto_batch", "batch_lanes", "run_cycle",
+__all__ = ["AUTO_BATCH_MIN_POINTS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "auto_batch", "batch_lanes", "batch_order",
+           "run_cycle",
            "run_model", "slip"]
 
 #: ``slip``'s default batches from this many points on (``auto_batch``). Measured (CPU time per point,
@@ -146,8 +147,48 @@ def _scalar_points(c: Compiled, values: dict, size: int, t_max: float, max_steps
     return out
 
 
+def batch_order(model, points: dict):
+    """The order in which a batch run takes the points (a permutation of their indices), or None.
+
+    A return of the batch integrator costs ~10 µs for all lanes and comes whenever a lane's point
+    ends, so it pays when the lanes' points end in the same step: neighbours in the queue should take
+    alike step counts. Points are taken by decade of each log-scale axis (ν), then by the linear
+    axes (ν_f) ascending. Measured (2 000 random single-block points, 16 lanes, CPU time per point):
+    Carlson-Langer 23.0 -> 16.2 µs, piecewise-linear 21.7 -> 17.3 µs; the bench grid is in this order
+    already. Results do not depend on the order (each lane keeps its point's own time and state).
+    """
+    axes = [a for a in model.axes if a.name in points]
+    if not axes:
+        return None
+    minor = [np.asarray(points[a.name], dtype=float).ravel() for a in axes if a.scale != "log"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        major = [np.floor(np.log10(np.asarray(points[a.name], dtype=float).ravel())) for a in axes
+                 if a.scale == "log"]
+    return np.lexsort((*reversed(minor), *reversed(major)))
+
+
 def run_model(model, law, points: dict, *, precision: str = "double", t_max: float = DEFAULT_T_MAX,
               max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1, exact: dict | None = None) -> tuple[dict, dict]:
+    """The model's outputs and messages for flat arrays ``points`` (axis name → values); a batch run
+    takes them in ``batch_order`` and returns them in the given order."""
+    size = next(iter(points.values())).size if points else 1
+    order = batch_order(model, points) if batch > 1 and size > batch and not model.structural else None
+    if order is None:
+        return _run_model(model, law, points, precision=precision, t_max=t_max, max_steps=max_steps,
+                          batch=batch, exact=exact)
+    fields, messages = _run_model(
+        model, law, {k: np.asarray(v).ravel()[order] for k, v in points.items()}, precision=precision,
+        t_max=t_max, max_steps=max_steps, batch=batch,
+        exact={k: np.asarray(v).ravel()[order] for k, v in exact.items()} if exact else None)
+    out = {}
+    for name, column in fields.items():
+        out[name] = np.empty_like(column)
+        out[name][order] = column
+    return out, {int(order[i]): text for i, text in messages.items()}
+
+
+def _run_model(model, law, points: dict, *, precision: str = "double", t_max: float = DEFAULT_T_MAX,
+               max_steps: int = DEFAULT_MAX_STEPS, batch: int = 1, exact: dict | None = None) -> tuple[dict, dict]:
     """The model's outputs and messages for flat arrays ``points`` (axis name → values).
 
     ``exact``: for ``precision="quad"``, the points as given (object arrays: decimal text, Decimal, …)
