@@ -21,7 +21,7 @@ from ._integrator import Compiled, compiled
 from ._validate import check_batch, check_nu, check_nu_f, check_precision, check_work
 from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult
 
-__all__ = ["AUTO_BATCH_MIN_POINTS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "auto_batch", "batch_lanes", "batch_order",
+__all__ = ["AUTO_BATCH_MIN_POINTS", "AUTO_BATCH_WIDE_POINTS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "auto_batch", "batch_lanes", "batch_order",
            "run_cycle",
            "run_model", "slip"]
 
@@ -232,29 +232,35 @@ def _run_group(model, law, values, size, structure, precision, t_max, max_steps,
     return model.classify(raw, values)
 
 
-def batch_lanes() -> int:
-    """Lanes of ``slip``'s default batch on this host: twice heyoka's recommended SIMD width (it says 4 on
-    the AVX-512 development host: 8 lanes). Measured there (CPU time per point, 2000 points): 8 and 16
-    lanes within 3 % of each other, 4 lanes up to 10 % slower (the Python work per return of the batch
-    integrator is shared by more lanes)."""
-    return 2 * int(hy.recommended_simd_size())
+#: From this many points ``slip``'s default batch doubles its lanes (``batch_lanes``).
+AUTO_BATCH_WIDE_POINTS = 1000
+
+
+def batch_lanes(size: int = AUTO_BATCH_MIN_POINTS) -> int:
+    """Lanes of ``slip``'s default batch for ``size`` points on this host: twice heyoka's recommended SIMD
+    width (4 on the AVX2 and the AVX-512 hosts measured: 8 lanes), four times from
+    ``AUTO_BATCH_WIDE_POINTS`` points. Measured on the AVX2 host (CPU time per point, random points in
+    ``batch_order``): at 2 000 points 16 lanes beat 8 by 4-7 % (Carlson-Langer 15.9 against 17.1 µs,
+    piecewise-linear 15.1 / 15.8, exp(-x) 25.9 / 27.8: a return for all lanes is shared by more lanes);
+    at 250 points and fewer 8 lanes are as fast or faster (the lanes drain at the end of the queue)."""
+    width = int(hy.recommended_simd_size())
+    return 4 * width if size >= AUTO_BATCH_WIDE_POINTS else 2 * width
 
 
 def auto_batch(law, size: int, precision: str = "double") -> int:
-    """The batch ``slip`` uses by default for ``size`` points: ``batch_lanes()`` from
+    """The batch ``slip`` uses by default for ``size`` points: ``batch_lanes(size)`` from
     ``AUTO_BATCH_MIN_POINTS`` points in double precision, else 1 (scalar).
 
     A function of the inputs and the host only (never of timing), so a call gives the same bits every
     time on a host. Batch results do not depend on the lane count or the order of points, and equal the
     scalar ones to rounding (≤ 7e-15 on the bench grid of 1 989 points; more at the ill-conditioned
-    ν_f ≈ 0.51, see test_engine), not bit for bit. Batching pays for every law measured once
-    the batch loop keeps its Python work per return small (``bifurcation bench``): Carlson–Langer
-    1.7x, piecewise-linear 1.2x (its switches are terminal: they return control for all lanes),
-    exp(-x) 2.3x (its rungs are terminal too) in CPU time per point at 2000 points.
+    ν_f ≈ 0.51, see test_engine), not bit for bit. On the bench grid (2 000 points, CPU time per
+    point, ``bifurcation bench``) the default batch is 2.0x (Carlson-Langer) and 1.6x (piecewise-linear)
+    faster than the scalar loop.
     """
     if precision != "double" or size < AUTO_BATCH_MIN_POINTS:
         return 1
-    return batch_lanes()
+    return batch_lanes(size)
 
 
 def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
@@ -274,7 +280,7 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
         Bounds after which a point that has not stopped gets status ``no-stop``.
     batch : int, optional
         Lanes of heyoka's batch (SIMD) integrator (double only); 1 integrates point by point. Default:
-        ``auto_batch`` (a batch of ``batch_lanes()`` from 16 points in double precision, else scalar),
+        ``auto_batch`` (a batch of ``batch_lanes(size)`` from 16 points in double precision, else scalar),
         chosen from the number of points, the precision and the host, never from timing. Results of a
         batch run do not depend on the batch size or the order of points, and agree with the scalar
         run to rounding (≤ 7e-15 on the bench grid), not bit for bit (SIMD code differs): pass
