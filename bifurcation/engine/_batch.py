@@ -1,9 +1,12 @@
 """Many slip cycles through heyoka's batch (SIMD) integrator, one point per lane, lanes refilled.
 
-A terminal event in any lane returns control for the whole batch (heyoka's batch semantics); the
-lanes without an event have just finished a step and continue at the next call. So only the stop and
-the piece switches are terminal here; velocity maxima and t1 are recorded by non-terminal events
-(``LaneRecorder``), which keeps the SIMD lanes stepping between returns. A lane whose point
+A terminal event that stops the integration in any lane returns control for the whole batch (heyoka's
+batch semantics); the lanes without an event have just finished a step and continue at the next call.
+So only a point's end returns (a callback notes its lane): switches, sets and rungs are terminal (the
+step ends exactly there) but act in heyoka's callback and let the integration go on
+(``_integrator.LaneActions``); velocity maxima and t1 are recorded by non-terminal events
+(``LaneRecorder``). ``cycle.batch_order`` queues alike points together, so that lanes often end in the
+same step and share a return (~10 µs). A lane whose point
 has stopped is loaded at once with the next point (its own time, state and parameters), so the SIMD
 width stays busy until the queue is empty. Every lane keeps its double-length time exactly
 (``dtime``/``set_dtime``), so a point gives the same bits whichever lane and neighbours it had.
