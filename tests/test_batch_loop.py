@@ -67,3 +67,20 @@ def test_default_path_returns_points_in_input_order_whatever_the_order():
         np.testing.assert_array_equal(getattr(base, field)[perm], getattr(other, field), err_msg=field)
     assert base.messages and {int(perm[i]): m for i, m in other.messages.items()} == base.messages
     assert sorted(base.messages) == np.flatnonzero(base.status == int(bf.Status.NO_STOP)).tolist()
+
+
+def test_parked_lanes_give_the_same_bits(monkeypatch):
+    # ended lanes parked at rest until a share of the lanes has ended (engine._batch.PARK_SHARE) give
+    # the bits of a loop that reloads every lane at once (PARK_SHARE = 0), steps and no-stops included
+    from bifurcation.engine import _batch
+
+    rng = np.random.default_rng(11)
+    nu = 10.0 ** -rng.uniform(3, 14, 50)
+    nu_f = rng.uniform(0.05, 0.95, 50)
+    for law in ("carlson-langer", "piecewise-linear"):
+        parked = bf.slip(law, nu=nu, nu_f=nu_f, batch=8, max_steps=30)
+        monkeypatch.setattr(_batch, "PARK_SHARE", 0)
+        plain = bf.slip(law, nu=nu, nu_f=nu_f, batch=8, max_steps=30)
+        monkeypatch.undo()
+        _same(parked, plain)
+        assert parked.messages == plain.messages

@@ -26,6 +26,11 @@ from .result import Status
 __all__ = ["run_batch"]
 
 _SUCCESS = hy.taylor_outcome.success
+#: The share of the lanes that ends (parked) before the batch returns to reload them (``run_batch``; 0: no
+#: parking). Measured (single block, 16 lanes, 2 000 points, CPU time per point, against no parking):
+#: 1/8 and 1/4 are slower (more lanes idle than returns saved), 3/4 is 4-9 % faster, all lanes about
+#: the same as 3/4.
+PARK_SHARE = 0.75
 _IDLE = 1 << 62   # the step clock's start of a lane without a point: never the oldest
 
 
@@ -97,6 +102,28 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         if message:
             messages[i] = message
 
+    # Parking (the single block): an ended lane is finished in the end event's callback and parked at
+    # the model's rest state with the forcing off (W = V = 0 stays exactly there: its one next step runs
+    # to t_max and it is done, counting that step), and the integration goes on until ``park_at``
+    # lanes have ended; they are then reloaded together, one return for several points.
+    parked = []
+    forcing = slots.index("forcing") if c.model is not None and c.model.name == "single-block" else -1
+    park_at = max(2, int(PARK_SHARE * lanes)) if forcing >= 0 and PARK_SHARE > 0 else 0
+    stop_hi = [0.0] * lanes
+
+    def park(lane: int, index: int) -> bool:
+        status = act(c, index, runs[lane])
+        if status is None:   # not an end after all: nothing to park
+            return False
+        finish(lane, status, runs[lane].message)
+        stop_hi[lane] = hi[lane]
+        runs[lane].state[:] = 0.0
+        runs[lane].pars[forcing] = 0.0
+        parked.append(lane)
+        return len(parked) < park_at
+
+    actions.park = park if park_at else None
+
     n_events = len(c.kinds)
     # A lane that never gets a point (fewer points than lanes) must still have a finite right side:
     # ν = ν_f = 0 gave 0/0, a NaN time step and a ValueError from heyoka for the whole batch.
@@ -115,6 +142,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     t_near = float(t_max) * (1 - 1e-12)
     while live:
         fired.clear()
+        parked.clear()
         # at most until the oldest point reaches max_steps: a point without a stop gets exactly
         # max_steps steps, whichever neighbours it had
         ta.propagate_until(target, max_steps=max(max_steps - (clock - oldest), 1))
@@ -123,13 +151,23 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         before, clock = clock, clock + it
         done = []
         for lane, index in fired:
+            if lane in parked:   # finished in the callback; a parked lane counted its step to t_max
+                steps[lane] = n = before + counts[lane] - start[lane] - (hi[lane] != stop_hi[lane])
+                out_steps[point[lane]] = n
+                done.append(lane)
+                continue
             status = ended.pop(lane, None) or act(c, index, runs[lane])
             if status is not None:
                 steps[lane] = before + counts[lane] - start[lane]
                 finish(lane, status, runs[lane].message)
                 done.append(lane)
         # (a lane that reached t_max in the call's last iteration counted it all: seen by its time)
-        if it == 0 or counts.count(it) != len(live) or clock - oldest >= max_steps or max(hi.tolist()) >= t_near:
+        slow = it == 0 or clock - oldest >= max_steps
+        if not slow and not parked:
+            slow = counts.count(it) != len(live) or max(hi.tolist()) >= t_near
+        elif not slow:
+            slow = any(counts[lane] != it or hi[lane] >= t_near for lane in live if lane not in done)
+        if slow:
             results = ta.propagate_res
             for lane in live:
                 if lane in done:
@@ -157,6 +195,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
                     start[lane] = _IDLE
             ta.set_dtime(new_hi, new_lo)
             oldest = min(start)   # an idle lane's start is _IDLE
+    actions.park = None
     out = {"time": out_time, **out_state, **out_records, "steps": out_steps, "status": out_status,
            "messages": messages, "info": c.info}
     for r in c.first_records:

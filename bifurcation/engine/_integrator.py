@@ -157,6 +157,7 @@ class LaneActions:
     def __init__(self) -> None:
         self.compiled, self.runs, self.ended = None, (), {}
         self.fired = []   # (lane, event index) of each stopping event since the batch loop last looked
+        self.park = None  # the batch loop's (lane, index) -> bool: go on with the lane parked (True)
 
     def __deepcopy__(self, memo) -> "LaneActions":
         return self   # heyoka deep-copies each event callback on construction
@@ -181,7 +182,8 @@ class LaneActions:
 
         def on_end(ta, d_sgn, lane) -> bool:
             fired.append((lane, index))
-            return False
+            park = self.park
+            return False if park is None else park(lane, index)
 
         return on_end
 
