@@ -6,8 +6,9 @@ So only a point's end returns (a callback notes its lane): switches, sets and ru
 step ends exactly there) but act in heyoka's callback and let the integration go on
 (``_integrator.LaneActions``); velocity maxima and t1 are recorded by non-terminal events
 (``LaneRecorder``). ``cycle.batch_order`` queues alike points together, so that lanes often end in the
-same step and share a return (~10 µs). A lane whose point
-has stopped is loaded at once with the next point (its own time, state and parameters), so the SIMD
+same step and share a return (~10 µs); for the single block an ended lane is parked at rest until 3/4
+of the lanes have ended (``PARK_SHARE``), so one return reloads several. A lane whose point
+has stopped is loaded with the next point at the next return (its own time, state and parameters), so the SIMD
 width stays busy until the queue is empty. Every lane keeps its double-length time exactly
 (``dtime``/``set_dtime``), so a point gives the same bits whichever lane and neighbours it had.
 """
