@@ -21,7 +21,7 @@ import heyoka as hy
 import numpy as np
 
 from ._actions import LaneRecords, Run, act, limit
-from ._integrator import Compiled
+from ._integrator import Compiled, EventKind
 from .result import Status
 
 __all__ = ["run_batch"]
@@ -61,7 +61,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     pars = ta.pars
     queue = iter(range(n_points))
     initial = np.asarray(c.initial, dtype=float)
-    slot_values = [(slots.index(name), values[name]) for name in slots.names]
+    slot_values = [(slots.index(name), np.asarray(values[name], dtype=float).tolist()) for name in slots.names]
     reset_recorder = c.recorder.reset
     # each lane as one run of the event actions (``_actions``): column views of the batch's parameters
     # and state (heyoka never reallocates them), its entries of the recorder's arrays, its time
@@ -86,9 +86,11 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
             target[lane] = 0.0
             return False
         ta.reset_cooldowns(lane)  # the previous point's cooldowns must not reach this one
-        for index, column in slot_values:
-            pars[index, lane] = column[i]
-        runs[lane].start(c)
+        run = runs[lane]
+        column = run.pars
+        for index, given in slot_values:   # Python floats into the lane's column view: the same doubles
+            column[index] = given[i]
+        run.start(c)
         steps[lane] = 0
         reset_recorder(lane)
         return True
@@ -112,13 +114,24 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     park_at = max(2, int(PARK_SHARE * lanes)) if forcing >= 0 and PARK_SHARE > 0 else 0
     stop_hi = [0.0] * lanes
 
+    stick_slip = int(Status.STICK_SLIP)
+    out_columns = [out_state[name] for name in names]
+    record_columns = [(column, out_records[name]) for name, column in recorded.items()]
+    is_end = [kind is EventKind.STOP for kind in c.kinds]
+
     def park(lane: int, index: int) -> bool:
-        status = act(c, index, runs[lane])
-        if status is None:   # not an end after all: nothing to park
+        if not is_end[index]:
             return False
-        finish(lane, status, runs[lane].message)
-        stop_hi[lane] = hi[lane]
-        runs[lane].state[:] = 0.0
+        # ``finish`` with its status (an end is a stick-slip stop), inlined: ~1 µs of ~15 per point
+        i = point[lane]
+        out_time[i] = stop_hi[lane] = hi[lane]
+        out_status[i] = stick_slip
+        column = runs[lane].state
+        for out, value in zip(out_columns, column.tolist()):
+            out[i] = value
+        for values_, out in record_columns:
+            out[i] = values_[lane]
+        column[:] = 0.0
         runs[lane].pars[forcing] = 0.0
         parked.append(lane)
         return len(parked) < park_at
