@@ -140,7 +140,8 @@ class LaneRecorder:
         values = self.values[name]
 
         def callback(ta, time, d_sgn, lane) -> None:
-            if np.isnan(values[lane]):
+            value = values[lane]
+            if value != value:   # NaN: the first time only (np.isnan on a scalar costs ~0.5 µs more)
                 values[lane] = time
 
         return callback
