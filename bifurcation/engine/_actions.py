@@ -6,7 +6,8 @@ The compiled system says, per terminal event index, its kind and what it records
 the friction law, its records. In batch mode a ``Run`` is one lane: its parameters and state are
 column views of the batch's arrays and its records are the lane's entries of the recorder's arrays;
 "maximum" and "first" events are not terminal there (the recorder's callbacks take them), so
-``act`` sees only ends, switches, sets and rungs.
+``act`` sees only ends, switches, sets and rungs (the last three from heyoka's event callback,
+``_integrator.LaneActions``).
 """
 
 from __future__ import annotations
