@@ -73,8 +73,10 @@ def _name_comparisons(path: Path) -> list[str]:
     return found
 
 
-def test_report_bench_and_cli_do_not_branch_on_a_model_name():
-    found = [hit for folder in ("report", "bench", "cli") for path in sorted((PACKAGE / folder).rglob("*.py"))
+def test_no_generic_layer_branches_on_a_model_name():
+    # (both came back once: the batch engine's parking and the store's old-layout check named a model)
+    folders = ("engine", "store", "run", "workflow", "analysis", "report", "bench", "cli")
+    found = [hit for folder in folders for path in sorted((PACKAGE / folder).rglob("*.py"))
              for hit in _name_comparisons(path)]
     assert found == [], "call a hook of the model instead (docs/models.md, Hooks):\n" + "\n".join(found)
 
@@ -84,3 +86,16 @@ def test_the_name_comparison_finder_finds_one(tmp_path):
     path.write_text('def f(model, ds):\n    if model.name == "rate-state":\n        return 1\n'
                     '    return store_model(ds.attrs) != "chain"\n', encoding="utf-8")
     assert len(_name_comparisons(path)) == 2
+
+
+def test_the_engine_parks_lanes_by_the_models_declared_rest_slot_not_by_its_name():
+    # parking is a declaration (Model.rest_slot), so the engine names no model; a slot it does not have is refused
+    import dataclasses
+
+    from bifurcation.models import get_model
+
+    block = get_model("single-block")
+    assert block.rest_slot == "forcing" and block.rest_slot in block.parameters
+    assert "single-block" not in (Path(__file__).resolve().parents[1] / "bifurcation" / "engine" / "_batch.py").read_text()
+    with pytest.raises(ValueError, match="rest_slot 'nope' is not one of its parameters"):
+        dataclasses.replace(block, rest_slot="nope")

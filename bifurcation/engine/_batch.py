@@ -105,12 +105,13 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         if message:
             messages[i] = message
 
-    # Parking (the single block): an ended lane is finished in the end event's callback and parked at
-    # the model's rest state with the forcing off (W = V = 0 stays exactly there: its one next step runs
-    # to t_max and it is done, counting that step), and the integration goes on until ``park_at``
-    # lanes have ended; they are then reloaded together, one return for several points.
+    # Parking (a model that declares a rest_slot, the single block's forcing): an ended lane is finished
+    # in the end event's callback and parked at the model's rest state with that slot at 0 (W = V = 0 stays
+    # exactly there: its one next step runs to t_max and it is done, counting that step), and the
+    # integration goes on until ``park_at`` lanes have ended; they are then reloaded together, one return
+    # for several points.
     parked = []
-    forcing = slots.index("forcing") if c.model is not None and c.model.name == "single-block" else -1
+    forcing = slots.index(c.model.rest_slot) if c.model is not None and c.model.rest_slot else -1
     park_at = max(2, int(PARK_SHARE * lanes)) if forcing >= 0 and PARK_SHARE > 0 else 0
     stop_hi = [0.0] * lanes
 

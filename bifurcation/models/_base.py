@@ -361,8 +361,14 @@ class Model:
     #: cycles, each point continued from the one before): no engine runs its points one by one, so it
     #: declares neither equations nor a runner, and a ``submit`` workflow cannot name it.
     written_by: str = ""
+    #: A runtime slot that, set to 0 with the state at ``initial_state``, holds the system exactly at rest
+    #: (the single block's ``forcing``: W = V = 0 stays there). The batch engine parks a lane whose point
+    #: has ended there and reloads parked lanes together (engine/_batch.py); empty: no parking.
+    rest_slot: str = ""
 
     def __post_init__(self) -> None:
+        if self.rest_slot and self.rest_slot not in self.parameters:
+            raise ValueError(f"model {self.name}: rest_slot {self.rest_slot!r} is not one of its parameters")
         if self.runner is None and (self.equations is None or self.classify is None) and not self.written_by:
             raise ValueError(f"model {self.name}: declare equations and classify, or a runner (or written_by)")
         names = [self.labels.name, *(a.name for a in self.axes)]

@@ -198,6 +198,7 @@ SINGLE_BLOCK = Model(
     axes=(NU_F, NU),
     parameters=("nu", "nu_f", "forcing"),
     fixed={"forcing": 1.0},
+    rest_slot="forcing",
     state=(StateVar("W", "scaled displacement U/ν"), StateVar("V", "scaled velocity U̇/ν")),
     events=STOP_EVENTS,
     outputs=OUTPUTS,

@@ -121,7 +121,9 @@ def _is_branch_store(path) -> bool:
         attrs = read_attrs(path)
     except Exception:
         return False
-    return attrs.get("model") == "rate-state" and "branch_labels" in attrs
+    # that layout is told apart by its attributes alone (no store of today writes branch_labels, and
+    # only a store of today has bifurcation_store): the store names no model
+    return "branch_labels" in attrs and "bifurcation_store" not in attrs
 
 
 def create_store(path, workflow, *, command: str | None = None, overwrite: bool = False) -> dict:
