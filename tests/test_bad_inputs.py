@@ -13,6 +13,7 @@ the whole table takes a few seconds.
 
 from __future__ import annotations
 
+import json
 import os
 import shlex
 import shutil
@@ -662,6 +663,8 @@ STUDY_CASES = [
     "study chain {study} --from-data --out {outdir} ## --from-data",  # no data.json
     "study chain {study} --from-data --out {study_bad_data} ## --from-data",
     "study chain {study} --from-data --out {study_big_data} ## --from-data",       # 300 MB (sparse)
+    "study chain {study} --from-data --out {study_no_data} ## is not a chain study's data",   # JSON, not a study's
+    "study chain {study} --from-data --out {study_other_data} ## was run with another workflow",  # ν differs
     "study chain {study} --out {outdir} --out {newdir} ## --out is given twice",
     "study chain ## Missing argument 'WORKFLOW'",
     "study nope {study} ## nope",
@@ -686,7 +689,14 @@ def study_env(env):
     (d / "big-data").mkdir(exist_ok=True)
     with open(d / "big-data" / "data.json", "wb") as fh:   # sparse: no disk used
         fh.truncate(300 << 20)
-    extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"), study_big_data=str(d / "big-data"))
+    (d / "no-data").mkdir(exist_ok=True)                 # valid JSON, not a study's data
+    (d / "no-data" / "data.json").write_text("{}")
+    (d / "other-data").mkdir(exist_ok=True)              # a study's data run at another ν: a report rendered
+    other = {"workflow": _edit(STUDY, "nu = 1e-3", "nu = 1e-4"), "wall_seconds": 1.0, "cpu_seconds": 1.0,
+             "sweeps": {"runs": []}, "catalogs": [], "threshold": []}   # from it would be labelled ν = 1e-3
+    (d / "other-data" / "data.json").write_text(json.dumps(other))
+    extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"), study_big_data=str(d / "big-data"),
+                 study_no_data=str(d / "no-data"), study_other_data=str(d / "other-data"))
     return root, {**paths, **extra}
 
 
