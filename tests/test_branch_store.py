@@ -104,6 +104,19 @@ def test_verify_finds_a_flipped_byte_and_query_shows_nothing_of_it(store):
     assert r.exit_code == 2 and "bifurcation continue WORKFLOW" in r.output and chunk.read_bytes() == bytes(data)
 
 
+def test_status_of_a_lost_done_chunk_points_to_continue_not_submit(store):
+    """A store written whole has points not done only by damage (its done chunk lost): status says how to
+    write it again, not "submit the same workflow again" (a continue workflow is refused by submit)."""
+    import shutil
+
+    shutil.rmtree(store / "done" / "c" / "1")
+    r = CliRunner().invoke(cli, ["status", "--store", str(store)])
+    assert r.exit_code == 0, r.output
+    last = r.output.splitlines()[-1]
+    assert last.startswith("3 points not done in a store written whole") and "submit" not in last
+    assert f"`bifurcation continue WORKFLOW --out {store.parent}`" in last
+
+
 def test_a_new_store_replaces_a_store_and_nothing_else(store, tmp_path):
     write_branch_store(store, SPEC, _results()[:1])   # rewritten whole: one branch now
     from bifurcation.store.query import query
