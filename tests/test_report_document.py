@@ -87,3 +87,13 @@ def test_a_cell_with_a_bar_stays_one_cell(tmp_path):
     assert from_markdown(md, tmp_path) == [("table", 2, 1)]
     with pytest.raises(AssertionError, match="other than 2 cells"):
         from_markdown("| x | |T − 1| |\n|---|---|\n", tmp_path)
+
+
+def test_a_cell_holds_no_raw_html_and_no_line_break(tmp_path):
+    # labels come from workflows: a branch "prz <fast>" rendered as an unknown tag (GitHub shows nothing of
+    # it), "&amp;" as "&", a "\r" split the row; "σ < 1", "a & b" and "<1e-13" stay as they are
+    md = _markdown([Table(["branch", "note"], [["prz <fast>", "&amp; x"], ["σ < 1, <1e-13", "a & b\r\nc"]])])
+    assert md.splitlines()[2:] == ["| prz &lt;fast> | &amp;amp; x |", "| σ < 1, <1e-13 | a & b c |"]
+    from _report_outline import from_markdown
+
+    assert from_markdown(md, tmp_path) == [("table", 2, 2)]
