@@ -176,6 +176,8 @@ WORKFLOWS = {
     "rs_branches_many": (RS, "[hopf]", '[[branch]]\nstate_law = "aging"\n' * 101 + "[hopf]"),
     "rs_unknown_table": (RS, "[hopf]", "[output]\ndir = 'x'\n[hopf]"),
     "rs_syntax": (RS, "a = 0.01", "a = = 0.01"),
+    "rs_name_newline": (RS, 'name = "bad-rs"', 'name = "bad-rs\\n"'),   # a plain name and a line break
+    "rs_label_empty": (RS, 'label = "prz"', 'label = " "'),          # query --law cannot name it
 }
 
 # -- the table ----------------------------------------------------------------------------------------
@@ -371,7 +373,8 @@ CASES = [
         ("rs_b_over_a_huge", "hopf.b_over_a"), ("rs_b_over_a_low", "hopf.b_over_a"),
         ("rs_hopf_vlp_neg", "hopf.v_lp"), ("rs_hopf_list_long", "hopf.v_lp"), ("rs_hopf_empty", "hopf.v_lp"),
         ("rs_bautin", "hopf.bautin"), ("rs_name", "study.name"), ("rs_no_branch", "branch"),
-        ("rs_branches_many", "branch"), ("rs_unknown_table", "output="), ("rs_syntax", "WORKFLOW")]],
+        ("rs_branches_many", "branch"), ("rs_unknown_table", "output="), ("rs_syntax", "WORKFLOW"),
+        ("rs_name_newline", "study.name"), ("rs_label_empty", "branch[0].label")]],
     "continue ## Missing argument 'WORKFLOW'",
     # -- export ----------------------------------------------------------------------------------------
     "export --store {sb} --out {existing_nc} ## --out",                               # no overwrite without --force
