@@ -117,6 +117,20 @@ def test_status_of_a_lost_done_chunk_points_to_continue_not_submit(store):
     assert f"`bifurcation continue WORKFLOW --out {store.parent}`" in last
 
 
+def test_one_writer_at_a_time_and_no_lock_left(store):
+    """Two runs writing one --out at once removed each other's .partial (zarr ValueError tracebacks): the
+    second is refused in one line naming --out, the first's store stays whole, and no lock is left."""
+    from bifurcation.store.integrity import scan
+    from bifurcation.store.lock import StoreLock
+
+    with StoreLock(store.parent).acquire(command="another continue"):
+        with pytest.raises(InputError, match=r"--out=.*is being written by"):
+            write_branch_store(store, SPEC, _results()[:1])
+    assert scan(store)[0] == [] and not (store.parent / "branches.zarr.partial").exists()
+    write_branch_store(store, SPEC, _results()[:1])
+    assert sorted(p.name for p in store.parent.iterdir()) == ["branches.zarr"]   # no LOCK_NAME left
+
+
 def test_a_new_store_replaces_a_store_and_nothing_else(store, tmp_path):
     write_branch_store(store, SPEC, _results()[:1])   # rewritten whole: one branch now
     from bifurcation.store.query import query
