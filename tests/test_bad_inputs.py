@@ -631,6 +631,7 @@ STUDY_WORKFLOWS = {
     "cycles": ("cycles = [[60, 24, 10], [15, 5, 2]]", "cycles = [[60, 24], [15, 5, 2]]"),
     "scan_points": ("scan_points = 41", "scan_points = 1"),
     "no_threshold": (STUDY[STUDY.index("[threshold]"):STUDY.index("[near_half]")], ""),
+    "out_empty": ('out = "results/local/chain"', 'out = ""'),   # the working directory: the study ran into it
 }
 STUDY_CASES = [
     "study chain {missing} ## WORKFLOW",
@@ -659,6 +660,8 @@ STUDY_CASES = [
     "study chain {study_cycles} ## near_half.cycles[0]",
     "study chain {study_scan_points} ## threshold.scan_points",
     "study chain {study_no_threshold} ## threshold=None: is missing",
+    "study chain {study_out_empty} ## study.out",
+    "study chain {study} --out '' ## --out='': is empty",
     "study chain {study} --out {text} ## --out",
     "study chain {study} --out /proc/x ## --out",
     "study chain {study} --out {sb}/chain ## --out",                  # inside a store

@@ -42,8 +42,8 @@ def chain_study_cmd(workflow: str, out, from_data: bool, force: bool) -> None:
     from ._common import check_writable_dir
 
     cfg = load_report_workflow(workflow)   # the whole workflow, before anything runs or is written
-    out = Path(out if out is not None else cfg["study"].get("out", f"results/local/{cfg['study']['name']}"))
-    check_writable_dir(out)
+    out = out if out is not None else cfg["study"].get("out", f"results/local/{cfg['study']['name']}")
+    out = check_writable_dir(out)   # (the text, not Path(out): Path("") is ".")
     data = out / "data.json"
     if from_data:
         if not data.is_file():
