@@ -80,6 +80,9 @@ def test_status_query_and_verify_read_the_continuation_store(store):
     assert r.exit_code == 0, r.output
     text = (store.parent / "report" / "REPORT.md").read_text()
     assert "| prz, quasi-static | kappa | 3 | 1 … 1.25 | subcritical | 0.5 |" in text
+    # its labels are branches, not laws: no "law" column, no table of equations it cannot have
+    assert "| branch | not-computed | periodic-orbit | no-convergence | past-end |" in text
+    assert "| law |" not in text and "declares no description" not in text
 
 
 def test_verify_finds_a_flipped_byte_and_query_shows_nothing_of_it(store):
