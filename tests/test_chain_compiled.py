@@ -243,7 +243,10 @@ def test_compiled_engine_keeps_a_restart_inside_the_event_with_switches_and_a_dr
     before the lone trajectory). The exact engine's first event has potency 1.30352 and the next starts
     at t = 1.3479e9; the compiled one ends the first at 1.19968 (the 0.10383 of one block's slip missing)
     and starts the next at t = 999 914 679, before the first (σ of that block left 8.5e-5 above 1).
-    With tol = 1e-13 it agrees with the exact engine. ``--verify 1`` shows it (1.5e-1), status complete."""
+    With tol = 1e-13 it agrees with the exact engine. ``--verify 1`` shows it (1.5e-1), status complete.
+    Of 3953 random small chains (N = 1-8, free/periodic, σ ∈ {0, 0.01, 0.3, 0.9}, ν = 1e-2-1e-9, three laws,
+    15 events each), 11 differed in an event's hypocentre or size and 1 stopped with no-stop where the exact
+    engine completed: all piecewise-linear with σ = 0.3 or 0.9."""
     law = resolve_law("piecewise-linear")
     u0 = check_initial(3, 3.0, "periodic", None, 0.3, 148)
     got = CompiledChain(law, 3, 3.0, 1e-9, 0.1, "periodic", u0, sigma=0.3).run(2)["catalog"]
