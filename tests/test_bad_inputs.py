@@ -13,6 +13,7 @@ the whole table takes a few seconds.
 
 from __future__ import annotations
 
+import json
 import os
 import shlex
 import shutil
@@ -211,6 +212,8 @@ WORKFLOWS = {
     "rsc_amp": (RSC, "[grid.amplitude]\nvalues = [1.0]", "[grid.amplitude]\nvalues = [1e300]"),
     "rsc_catalog": (RSC, "catalog = 100", "catalog = 0"),
     "rsc_axis": (RSC, "[grid.eta]", "[grid.gamma]"),
+    "rs_name_newline": (RS, 'name = "bad-rs"', 'name = "bad-rs\\n"'),   # a plain name and a line break
+    "rs_label_empty": (RS, 'label = "prz"', 'label = " "'),          # query --law cannot name it
 }
 
 # -- the table ----------------------------------------------------------------------------------------
@@ -406,7 +409,8 @@ CASES = [
         ("rs_b_over_a_huge", "hopf.b_over_a"), ("rs_b_over_a_low", "hopf.b_over_a"),
         ("rs_hopf_vlp_neg", "hopf.v_lp"), ("rs_hopf_list_long", "hopf.v_lp"), ("rs_hopf_empty", "hopf.v_lp"),
         ("rs_bautin", "hopf.bautin"), ("rs_name", "study.name"), ("rs_no_branch", "branch"),
-        ("rs_branches_many", "branch"), ("rs_unknown_table", "output="), ("rs_syntax", "WORKFLOW")]],
+        ("rs_branches_many", "branch"), ("rs_unknown_table", "output="), ("rs_syntax", "WORKFLOW"),
+        ("rs_name_newline", "study.name"), ("rs_label_empty", "branch[0].label")]],
     "continue ## Missing argument 'WORKFLOW'",
     # -- export ----------------------------------------------------------------------------------------
     "export --store {sb} --out {existing_nc} ## --out",                               # no overwrite without --force
@@ -712,6 +716,7 @@ STUDY_WORKFLOWS = {
     "preset_events": ("events = 1000000\n\n[[presets.run]]\npreset = \"carlson-langer-1991\"",
                       "events = 0\n\n[[presets.run]]\npreset = \"carlson-langer-1991\""),
     "preset_key": ('bootstrap = 10 ', 'bootstraps = 10 '),
+    "out_empty": ('out = "results/local/chain"', 'out = ""'),   # the working directory: the study ran into it
 }
 STUDY_CASES = [
     "study chain {missing} ## WORKFLOW",
@@ -745,6 +750,8 @@ STUDY_CASES = [
     "study chain {study_preset_key} ## presets.bootstraps",
     "study chain {study} --presets-only --from-data --out {outdir} ## --presets-only",
     "study chain {study} --presets-only --out {outdir} ## --presets-only",     # no data.json to take the rest from
+    "study chain {study_out_empty} ## study.out",
+    "study chain {study} --out '' ## --out='': is empty",
     "study chain {study} --out {text} ## --out",
     "study chain {study} --out /proc/x ## --out",
     "study chain {study} --out {sb}/chain ## --out",                  # inside a store
@@ -752,6 +759,8 @@ STUDY_CASES = [
     "study chain {study} --from-data --out {outdir} ## --from-data",  # no data.json
     "study chain {study} --from-data --out {study_bad_data} ## --from-data",
     "study chain {study} --from-data --out {study_big_data} ## --from-data",       # 300 MB (sparse)
+    "study chain {study} --from-data --out {study_no_data} ## is not a chain study's data",   # JSON, not a study's
+    "study chain {study} --from-data --out {study_other_data} ## was run with another workflow",  # ν differs
     "study chain {study} --out {outdir} --out {newdir} ## --out is given twice",
     "study chain ## Missing argument 'WORKFLOW'",
     "study nope {study} ## nope",
@@ -776,7 +785,14 @@ def study_env(env):
     (d / "big-data").mkdir(exist_ok=True)
     with open(d / "big-data" / "data.json", "wb") as fh:   # sparse: no disk used
         fh.truncate(300 << 20)
-    extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"), study_big_data=str(d / "big-data"))
+    (d / "no-data").mkdir(exist_ok=True)                 # valid JSON, not a study's data
+    (d / "no-data" / "data.json").write_text("{}")
+    (d / "other-data").mkdir(exist_ok=True)              # a study's data run at another ν: a report rendered
+    other = {"workflow": _edit(STUDY, "nu = 1e-3", "nu = 1e-4"), "wall_seconds": 1.0, "cpu_seconds": 1.0,
+             "sweeps": {"runs": []}, "catalogs": [], "threshold": []}   # from it would be labelled ν = 1e-3
+    (d / "other-data" / "data.json").write_text(json.dumps(other))
+    extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"), study_big_data=str(d / "big-data"),
+                 study_no_data=str(d / "no-data"), study_other_data=str(d / "other-data"))
     return root, {**paths, **extra}, _snapshot(root)
 
 

@@ -80,6 +80,9 @@ def test_status_query_and_verify_read_the_continuation_store(store):
     assert r.exit_code == 0, r.output
     text = (store.parent / "report" / "REPORT.md").read_text()
     assert "| prz, quasi-static | kappa | 3 | 1 … 1.25 | subcritical | 0.5 |" in text
+    # its labels are branches, not laws: no "law" column, no table of equations it cannot have
+    assert "| branch | not-computed | periodic-orbit | no-convergence | past-end |" in text
+    assert "| law |" not in text and "declares no description" not in text
 
 
 def test_verify_finds_a_flipped_byte_and_query_shows_nothing_of_it(store):
@@ -102,6 +105,33 @@ def test_verify_finds_a_flipped_byte_and_query_shows_nothing_of_it(store):
     # its points cannot be recomputed one by one: --repair says what to do instead, and touches nothing
     r = CliRunner().invoke(cli, ["verify", "--store", str(store), "--repair"])
     assert r.exit_code == 2 and "bifurcation continue WORKFLOW" in r.output and chunk.read_bytes() == bytes(data)
+
+
+def test_status_of_a_lost_done_chunk_points_to_continue_not_submit(store):
+    """A store written whole has points not done only by damage (its done chunk lost): status says how to
+    write it again, not "submit the same workflow again" (a continue workflow is refused by submit)."""
+    import shutil
+
+    shutil.rmtree(store / "done" / "c" / "1")
+    r = CliRunner().invoke(cli, ["status", "--store", str(store)])
+    assert r.exit_code == 0, r.output
+    last = r.output.splitlines()[-1]
+    assert last.startswith("3 points not done in a store written whole") and "submit" not in last
+    assert f"`bifurcation continue WORKFLOW --out {store.parent}`" in last
+
+
+def test_one_writer_at_a_time_and_no_lock_left(store):
+    """Two runs writing one --out at once removed each other's .partial (zarr ValueError tracebacks): the
+    second is refused in one line naming --out, the first's store stays whole, and no lock is left."""
+    from bifurcation.store.integrity import scan
+    from bifurcation.store.lock import StoreLock
+
+    with StoreLock(store.parent).acquire(command="another continue"):
+        with pytest.raises(InputError, match=r"--out=.*is being written by"):
+            write_branch_store(store, SPEC, _results()[:1])
+    assert scan(store)[0] == [] and not (store.parent / "branches.zarr.partial").exists()
+    write_branch_store(store, SPEC, _results()[:1])
+    assert sorted(p.name for p in store.parent.iterdir()) == ["branches.zarr"]   # no LOCK_NAME left
 
 
 def test_a_new_store_replaces_a_store_and_nothing_else(store, tmp_path):

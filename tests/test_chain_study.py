@@ -5,6 +5,7 @@ tests/test_bad_inputs.py, its study block)."""
 
 from __future__ import annotations
 
+import json
 import shutil
 import tomllib
 from pathlib import Path
@@ -59,7 +60,9 @@ def test_force_runs_again_into_a_study_and_from_data_re_renders(runs, tmp_path):
     r = CliRunner().invoke(cli, ["study", "chain", "study.toml", "--out", str(done)])
     assert r.exit_code == 2 and "--force" in r.stderr and runs == []
     assert CliRunner().invoke(cli, ["study", "chain", "study.toml", "--out", str(done), "--force"]).exit_code == 0
-    (done / "data.json").write_text('{"sweeps": {}}')
+    saved = {"workflow": (tmp_path / "study.toml").read_text(), "wall_seconds": 1.0, "cpu_seconds": 1.0,
+             "sweeps": {"runs": []}, "catalogs": [], "threshold": []}
+    (done / "data.json").write_text(json.dumps(saved))
     r = CliRunner().invoke(cli, ["study", "chain", "study.toml", "--out", str(done), "--from-data"])
     assert r.exit_code == 0, r.output
     assert runs == [["study.toml", "--out", str(done)], ["study.toml", "--out", str(done), "--from-data"]]

@@ -94,3 +94,13 @@ def test_html_renders_the_inline_markdown_the_reports_write_and_no_other_link(tm
     assert '<a href="data.json">data</a>' in page
     assert "javascript" in page and 'href="javascript' not in page   # left as text, never a link
     assert "<td><strong>yes</strong></td><td><code>q</code></td>" in page and "**" not in page
+
+
+def test_a_cell_holds_no_raw_html_and_no_line_break(tmp_path):
+    # labels come from workflows: a branch "prz <fast>" rendered as an unknown tag (GitHub shows nothing of
+    # it), "&amp;" as "&", a "\r" split the row; "σ < 1", "a & b" and "<1e-13" stay as they are
+    md = _markdown([Table(["branch", "note"], [["prz <fast>", "&amp; x"], ["σ < 1, <1e-13", "a & b\r\nc"]])])
+    assert md.splitlines()[2:] == ["| prz &lt;fast> | &amp;amp; x |", "| σ < 1, <1e-13 | a & b c |"]
+    from _report_outline import from_markdown
+
+    assert from_markdown(md, tmp_path) == [("table", 2, 2)]

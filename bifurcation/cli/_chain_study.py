@@ -45,8 +45,8 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
     from ._common import check_writable_dir
 
     cfg = load_report_workflow(workflow)   # the whole workflow, before anything runs or is written
-    out = Path(out if out is not None else cfg["study"].get("out", f"results/local/{cfg['study']['name']}"))
-    check_writable_dir(out)
+    out = out if out is not None else cfg["study"].get("out", f"results/local/{cfg['study']['name']}")
+    out = check_writable_dir(out)   # (the text, not Path(out): Path("") is ".")
     data = out / "data.json"
     if from_data and presets_only:
         raise InputError("--presets-only", "with --from-data", "runs the preset catalogs, which --from-data never does",
@@ -63,10 +63,11 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
             raise InputError("--from-data", str(data), f"is larger than {_MAX_DATA_BYTES >> 20} MB: not a study's "
                              "data (results/chain/data.json is 0.35 MB)", "give the --out of a chain study")
         try:
-            json.loads(data.read_bytes())
+            saved = json.loads(data.read_bytes())
         except (ValueError, OSError) as exc:
             raise InputError("--from-data", str(data), f"cannot be read as a study's data ({exc})",
                              "run the study again without --from-data (with --force) to rewrite it") from None
+        _check_saved(saved, cfg, data)
     elif not force and any((out / mark).exists() for mark in _MARKS):
         raise InputError("--out", str(out), "already holds a chain study (REPORT.md or data.json), which a run "
                          "replaces", "give --force to run it again, --from-data to re-render it, or another --out")
@@ -76,3 +77,34 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
           *(["--presets-only"] if presets_only else [])])
     if from_data:   # (a run says where it wrote, and in how long, itself)
         click.echo(f"wrote {out / 'REPORT.md'} and its figures from {data}")
+
+
+#: what the report reads from data.json before anything else (``report.main``, ``--from-data``)
+_DATA_KEYS = ("workflow", "wall_seconds", "cpu_seconds", "sweeps", "catalogs", "threshold")
+
+
+def _check_saved(saved, cfg: dict, data: Path) -> None:
+    """``saved`` (data.json) is a chain study's data, run with WORKFLOW's parameters: the report is
+    rendered from WORKFLOW's values (ν, N, ν_f, ...) beside the saved numbers, so the data of another
+    workflow would be labelled with parameters it was not run at. Only ``[study] out`` may differ (the
+    committed data was run into results/chain)."""
+    import tomllib
+
+    fix = "give the WORKFLOW that data.json was run with, or run the study again without --from-data"
+    if (not isinstance(saved, dict) or any(k not in saved for k in _DATA_KEYS)
+            or not isinstance(saved["sweeps"], dict) or "runs" not in saved["sweeps"]):
+        raise InputError("--from-data", str(data), "is not a chain study's data (keys "
+                         f"{', '.join(_DATA_KEYS)} and sweeps.runs expected)", fix)
+    try:
+        ran = tomllib.loads(saved["workflow"]) if isinstance(saved["workflow"], str) else None
+    except tomllib.TOMLDecodeError:
+        ran = None
+
+    def physics(doc):
+        return {**doc, "study": {k: v for k, v in doc.get("study", {}).items() if k != "out"}}
+
+    if not isinstance(ran, dict) or physics(ran) != physics(cfg):
+        differ = "its workflow" if not isinstance(ran, dict) else ", ".join(sorted(
+            k for k in set(ran) | set(cfg) if physics(ran).get(k) != physics(cfg).get(k)))
+        raise InputError("--from-data", str(data), f"was run with another workflow than WORKFLOW ({differ} "
+                         "differ)", fix)

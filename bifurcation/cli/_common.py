@@ -196,6 +196,8 @@ def check_writable_dir(path, option: str = "--out") -> Path:
     at the end on its output (``/proc``, a read-only mount, a file in the way)."""
     import tempfile
 
+    if not str(path).strip():   # Path("") is the working directory: a study would be written all over it
+        raise InputError(option, str(path), "is empty", "give a directory, e.g. results/local/study")
     out = Path(path)
     if out.exists() and not out.is_dir():
         raise InputError(option, str(path), "is a file, not a directory", "give a directory (it is created if missing)")

@@ -108,8 +108,13 @@ def flatten(blocks) -> list:
 
 
 # -- the renderer ---------------------------------------------------------------------------------------
+#: what Markdown reads as raw HTML in a cell (a tag's start, an entity): a label "prz <fast>" vanished as a tag
+_MD_HTML = re.compile(r"<(?=[A-Za-z/!?])|&(?=#[0-9]+;|#[xX][0-9a-fA-F]+;|[A-Za-z][A-Za-z0-9]*;)")
+
+
 def _md_cell(text: str) -> str:
-    return str(text).replace("|", "\\|").replace("\n", " ")
+    text = str(text).replace("|", "\\|").replace("\r\n", " ").replace("\n", " ").replace("\r", " ")
+    return _MD_HTML.sub(lambda m: "&lt;" if m.group() == "<" else "&amp;", text)
 
 
 def to_markdown(blocks) -> str:

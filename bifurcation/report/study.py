@@ -179,17 +179,16 @@ def _store_section(ds, out: Path, figures: list, stem: str) -> Section:
     laws = _labels(ds, model.labels.name)
     b: list = [Paragraph(f"Model {model.name}: {model.title}. {model.description}. Source: {model.source}.")]
     describe = model.hook("describe_label")
+    label = model.labels.name   # the first column holds the store's labels: laws, or rate-state's branches
     rows = []
-    for law in laws:
-        if describe is None:
-            rows.append([law, "(the model declares no description of its labels)", "-"])
-            continue
+    for law in laws if describe is not None else ():   # (branches of cycles: labels, not equations)
         try:
             spec = describe(law)
             rows.append([law, spec.equation, spec.source])
         except Exception as exc:  # noqa: BLE001 — a label this version cannot read is still listed
             rows.append([law, "(cannot be read by this version)", str(exc)])
-    b.append(Table(["law", "equation", "source"], rows))
+    if rows:
+        b.append(Table([label, "equation", "source"], rows))
     b.append(Table(["axis", "symbol", "from", "to", "points", "units", "spacing"],
                    [[ax.name, ax.symbol, _fmt_value(ax.shown(_labels(ds, ax.name)[0])),
                      _fmt_value(ax.shown(_labels(ds, ax.name)[-1])),
@@ -197,7 +196,7 @@ def _store_section(ds, out: Path, figures: list, stem: str) -> Section:
     status = np.asarray(ds["status"].values)
     statuses = (Status.NOT_COMPUTED, *(s for s in model.statuses if int(s) != int(Status.NOT_COMPUTED)))
     b.append(Paragraph("Points per status:"))
-    b.append(Table(["law", *(str(s) for s in statuses)],
+    b.append(Table([label, *(str(s) for s in statuses)],
                    [[law, *(str(int(np.count_nonzero(status[i] == int(s)))) for s in statuses)]
                     for i, law in enumerate(laws)]))
     own = model.hook("report")

@@ -63,6 +63,8 @@ class StudyStatus:
         return asdict(self)
 
     def __str__(self) -> str:
+        from .integrity import _written_by, repair_fix
+
         percent = 100.0 * self.done / self.points if self.points else 100.0
         width = max([len(self.axis)] + [len(str(k)) for k in self.per_label])
         lines = [f"study {self.study} ({self.store}): {self.done}/{self.points} points done ({percent:.1f}%), "
@@ -80,6 +82,9 @@ class StudyStatus:
         elif self.complete:
             lines.append(f"complete: all {self.points} points computed and no submit is writing it; read it "
                          f"with `bifurcation query --store {self.store}` or `bifurcation report`")
+        elif _written_by(self.store):   # written whole (rate-state continue): points missing are damage
+            lines.append(f"{self.points - self.done} points not done in a store written whole: "
+                         f"{repair_fix(self.store)}")
         else:
             lines.append(f"no submit is writing it: submit the same workflow again to compute the "
                          f"{self.points - self.done} remaining points")

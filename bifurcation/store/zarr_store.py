@@ -208,24 +208,28 @@ def write_whole_store(path, model, labels, grid, values: dict, attrs: dict, *, t
     tiles = tuple(tiles or shape[1:])
     attrs = {**attrs, "tiles": list(tiles)}
     partial, old = path.with_name(path.name + ".partial"), path.with_name(path.name + ".old")
-    if old.is_dir() and not path.exists():   # a run killed between the two renames below: the store was that
-        old.rename(path)
-    for leftover in (partial, old):
-        shutil.rmtree(leftover, ignore_errors=True)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    _create(partial, model, labels, grid, tiles, attrs)
-    with _quiet():
-        group = zarr.open_group(str(partial), mode="r+", use_consolidated=False)
-        for name, dtype in variables(model).items():   # in write order: "done" last
-            data = np.asarray(values[name], dtype=dtype)
-            if data.shape != shape:
-                raise ValueError(f"write_whole_store: {name} has shape {data.shape}, not {shape}")
-            # every chunk written, also one that equals the fill value: a missing chunk is damage (verify)
-            group[name].with_config({"write_empty_chunks": True})[...] = data
-    if path.exists():
-        path.rename(old)
-    partial.rename(path)
-    shutil.rmtree(old, ignore_errors=True)
+    # one writer at a time (the lock file in the directory beside the store: the store itself is renamed):
+    # two runs into one --out removed each other's .partial and failed with zarr's ValueError tracebacks
+    from .lock import StoreLock
+
+    with StoreLock(path.parent, argument=argument).acquire(command=f"write {path.name}"):
+        if old.is_dir() and not path.exists():   # a run killed between the two renames below: the store was that
+            old.rename(path)
+        for leftover in (partial, old):
+            shutil.rmtree(leftover, ignore_errors=True)
+        _create(partial, model, labels, grid, tiles, attrs)
+        with _quiet():
+            group = zarr.open_group(str(partial), mode="r+", use_consolidated=False)
+            for name, dtype in variables(model).items():   # in write order: "done" last
+                data = np.asarray(values[name], dtype=dtype)
+                if data.shape != shape:
+                    raise ValueError(f"write_whole_store: {name} has shape {data.shape}, not {shape}")
+                # every chunk written, also one that equals the fill value: a missing chunk is damage (verify)
+                group[name].with_config({"write_empty_chunks": True})[...] = data
+        if path.exists():
+            path.rename(old)
+        partial.rename(path)
+        shutil.rmtree(old, ignore_errors=True)
     return attrs
 
 

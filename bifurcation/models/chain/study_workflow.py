@@ -62,7 +62,9 @@ def load_report_workflow(path) -> dict:
     root = Table(doc, "", _TABLES, source=path)
     study = root.table("study", ("name", "out", "workers"))
     study.string("name")
-    study.string("out", fix='add out = "results/local/chain" (the directory of the report)')
+    if not study.string("out", fix='add out = "results/local/chain" (the directory of the report)').strip():
+        raise InputError(study.path("out"), "", "is empty (the working directory)",
+                         'give the directory of the report, e.g. out = "results/local/chain"')
     study.integer("workers", 2, high=256)
 
     chain = root.table("chain", ("law", "ell", "nu", "ends", "amplitude"))

@@ -99,7 +99,7 @@ def load_study(path) -> StudySpec:
     root = Table(doc, "", ("study", "slider", "branch", "hopf"), source=path)
     study = root.table("study", ("name", "description"), required=False)
     name = study.raw("name", None) if study is not None else None
-    if not isinstance(name, str) or not _NAME.match(name):
+    if not isinstance(name, str) or not _NAME.fullmatch(name):   # (match's $ let "name\n" through)
         raise InputError("study.name", name, "is missing or not a plain name", "give e.g. name = \"rate-state\"")
     description = study.string("description", "")
     slider = root.table("slider", _SLIDER_KEYS, required=False) or Table({}, "slider", _SLIDER_KEYS)
@@ -114,6 +114,8 @@ def load_study(path) -> StudySpec:
         law = resolve_state_law(br.string("state_law", ""), argument=br.path("state_law")).name
         a = at("a").number("a", above=0)
         label = br.string("label", f"{law} {i}")
+        if not label.strip():   # the store finds a branch by its label (query --law): an empty one cannot be
+            raise InputError(br.path("label"), label, "is empty", "give the branch a label, e.g. \"prz, quasi-static\"")
         if label.strip() in labels:   # a branch is found in the store by its label
             raise InputError(br.path("label"), label, f"repeats branch[{labels[label.strip()]}].label",
                              "give each branch its own label")
