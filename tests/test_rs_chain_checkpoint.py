@@ -196,3 +196,44 @@ def test_a_killed_submit_is_resumed_by_the_next_from_the_checkpoint(tmp_path):
     for name in CATALOG:
         assert_same(cat[name], reference[name].reshape(-1)[0], name)
     assert not list((store / "checkpoints").glob("*.npz"))
+
+
+class _MemoryCheckpoints:
+    """The runner's side of ``store.catalog.Checkpoints`` in memory: what ``save`` got, ``load`` gives."""
+
+    def __init__(self, every: int, saved=None) -> None:
+        self.every, self.saved, self.calls = every, saved, []
+
+    def load(self, i):
+        return self.saved
+
+    def save(self, i, state, catalog, *, steps):
+        self.calls.append((i, len(catalog["t_start"]), steps))
+        self.saved = {"state": {k: np.ascontiguousarray(v).tobytes() for k, v in state.items()},
+                      "catalog": {k: np.array(v) for k, v in catalog.items()}, "steps": steps,
+                      "events": len(catalog["t_start"])}
+
+
+def test_the_runner_saves_at_each_chunk_and_ignores_a_checkpoint_that_does_not_fit():
+    model = get_model("rs-chain")
+    given = {"n": 6, "k": 0.1, "ell": 3.0, "events": 40}          # the rest: the axes' defaults
+    points = {a.name: np.asarray([given.get(a.name, a.default)], dtype=a.dtype) for a in model.axes}
+    straight, _ = model.runner(model, "aging", points)
+    memory = _MemoryCheckpoints(10)
+    saving, _ = model.runner(model, "aging", points, checkpoints=memory)
+    assert [c[1] for c in memory.calls] == [10, 20, 30]          # full chunks only, as the store needs
+    good = memory.saved
+    resumed, _ = model.runner(model, "aging", points, checkpoints=_MemoryCheckpoints(10, good))
+    assert resumed["resumed"][0] == 30
+    # a checkpoint of a chain of another size (a state of 5 values), or with its bytes cut: start over
+    wrong = {**good, "state": {**good["state"], "state": good["state"]["state"][:40]}}
+    cut = {**good, "state": {**good["state"], "tail": b"\0" * 12}}
+    over1, _ = model.runner(model, "aging", points, checkpoints=_MemoryCheckpoints(10, wrong))
+    over2, _ = model.runner(model, "aging", points, checkpoints=_MemoryCheckpoints(10, cut))
+    assert over1["resumed"][0] == over2["resumed"][0] == 0
+    for values in (saving, resumed, over1, over2):
+        for name in (*CATALOG, "steps", "t_end", "balance_max", "events_done"):
+            got, want = values[name], straight[name]
+            if got.dtype == object:
+                got, want = got[0], want[0]
+            assert_same(got, want, name)

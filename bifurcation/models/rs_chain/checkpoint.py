@@ -67,7 +67,8 @@ class Snapshot:
             # per event, for all events: what the catalog chunks do not keep
             "stress_drop": cols["stress_drop"], "balance": cols["balance"],
             # the events past the last full chunk (not yet in the store), every column
-            "tail": np.array([[float(v) for v in row] for row in self.rows[cut:]], dtype=np.float64).reshape(-1, len(ROW)),
+            "tail": np.array([[float(v) for v in row] for row in self.rows[cut:]],
+                             dtype=np.float64).reshape(-1, len(ROW)),
         }
 
     @classmethod

@@ -137,9 +137,10 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
                 if resume is not None and np.size(resume.state) != np.size(state0):
                     resume = None
 
-            def save(snap, i=i, every=every):
+            def to_store(snap, i=i, every=every):
                 upto = snap.boundary(every)
                 checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto), steps=snap.steps[0])
+            save = to_store
 
         r = run(spec, state0, int(p["events"]), t_max=float(t_max), max_steps=int(max_steps), every=every,
                 save=save, resume=resume)
