@@ -83,6 +83,16 @@ def test_an_inertial_periodic_run_resumes_bit_for_bit():
     _same_run(run(spec, s0, 20, max_steps=200_000, resume=_through_bytes(snaps[1], 5)), ref)
 
 
+def test_a_compact_mode_chain_resumes_bit_for_bit():
+    # N > 8 compiles heyoka's compact mode (as N = 256 of workflows/rs-chain-large.toml): N = 12, 30 events
+    spec = RSChainSpec(n=12, ell=3.0, **QD)
+    s0 = initial_state(spec, 1.0, 1)
+    snaps = []
+    ref = run(spec, s0, 30, every=10, save=snaps.append)
+    assert [len(s.rows) for s in snaps] == [10, 20]
+    _same_run(run(spec, s0, 30, resume=_through_bytes(snaps[1], 10)), ref)
+
+
 def test_a_snapshot_inside_an_event_survives_the_bytes():
     # the saves of a run come after an event closed, usually with none open; a step may close one and
     # open the next, so the open event's bookkeeping must round-trip too (values here are arbitrary)
