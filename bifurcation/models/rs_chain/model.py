@@ -4,10 +4,15 @@ A study is a workflow with ``[model] name = "rs-chain"`` (docs/rs-chain.md): lab
 state laws (``aging``, ``slip``, ``prz``; rate_state.laws), the axes the chain's parameters (all but N
 and k with defaults), and each point one run of ``simulate.run`` — the first ``events`` events from
 steady sliding at V_lp with ln V_j perturbed by A r_j (seeded). Per run the store keeps ``status``,
-``events_done``, ``t_end``, ``steps`` and ``balance_max`` (the largest stress-balance residual of its
-events); per event, in the Burridge–Knopoff chain's catalog schema, ``t_start``, ``hypocentre``,
+``events_done``, ``t_end``, ``steps``, ``balance_max`` (the largest stress-balance residual of its
+events) and ``resumed``; per event, in the Burridge–Knopoff chain's catalog schema, ``t_start``, ``hypocentre``,
 ``n_blocks``, ``potency``, ``duration`` and ``max_velocity``. ``[engine] t_max`` and ``max_steps`` bound
 one event (and the wait for it): beyond them the run stops with ``no-stop`` and keeps the events before.
+
+Runs are long (10^5 events of N = 256: hours), so the model checkpoints (``checkpoint=True``) through
+the store's ``Checkpoints`` as the Burridge–Knopoff chain does: the runner saves the integrator's state
+once the events done reach each multiple of the catalog chunk, and a run that finds a checkpoint resumes
+from it with the same catalog bit for bit (``rs_chain.checkpoint``).
 """
 
 from __future__ import annotations
@@ -79,6 +84,8 @@ OUTPUTS = (
     Output("t_end", "end of the last catalogued event (NaN: no event)", "time"),
     Output("steps", "Taylor steps of the run", dtype="int64", fill=0),
     Output("balance_max", "largest |ΔΣ(μ+z+ηV) − k(N V_lp Δt − ΔP)| / |ΔΣ| over the run's events"),
+    Output("resumed", "events restored from a checkpoint when this run was last computed (0: none)",
+           dtype="int64", fill=0),
     *(Output(name, long, units, dtype=dtype, fill=-1 if dtype == "int64" else np.nan, per_event=True)
       for name, (long, units, dtype) in _CATALOG.items()),
 )
@@ -86,7 +93,13 @@ OUTPUTS = (
 
 def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_steps=1_000_000, batch=1,
                   checkpoints=None) -> tuple[dict, dict]:
-    """The runner: one chain run per point (flat per-axis arrays in ``points``); catalogs as object arrays."""
+    """The runner: one chain run per point (flat per-axis arrays in ``points``); catalogs as object arrays.
+
+    ``checkpoints`` (optional, ``bifurcation.store.catalog.Checkpoints``): ``load(i)`` gives point ``i``'s
+    saved state and stored catalog (or None) and the run resumes from it; ``save(i, state, catalog)``
+    is called once the events done reach each multiple of ``checkpoints.every`` (``checkpoint.Snapshot``).
+    """
+    from .checkpoint import Snapshot
     from .simulate import RSChainSpec, initial_state, run
 
     size = np.size(points["n"])
@@ -112,7 +125,26 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
             for name, (_, _, dtype) in _CATALOG.items():
                 catalogs[name][i] = np.empty(0, dtype=dtype)
             continue
-        r = run(spec, state0, int(p["events"]), t_max=float(t_max), max_steps=int(max_steps))
+        resume, save, every = None, None, None
+        if checkpoints is not None:
+            every = checkpoints.every
+            saved = checkpoints.load(i)
+            if saved is not None:
+                try:
+                    resume = Snapshot.from_saved(saved["state"], saved["catalog"])
+                except (KeyError, ValueError):
+                    resume = None     # a checkpoint of another layout: the run starts from the beginning
+                if resume is not None and np.size(resume.state) != np.size(state0):
+                    resume = None
+
+            def to_store(snap, i=i, every=every):
+                upto = snap.boundary(every)
+                checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto), steps=snap.steps[0])
+            save = to_store
+
+        r = run(spec, state0, int(p["events"]), t_max=float(t_max), max_steps=int(max_steps), every=every,
+                save=save, resume=resume)
+        per_run["resumed"][i] = len(resume.rows) if resume is not None else 0
         for name, (_, _, dtype) in _CATALOG.items():
             catalogs[name][i] = np.asarray(getattr(r, name), dtype=dtype)
         per_run["status"][i] = int(r.status)
@@ -142,6 +174,7 @@ RS_CHAIN = Model(
     statuses=tuple(RSChainStatus),
     equations=None,
     classify=None,
+    checkpoint=True,
     runner=run_rs_chains,
     catalog_size="events",
     catalog_count="events_done",

@@ -25,6 +25,7 @@ import numpy as np
 from ...errors import InputError
 from ..rate_state.laws import resolve_state_law
 from ._system import PARAMETERS, Layout, compiled, steady_state
+from .checkpoint import Snapshot
 from .result import RSChainStatus
 
 __all__ = ["CATALOG_FIELDS", "RSChainResult", "RSChainSpec", "RSChainStatus", "initial_state", "rs_chain", "run"]
@@ -199,16 +200,27 @@ class _Events:
 
 
 def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_steps: int = 10_000_000,
-        maxima: bool = True, crossings: bool = False) -> RSChainResult:
+        maxima: bool = True, crossings: bool = False, every: int | None = None, save=None,
+        resume=None) -> RSChainResult:
     """Integrate from ``state0`` (``initial_state``) until ``events`` events are catalogued.
 
     ``t_max`` and ``max_steps`` bound the time and the Taylor steps from the start or the end of the
     last event to the end of the next one; beyond them the run stops with ``no-stop`` and keeps the
     events before. ``maxima=False`` leaves out the velocity-maximum events (``max_velocity`` is NaN);
     ``crossings=True`` keeps every threshold crossing (t, block, ±1) of the catalogued events.
+
+    Checkpoints (``checkpoint.Snapshot``): ``save(snapshot)`` is called at the end of the first step
+    after which the events done reach a new multiple of ``every`` (while events remain to do); a run
+    given ``resume=snapshot`` goes on from it (``state0`` gives only the shape) and computes the same
+    events, bit for bit, as the run that saved it.
     """
     if int(events) < 1:
         raise InputError("events", events, "must be >= 1", "give the number of events to catalogue")
+    if save is not None and (every is None or int(every) < 1):
+        raise InputError("every", every, "must be >= 1 with save", "give the events between checkpoints")
+    if resume is not None and crossings:
+        raise InputError("crossings", crossings, "cannot be kept by a resumed run (a checkpoint holds none)",
+                         "run from the start with crossings=True")
     c = compiled(spec.state_law, spec.n, inertial=spec.inertial, periodic=spec.periodic,
                  damped=spec.eta > 0, maxima=maxima)
     ta, layout = c.integrator, c.layout
@@ -216,8 +228,6 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     if state0.shape != (layout.size,):
         raise InputError("state0", state0.shape, f"is not a state of {layout.size} values",
                          "give initial_state(spec, ...)")
-    ta.time = 0.0
-    ta.state[:] = state0
     values = spec.parameters()
     ta.pars[:] = [values[name] for name in PARAMETERS]
     c.recorder.buffer.clear()
@@ -225,8 +235,24 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     if crossings:
         assembler.crossings = []
     steps = [0, 0]        # total, since the last event ended
+    if resume is None:
+        ta.time = 0.0
+        ta.state[:] = state0
+    else:
+        if np.shape(resume.state) != (layout.size,) or np.shape(resume.above) != (spec.n,):
+            raise ValueError(f"checkpoint state of {np.size(resume.state)} values does not fit this chain "
+                             f"({layout.size})")
+        ta.state[:] = resume.state
+        ta.dtime = resume.dtime          # the double-length time: the rounded one would shift every step
+        assembler.above[:] = resume.above
+        assembler.current = None if resume.current is None else {**resume.current,
+                                                                 "blocks": set(resume.current["blocks"])}
+        assembler.t_last = resume.t_last
+        assembler.rows = list(resume.rows)
+        steps = list(resume.steps)
     status = [RSChainStatus.COMPLETE, ""]
     p_index = layout.potency
+    saved = [assembler.done // every if save is not None else 0]     # chunks checkpointed so far
 
     def step(ta) -> bool:
         steps[0] += 1
@@ -246,6 +272,9 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
             status[1] = (f"no-stop: event {assembler.done + 1} did not end within t_max = {t_max:g} or "
                          f"max_steps = {max_steps} (t = {ta.time:.17g}, {steps[0]} steps)")
             return False
+        if save is not None and assembler.done // every > saved[0]:
+            saved[0] = assembler.done // every
+            save(_snapshot(ta, assembler, steps))
         return True
 
     outcome = ta.propagate_until(1e300, callback=step)[0]
@@ -262,6 +291,14 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
         stress_drop=np.array(cols[6], dtype=float), balance=np.array(cols[7], dtype=float),
         t_end=assembler.t_last if rows else math.nan, steps=steps[0], status=status[0], message=status[1],
         crossings=np.array(assembler.crossings, dtype=float).reshape(-1, 3) if crossings else None)
+
+
+def _snapshot(ta, assembler: _Events, steps) -> Snapshot:
+    c = assembler.current
+    return Snapshot(state=np.array(ta.state, copy=True), dtime=tuple(float(v) for v in ta.dtime),
+                    steps=(steps[0], steps[1]), above=assembler.above.copy(),
+                    current=None if c is None else {**c, "blocks": set(c["blocks"])}, t_last=assembler.t_last,
+                    rows=list(assembler.rows))
 
 
 def rs_chain(*, n, state_law="aging", a=0.01, b=0.015, dc=0.01, k, ell=1.0, v_lp=1.0, mass=0.0, eta=0.0,
