@@ -54,10 +54,24 @@ _D = np.ascontiguousarray(_c.D, dtype=np.float64)
 # outcome codes of run_events (ChainStatus values where they mean the same)
 COMPLETE, NO_STOP, NONFINITE = 1, 3, 5
 _NEG_INF = -np.inf
-_jit = nb.njit(cache=True, nogil=True, error_model="numpy")
+
+
+def _disk_cache() -> bool:
+    """Whether numba has a writable place for its disk cache (``__pycache__`` beside this file, else its
+    user cache directory or NUMBA_CACHE_DIR). With none, ``cache=True`` raised RuntimeError ("no locator
+    available") at import, e.g. a read-only install run with a read-only HOME: then compile per process."""
+    try:
+        nb.njit(cache=True)(_disk_cache)
+    except RuntimeError:
+        return False
+    return True
+
+
+_CACHE = _disk_cache()
+_jit = nb.njit(cache=_CACHE, nogil=True, error_model="numpy")
 #: small functions called per block and stage: inlined in numba's IR (a call passed the window's
 #: struct of arrays by value: 260 ns per block and right-hand side against 15 inlined)
-_inline = nb.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+_inline = nb.njit(cache=_CACHE, nogil=True, error_model="numpy", inline="always")
 
 
 # -- friction ---------------------------------------------------------------------------------------
@@ -140,7 +154,7 @@ def g_law(kind, code, consts, tstart, regs, pc, xs):
     raise TypeError("g_law is called from compiled code only")
 
 
-@overload(g_law, jit_options={"cache": True, "nogil": True, "error_model": "numpy"})
+@overload(g_law, jit_options={"cache": _CACHE, "nogil": True, "error_model": "numpy"})
 def _g_law(kind, code, consts, tstart, regs, pc, xs):
     if getattr(kind, "instance_class", None) is CarlsonLanger:
         return lambda kind, code, consts, tstart, regs, pc, xs: g_carlson_langer(code, consts, tstart, regs, pc, xs)
@@ -1061,6 +1075,8 @@ class CompiledChain:
             sig = tuple(run_events.typeof_pyval(a) for a in args)
             if sig in run_events.overloads:
                 return True
+            if not _CACHE:
+                return False
             cache = run_events._cache
             return cache._index_key(sig, run_events.targetctx.codegen()) in cache._cache_file._load_index()
         except Exception:   # noqa: BLE001 (numba internals changed: no notice rather than an error)

@@ -194,10 +194,11 @@ def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max
     if progress is not None and not run.compiled():   # (the CLI: say why the first line is late)
         import sys
 
-        from ._compiled import COMPILE_SECONDS
+        from ._compiled import _CACHE, COMPILE_SECONDS
 
-        print(f"bifurcation: chain: compiling the chain engine for {law.name} (first run only, "
-              f"~{COMPILE_SECONDS} s)", file=sys.stderr, flush=True)
+        when = "first run only" if _CACHE else "every run: numba has no writable cache directory, see NUMBA_CACHE_DIR"
+        print(f"bifurcation: chain: compiling the chain engine for {law.name} ({when}, ~{COMPILE_SECONDS} s)",
+              file=sys.stderr, flush=True)
     report = None
     if verify > 0:
         out, report = run_verified(run, events, verify)
