@@ -266,3 +266,48 @@ def test_compiled_engine_keeps_a_restart_inside_the_event_with_switches_and_a_dr
     got = CompiledChain(law, 3, 3.0, 1e-9, 0.1, "periodic", u0, sigma=0.3).run(2)["catalog"]
     assert got["t_start"][1] > got["t_start"][0]
     assert abs(got["potency"][0] - 1.3035213253175568) < 1e-9   # the exact engine's (ChainLoop); tol 1e-13: 5e-14 off
+
+
+_CACHE_PROBE = """
+import json, sys
+from bifurcation.laws import resolve_law
+from bifurcation.models.chain._compiled import CompiledChain, run_events
+from bifurcation.models.chain._validate import check_initial
+out = []
+for law in sys.argv[1:]:
+    run = CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", check_initial(6, 1.0, "free", None, 0.1, 3))
+    ready = run.compiled()
+    if ready:
+        run.run(2)
+    out.append(ready)
+stats = run_events.stats
+print(json.dumps({"ready": out, "hits": sum(stats.cache_hits.values()), "misses": sum(stats.cache_misses.values())}))
+"""
+
+
+def _probe(laws, **env):
+    import json
+    import os
+    import subprocess
+    import sys
+
+    res = subprocess.run([sys.executable, "-c", _CACHE_PROBE, *laws], capture_output=True, text=True, timeout=300,
+                         env={**os.environ, **env})
+    assert res.returncode == 0, res.stderr
+    assert "dynamic globals" not in res.stderr, res.stderr       # numba's warning when it refuses to cache
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+def test_a_new_process_loads_the_compiled_loop_from_the_disk_cache(tmp_path):
+    """numba keeps the compiled loop on disk: once this process has run both law kinds (Carlson–Langer,
+    and the tape that every other law, formulas included, runs through), a new process loads them from
+    the cache (hits, no miss) instead of compiling again (8–17 s of CPU per kind). The loop used to take
+    the law's function as an argument, which numba refused to cache ("uses dynamic globals"). With an
+    empty cache directory ``compiled()`` says a compile is due (the CLI's notice), without compiling."""
+    u0 = check_initial(6, 1.0, "free", None, 0.1, 3)
+    for law in ("carlson-langer", "exp(-x)"):                   # in this process: compiled or loaded
+        CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", u0).run(2)
+    warm = _probe(["carlson-langer", "exp(-x)", "piecewise-linear", "1/(1+x/2)^2"])
+    assert warm == {"ready": [True] * 4, "hits": 2, "misses": 0}, warm
+    cold = _probe(["carlson-langer", "exp(-x)"], NUMBA_CACHE_DIR=str(tmp_path))
+    assert cold == {"ready": [False, False], "hits": 0, "misses": 0}, cold

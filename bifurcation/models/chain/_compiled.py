@@ -34,9 +34,11 @@ static threshold 1, so g_σ(x) = σ_f + (1 − σ_f) g(x/(1 − σ_f)).
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numba as nb
 import numpy as np
+from numba.extending import overload
 
 from . import _dop853 as _c
 
@@ -52,10 +54,24 @@ _D = np.ascontiguousarray(_c.D, dtype=np.float64)
 # outcome codes of run_events (ChainStatus values where they mean the same)
 COMPLETE, NO_STOP, NONFINITE = 1, 3, 5
 _NEG_INF = -np.inf
-_jit = nb.njit(cache=True, nogil=True, error_model="numpy")
+
+
+def _disk_cache() -> bool:
+    """Whether numba has a writable place for its disk cache (``__pycache__`` beside this file, else its
+    user cache directory or NUMBA_CACHE_DIR). With none, ``cache=True`` raised RuntimeError ("no locator
+    available") at import, e.g. a read-only install run with a read-only HOME: then compile per process."""
+    try:
+        nb.njit(cache=True)(_disk_cache)
+    except RuntimeError:
+        return False
+    return True
+
+
+_CACHE = _disk_cache()
+_jit = nb.njit(cache=_CACHE, nogil=True, error_model="numpy")
 #: small functions called per block and stage: inlined in numba's IR (a call passed the window's
 #: struct of arrays by value: 260 ns per block and right-hand side against 15 inlined)
-_inline = nb.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+_inline = nb.njit(cache=_CACHE, nogil=True, error_model="numpy", inline="always")
 
 
 # -- friction ---------------------------------------------------------------------------------------
@@ -122,13 +138,39 @@ def g_tape(code, consts, tstart, regs, pc, xs):
     return tape_eval(code, consts, tstart[pc], tstart[pc + 1], xs, regs)
 
 
+#: The law's kind, as a type (an empty named tuple) that numba specialises the loop on: ``CarlsonLanger()``
+#: or ``Tape()`` (every other law, formulas included). The loop is compiled once per kind and kept in
+#: numba's disk cache, so a new process loads it (a whole 10-event CLI run: 0.8 s of CPU) instead of
+#: compiling it (8–17 s of CPU per kind, measured on 2 loaded cores).
+#: (Passing ``g_carlson_langer`` or ``g_tape`` itself as an argument, a first-class function, made numba
+#: refuse the cache: "uses dynamic globals".)
+CarlsonLanger = namedtuple("CarlsonLanger", "")
+Tape = namedtuple("Tape", "")
+
+
+def g_law(kind, code, consts, tstart, regs, pc, xs):
+    """g(xs) on piece pc: ``g_carlson_langer`` for ``CarlsonLanger()``, else ``g_tape`` (compiled code
+    only; numba picks the function when it compiles, from the type of ``kind``)."""
+    raise TypeError("g_law is called from compiled code only")
+
+
+@overload(g_law, jit_options={"cache": _CACHE, "nogil": True, "error_model": "numpy"})
+def _g_law(kind, code, consts, tstart, regs, pc, xs):
+    if getattr(kind, "instance_class", None) is CarlsonLanger:
+        return lambda kind, code, consts, tstart, regs, pc, xs: g_carlson_langer(code, consts, tstart, regs, pc, xs)
+    if getattr(kind, "instance_class", None) is Tape:
+        return lambda kind, code, consts, tstart, regs, pc, xs: g_tape(code, consts, tstart, regs, pc, xs)
+    return None
+
+
 @_inline
 def _drop(gfun, code, consts, tstart, regs, pc, v, fr):
     """g_σ(x)/ν for a slipping block with scaled velocity v on piece pc (fr: the law's numbers).
-    ``gfun`` is one of ``g_carlson_langer``, ``g_tape``: numba compiles the loop once per law kind."""
+    ``gfun`` is the law's kind, ``CarlsonLanger()`` or ``Tape()`` (``g_law``): numba compiles the loop
+    once per law kind."""
     sig = fr[2]
     xs = fr[3] * v                    # x/(1 − σ_f) = (ν/ν_f')·v; multiplications, not divisions
-    g = gfun(code, consts, tstart, regs, pc, xs)
+    g = g_law(gfun, code, consts, tstart, regs, pc, xs)
     if sig == 0.0:
         return g * fr[4]
     return (sig + (1.0 - sig) * g) * fr[4]
@@ -961,8 +1003,6 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
 
 
 # -- the Python side -----------------------------------------------------------------------------------
-from collections import namedtuple  # noqa: E402
-
 _Law = namedtuple("_Law", "code consts start regs cl lower upper g_break")
 _Win = namedtuple("_Win", "blk left right selfc sg d dn slip piece w v w1 v1 tw tv kw kv fw fv "
                           "nblk nsg nv nslip npiece starts lt nlt")
@@ -972,6 +1012,9 @@ _Glob = namedtuple("_Glob", "s u tv ti p slot mem pend touched evid cnt")
 #: ``--verify`` finds times and potencies within ~tol of the heyoka engine's (measured at N = 256, nu = 1e-4:
 #: 6.7e-13, 1.2e-11, 1.1e-10 at tol 1e-12, 1e-11, 1e-10; docs/chain.md, "Engines")
 TOL = 1e-11
+#: about what compiling ``run_events`` for one law kind costs with a cold disk cache, for the CLI's notice
+#: (8–17 s of CPU measured on 2 loaded cores, 40 s of wall time under load; docs/chain.md, "Engines")
+COMPILE_SECONDS = 15
 
 
 class CompiledChain:
@@ -989,10 +1032,10 @@ class CompiledChain:
         tape = law_tape(law)
         self.law, self.n, self.ends = law, n, ends
         self.nu, self.nu_f, self.ell, self.sigma = float(nu), float(nu_f), float(ell), float(sigma)
-        # the law's g as a function-typed argument: the loop is compiled once per process and law kind
-        # (~5 s; numba cannot cache a function that takes one), and the Carlson–Langer loop holds no
-        # tape code (a single loop with both ran ~5x slower, measured)
-        self._gfun = g_carlson_langer if tape.carlson_langer else g_tape
+        # the law's kind as a type (``g_law``): the loop is compiled once per law kind and cached on
+        # disk, and the Carlson–Langer loop holds no tape code (a single loop with both ran ~5x slower,
+        # measured)
+        self._gfun = CarlsonLanger() if tape.carlson_langer else Tape()
         self._law = _Law(tape.code, tape.consts, tape.start, np.zeros(max(tape.registers, 1)),
                          bool(tape.carlson_langer), tape.lower, tape.upper, tape.g_break)
         u = np.array(u0, dtype=np.float64)
@@ -1021,6 +1064,23 @@ class CompiledChain:
         self._scal = np.array([0.0, 0.0, 0.1])    # t, L, the next event's first step
         self.t_max, self.max_steps = t_max, max_steps
         self.widest: list[int] = []
+
+    def compiled(self) -> bool:
+        """Whether ``run`` can start without compiling: ``run_events`` for this law kind is compiled in this
+        process or stored in numba's disk cache (the first run compiles it otherwise, ~COMPILE_SECONDS).
+        Reads numba's cache index (not a public API): True if that fails (then at worst no notice)."""
+        try:
+            args = (1, self._win, self._g, self._law, self._gfun, self._fr, self._par, self._scal,
+                    np.zeros((5, 1)), np.zeros((4, 1), dtype=np.int64), self._lone)
+            sig = tuple(run_events.typeof_pyval(a) for a in args)
+            if sig in run_events.overloads:
+                return True
+            if not _CACHE:
+                return False
+            cache = run_events._cache
+            return cache._index_key(sig, run_events.targetctx.codegen()) in cache._cache_file._load_index()
+        except Exception:   # noqa: BLE001 (numba internals changed: no notice rather than an error)
+            return True
 
     @property
     def t(self) -> float:

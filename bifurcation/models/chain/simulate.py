@@ -68,7 +68,8 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
     progress : callable, optional
         ``progress(events_done, events, t)``, called about every second of computing (the CLI's line
         on stderr for a long run); the events are the same with or without it (either engine; not
-        called when the compiled engine runs with ``verify``).
+        called when the compiled engine runs with ``verify``). With it, the compiled engine also says
+        on stderr when it is about to compile its loop (no disk cache yet for this kind of law).
     engine : {"exact", "compiled"}
         ``"exact"``: heyoka's Taylor integrator (the reference). ``"compiled"``: the numba engine
         (``_compiled``; double precision, no energy budget), DOP853 at tolerance ``tol`` with the
@@ -201,6 +202,14 @@ def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max
     from ._compiled import CompiledChain, run_verified
 
     run = CompiledChain(law, n, ell, nu, nu_f, ends, u, sigma=sigma, tol=tol, t_max=t_max, max_steps=max_steps)
+    if progress is not None and not run.compiled():   # (the CLI: say why the first line is late)
+        import sys
+
+        from ._compiled import _CACHE, COMPILE_SECONDS
+
+        when = "first run only" if _CACHE else "every run: numba has no writable cache directory, see NUMBA_CACHE_DIR"
+        print(f"bifurcation: chain: compiling the chain engine for {law.name} ({when}, ~{COMPILE_SECONDS} s)",
+              file=sys.stderr, flush=True)
     report = None
     if verify > 0:
         out, report = run_verified(run, events, verify)
