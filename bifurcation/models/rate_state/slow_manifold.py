@@ -264,6 +264,10 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
                 resist = spec.a + spec.damping * math.exp(x)
                 h = spec.mass * math.exp(x) * f
                 out.switches.append((t, "down", x, abs(z - h) / resist, tail))
+                kind = 1 if z > 0 else -1
+                if (z < 0) != (f < 0) and z != 0 and (not rec.out or rec.out[-1][2] != kind):
+                    # ẋ changes sign within the dropped transient: the extremum is here, to ≤ 1e-16 in x
+                    rec.out.append((t, float(x), kind))
                 phase, u = "reduced", u[:1 + n].copy()
             else:                     # up: z on the manifold
                 x = u[0]
@@ -306,7 +310,7 @@ def deep_cycle(spec, v_lp: float, period0: float, *, max_turns: int = 200, max_s
     """The attracting cycle of an inertial ``spec`` by the event-split integrator (module docstring):
     a ``cycle.CycleResult``, with status "limit-cycle" only where the split vouches for it. Started
     from steady sliding with ln V raised by ``attractor.PERTURBATION``; ``period0`` (the linear period
-    2π/ω_c) bounds each turn (1000 of them) and scales the start-on-section test."""
+    2π/ω_c) bounds each turn (10⁴ of them) and scales the start-on-section test."""
     return deep_cycle_point(spec, v_lp, period0, max_turns=max_turns, max_steps=max_steps)[0]
 
 
@@ -322,9 +326,9 @@ def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = 200,
     u = np.array([x_lp + PERTURBATION, *y_star, 0.0])
     phase, steps, last = "inertial", 0, None
     for turn in range(max_turns):
-        r = run_hybrid(spec, v_lp, phase, u, 1e3 * period0, stop_at_sections=1, max_steps=max_steps)
+        r = run_hybrid(spec, v_lp, phase, u, 1e4 * period0, stop_at_sections=1, max_steps=max_steps)
         if r.status == "section" and r.t < 1e-9 * period0:   # the start itself, on the section
-            r = run_hybrid(spec, v_lp, phase, u, 1e3 * period0, stop_at_sections=2, max_steps=max_steps)
+            r = run_hybrid(spec, v_lp, phase, u, 1e4 * period0, stop_at_sections=2, max_steps=max_steps)
         steps += r.steps
         top = max([e[1] for e in r.extrema] + [float(r.state[0])])
         if top - x_lp > BLOWUP:
