@@ -15,10 +15,12 @@ an asymptotic series in ε = M V ẋ / a'. Starting from the massless rate f_0 (
 gains one order of ε (symbolic derivatives, ``heyoka.diff``); ``ORDER`` iterations leave an error
 O(ε^{ORDER+1}) in ẋ.
 
-The run alternates two compiled Taylor integrators, switched by terminal events:
+The run alternates compiled Taylor integrators, switched by terminal events:
 
-- **inertial** (x, y, z) while |z|/a' (= ε) is above ``SWITCH``; when ε falls through −``SWITCH`` on the
-  way down (V below V_lp) the run switches to
+- **inertial** (x, y, z) while |z|/a' (= ε) is above ``SWITCH``; when ε rises through −``SWITCH`` on the
+  way down (V below V_lp/e) it hands over to the same equations with two more events (**approach**),
+  which switch down once the manifold's own ε (from x, y) is within ±``SWITCH`` and the fast
+  transient |z/a' − ε| is below ``TRANSIENT`` (whichever becomes true last) to
 - **reduced** (x, y) with ẋ = f_ORDER: the massless stick phase plus the inertial correction; when
   M V f/a' rises through +``SWITCH`` on the way up (or falls through −4·``SWITCH``: a descent steepening
   again) it switches back, with z = M e^x f_ORDER(x, y) (on the manifold).
@@ -78,7 +80,7 @@ class _Pair:
     inertial: object
     approach: object
     reduced: object
-    tail: object          # cfunc: (f_{ORDER+1} − f_ORDER, f_ORDER) at (x, y)
+    tail: object          # cfunc: (f_N − f_{N−1}, f_{N−1} − f_{N−2}, f_N, ε) at (x, y)
     order: int
     extrema: "_Extrema"
 
@@ -171,6 +173,13 @@ class _Below:
         return self
 
 
+class _At:
+    """A stand-in for an integrator (state, pars) to ask ``_Guard`` about a point outside an event."""
+
+    def __init__(self, state, pars) -> None:
+        self.state, self.pars = state, pars
+
+
 class _Guard:
     """Switch down (return False: stop) only where all three hold: V below V_lp/e, |ε| on the manifold at
     most the switch level, and the fast transient |z/a' − ε| at most ``TRANSIENT`` (each event checks
@@ -255,10 +264,14 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
             done.append(float(ta.time))
             fresh = True
             if phase == "inertial":   # near the manifold: watch for the switch
-                phase = "approach"
+                # (already on it — a descent slow enough that the transient is gone — switch now: the
+                # approach's crossing events would not fire from where they already are)
+                phase = "approach" if pair.approach.t_events[0].callback(_At(u, pars), 0) else "switch"
             elif phase == "approach" and ev >= 3:   # not there after all
                 phase = "inertial"
-            elif phase == "approach":   # down: drop z, record the transient it leaves
+            else:
+                phase = "switch" if phase == "approach" else phase
+            if phase == "switch":   # down: drop z, record the transient it leaves
                 x, ys, z = u[0], u[1:1 + n], u[1 + n]
                 tail, f = _tail(pair, np.concatenate([[x], ys]), pars)
                 resist = spec.a + spec.damping * math.exp(x)
@@ -269,7 +282,7 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
                     # ẋ changes sign within the dropped transient: the extremum is here, to ≤ 1e-16 in x
                     rec.out.append((t, float(x), kind))
                 phase, u = "reduced", u[:1 + n].copy()
-            else:                     # up: z on the manifold
+            elif phase == "reduced":  # up: z on the manifold
                 x = u[0]
                 tail, f = _tail(pair, u, pars)
                 out.switches.append((t, "up", x, 0.0, tail))
