@@ -140,3 +140,18 @@ def test_cli_cycle_with_mass_reaches_the_deep_cycle(tmp_path):
     assert out["status"] == "limit-cycle"
     assert abs(out["period"] / float(mp.mpf(case["period"])) - 1) < 1e-12
     assert out["ln_v_max"] - out["ln_v_min"] > 40
+
+
+@pytest.mark.slow   # ~5 s: compiles the slip law's integrators
+def test_a_case_the_split_cannot_follow_is_not_resolved():
+    # Slip law, b = 0.05, M = 1e-4, κ = 0.01: the first slip's inertial plunge drives ln V so deep that
+    # e^{−x} overflows before the force recovers (measured: non-finite state at t ≈ 2.76). That must be
+    # a status with the reason and no numbers, never a plausible cycle.
+    from bifurcation.models.rate_state.hopf import hopf_point
+
+    h = hopf_point(a=0.01, b=0.05, dc=1.0, state_law="slip", v_lp=1.0, mass=1e-4, damping=0.0, dps=30,
+                   lyapunov=False)
+    spec = SliderSpec(a=0.01, b=0.05, dc=1.0, state_law="slip", k=0.01 * h.k_c, mass=1e-4)
+    c = sm.deep_cycle(spec, 1.0, 2 * math.pi / h.omega_c)
+    assert c.status == "not-resolved" and "non-finite state" in c.message, c.message
+    assert math.isnan(c.period) and math.isnan(c.ln_v_min)

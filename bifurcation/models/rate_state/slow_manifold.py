@@ -289,7 +289,10 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
                 phase, u = "inertial", np.concatenate([u, [spec.mass * math.exp(x) * f]])
             continue
         out.status, out.t, out.phase, out.state = ("step-budget" if out.steps >= max_steps else "failed"), t, phase, u
-        out.message = f"{outcome} at t = {t:.6g}, ln V = {u[0]:.4g} ({phase})"
+        why = {hy.taylor_outcome.err_nf_state: "non-finite state (a step overflowed: e^±ln V out of range)",
+               hy.taylor_outcome.step_limit: "step budget spent"}.get(outcome, str(outcome))
+        last_x = float(out.extrema[-1][1]) if out.extrema else float("nan")
+        out.message = f"{why} at t = {t:.6g} in the {phase} phase (last ln V extremum {last_x:.4g})"
         return out
 
 
