@@ -105,7 +105,7 @@ def test_the_switch_error_follows_the_series_order(case0):
     assert e4 <= 1e-14 and e4 < e2 / 10
 
 
-@pytest.mark.slow   # ~10–60 s: a cycle search and Newton per case
+@pytest.mark.slow   # 0.6–5 s each (measured): a cycle search and Newton per case
 @pytest.mark.parametrize("index", sorted(CASES, key=int))
 def test_deep_inertial_cycles_against_mpmath(index):
     # Every case: the cycle found from perturbed steady sliding (deep_cycle: transient, Newton on the
@@ -126,7 +126,7 @@ def test_deep_inertial_cycles_against_mpmath(index):
     assert abs(c.ln_v_min - float(mp.mpf(case["ln_v_min"]))) < 1e-10
 
 
-@pytest.mark.slow   # ~40 s: the stalled transient run (2e6 steps) before the event-split integrator
+@pytest.mark.slow   # ~17 s: the stalled transient run (2e6 steps) before the event-split integrator
 def test_cli_cycle_with_mass_reaches_the_deep_cycle(tmp_path):
     import subprocess
     import sys
@@ -142,7 +142,7 @@ def test_cli_cycle_with_mass_reaches_the_deep_cycle(tmp_path):
     assert out["ln_v_max"] - out["ln_v_min"] > 40
 
 
-@pytest.mark.slow   # ~5 s: compiles the slip law's integrators
+@pytest.mark.slow   # ~1–3 s: compiles the slip law's integrators
 def test_a_case_the_split_cannot_follow_is_not_resolved():
     # Slip law, b = 0.05, M = 1e-4, κ = 0.01: the first slip's inertial plunge drives ln V so deep that
     # e^{−x} overflows before the force recovers (measured: non-finite state at t ≈ 2.76). That must be
@@ -155,3 +155,11 @@ def test_a_case_the_split_cannot_follow_is_not_resolved():
     c = sm.deep_cycle(spec, 1.0, 2 * math.pi / h.omega_c)
     assert c.status == "not-resolved" and "non-finite state" in c.message, c.message
     assert math.isnan(c.period) and math.isnan(c.ln_v_min)
+
+
+def test_inertial_bench_references_are_the_golden_periods():
+    # the bench embeds reference periods for its inertial rows; they must be the golden file's, digit for digit
+    from bifurcation.models.rate_state._bench_cycles import _INERTIAL_REFERENCE
+
+    golden = {(c["state_law"], c["damping"], c["kappa"], c["mass"]): c["period"] for c in CASES.values()}
+    assert _INERTIAL_REFERENCE and all(golden[key] == value for key, value in _INERTIAL_REFERENCE.items())
