@@ -342,9 +342,10 @@ def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = 200,
     u = np.array([x_lp + PERTURBATION, *y_star, 0.0])
     phase, steps, last = "inertial", 0, None
     for turn in range(max_turns):
-        r = run_hybrid(spec, v_lp, phase, u, 1e4 * period0, stop_at_sections=1, max_steps=max_steps)
+        budget = max(max_steps - steps, 1)   # one budget for the whole transient search
+        r = run_hybrid(spec, v_lp, phase, u, 1e4 * period0, stop_at_sections=1, max_steps=budget)
         if r.status == "section" and r.t < 1e-9 * period0:   # the start itself, on the section
-            r = run_hybrid(spec, v_lp, phase, u, 1e4 * period0, stop_at_sections=2, max_steps=max_steps)
+            r = run_hybrid(spec, v_lp, phase, u, 1e4 * period0, stop_at_sections=2, max_steps=budget)
         steps += r.steps
         top = max([e[1] for e in r.extrema] + [float(r.state[0])])
         if top - x_lp > BLOWUP:
