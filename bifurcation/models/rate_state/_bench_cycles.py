@@ -45,13 +45,14 @@ _REFERENCE = {
 }
 _BASE = {"a": 0.01, "b": 0.025, "dc": 1.0, "v_lp": 1.0}
 # With mass (slow_manifold.py): (law, η, κ, M) and the mpmath period (tests/data/rate_state_deep_inertial.json)
+# (the slip law with mass has no case spanning 40 and no mpmath reference yet: docs/rate-state.md)
 _INERTIAL_CASES = (
     ("aging", 1e-8, 0.1, 1e-6),
     ("prz", 1e-8, 0.1, 1e-6),
-    ("slip", 0.0, 0.01, 1e-6),
 )
 _INERTIAL_REFERENCE = {
-    ("aging", 1e-8, 0.1, 1e-6): "313.588142034062113771136",
+    ("aging", 1e-8, 0.1, 1e-6): "313.588142034062321455320093443",
+    ("prz", 1e-8, 0.1, 1e-6): "284.758080733042039355930602426",
 }
 _RTOLS = (1e-8, 1e-10, 1e-12)
 
