@@ -12,6 +12,11 @@ the section, so independent rounding and truncation — gives a second period an
 of each number is the larger of |shooting − second turn| and 4 ulps of the value. Where no attracting
 cycle exists the status says what happened instead (``steady-sliding``, ``unbounded-growth``,
 ``not-resolved``, ``no-hopf-point``) and every number is NaN.
+
+With mass, where the transient run stalls (a deep stick phase: the fast mode a'/(M V) limits the
+explicit steps), the cycle is sought again by the event-split integrator (``slow_manifold.deep_cycle``:
+inertial / slow-manifold phases); its error estimates also include a turn with the switch 10× deeper
+and one more order of the series.
 """
 
 from __future__ import annotations
@@ -64,6 +69,17 @@ def limit_cycle(spec, v_lp: float, *, max_steps: int = 2_000_000) -> CycleResult
         return CycleResult("no-hopf-point", f"no limit cycle: {exc.problem}")
     period0 = 2 * math.pi / h.omega_c
     f = fate(spec, v_lp, period0, max_steps=max_steps, t_max=math.inf)
+    if f.kind == "unresolved" and spec.inertial:
+        # with mass the explicit integrator stalls in a deep stick phase (fast mode a'/(M V)): the
+        # event-split integrator (slow_manifold.py) takes over; where it cannot vouch either, say both
+        from .slow_manifold import deep_cycle
+
+        deep = deep_cycle(spec, v_lp, period0, max_steps=max_steps)
+        if deep.status == "limit-cycle":
+            return deep
+        return CycleResult("not-resolved", f"no limit cycle at k/k_c = {spec.k / h.k_c:.6g}: no cycle could be "
+                           f"vouched for ({f.message}; event-split integrator: {deep.message})",
+                           steps=f.steps + deep.steps)
     if f.kind != "cycle":
         what = {"steady": "the perturbation decays to steady sliding", "unbounded": "V grows without bound",
                 "unresolved": "no cycle could be vouched for"}[f.kind]
