@@ -20,10 +20,12 @@ import math
 import numba as nb
 import numpy as np
 
+from ._numba_cache import CACHE
+
 __all__ = ["LAW_CODES", "rk4_active", "rk4_plain"]
 
 LAW_CODES = {"carlson-langer": 0, "piecewise-linear": 1, "exponential": 2}
-_jit = nb.njit(cache=True, nogil=True, error_model="numpy")
+_jit = nb.njit(cache=CACHE, nogil=True, error_model="numpy")   # (read-only cache: compile per process)
 
 
 @_jit

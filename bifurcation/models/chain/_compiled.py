@@ -38,6 +38,8 @@ from collections import namedtuple
 
 import numba as nb
 import numpy as np
+
+from ._numba_cache import CACHE
 from numba.extending import overload
 
 from . import _dop853 as _c
@@ -56,18 +58,7 @@ COMPLETE, NO_STOP, NONFINITE = 1, 3, 5
 _NEG_INF = -np.inf
 
 
-def _disk_cache() -> bool:
-    """Whether numba has a writable place for its disk cache (``__pycache__`` beside this file, else its
-    user cache directory or NUMBA_CACHE_DIR). With none, ``cache=True`` raised RuntimeError ("no locator
-    available") at import, e.g. a read-only install run with a read-only HOME: then compile per process."""
-    try:
-        nb.njit(cache=True)(_disk_cache)
-    except RuntimeError:
-        return False
-    return True
-
-
-_CACHE = _disk_cache()
+_CACHE = CACHE   # numba has a writable disk cache here (_numba_cache); else compile per process
 _jit = nb.njit(cache=_CACHE, nogil=True, error_model="numpy")
 #: small functions called per block and stage: inlined in numba's IR (a call passed the window's
 #: struct of arrays by value: 260 ns per block and right-hand side against 15 inlined)
