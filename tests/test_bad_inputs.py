@@ -756,6 +756,7 @@ STUDY_CASES = [
     "study chain {study} --out /proc/x ## --out",
     "study chain {study} --out {sb}/chain ## --out",                  # inside a store
     "study chain {study} --out {study_done} ## --force",              # holds a study: refused without --force
+    "study chain {study} --out {study_other_report} --force ## not a chain study's",   # --force: chain studies only
     "study chain {study} --from-data --out {outdir} ## --from-data",  # no data.json
     "study chain {study} --from-data --out {study_bad_data} ## --from-data",
     "study chain {study} --from-data --out {study_big_data} ## --from-data",       # 300 MB (sparse)
@@ -780,6 +781,8 @@ def study_env(env):
         extra[f"study_{name}"] = str(d / f"{name}.toml")
     (d / "done").mkdir(exist_ok=True)                    # a directory a study already wrote into
     (d / "done" / "REPORT.md").write_text("# the chain study\n")
+    (d / "other-report").mkdir(exist_ok=True)            # another command's report (no data.json)
+    (d / "other-report" / "REPORT.md").write_text("# Rate-and-state spring-slider\n")
     (d / "bad-data").mkdir(exist_ok=True)                # data.json that is not the study's data
     (d / "bad-data" / "data.json").write_text("{ not json")
     (d / "big-data").mkdir(exist_ok=True)
@@ -791,7 +794,8 @@ def study_env(env):
     other = {"workflow": _edit(STUDY, "nu = 1e-3", "nu = 1e-4"), "wall_seconds": 1.0, "cpu_seconds": 1.0,
              "sweeps": {"runs": []}, "catalogs": [], "threshold": []}   # from it would be labelled ν = 1e-3
     (d / "other-data" / "data.json").write_text(json.dumps(other))
-    extra.update(study_done=str(d / "done"), study_bad_data=str(d / "bad-data"), study_big_data=str(d / "big-data"),
+    extra.update(study_other_report=str(d / "other-report"), study_done=str(d / "done"),
+                 study_bad_data=str(d / "bad-data"), study_big_data=str(d / "big-data"),
                  study_no_data=str(d / "no-data"), study_other_data=str(d / "other-data"))
     return root, {**paths, **extra}, _snapshot(root)
 

@@ -57,12 +57,12 @@ def test_force_runs_again_into_a_study_and_from_data_re_renders(runs, tmp_path):
     done = tmp_path / "done"
     done.mkdir()
     (done / "REPORT.md").write_text("# a study\n")
+    saved = {"workflow": (tmp_path / "study.toml").read_text(), "wall_seconds": 1.0, "cpu_seconds": 1.0,
+             "sweeps": {"runs": []}, "catalogs": [], "threshold": []}
+    (done / "data.json").write_text(json.dumps(saved))   # a chain study: its report and its data
     r = CliRunner().invoke(cli, ["study", "chain", "study.toml", "--out", str(done)])
     assert r.exit_code == 2 and "--force" in r.stderr and runs == []
     assert CliRunner().invoke(cli, ["study", "chain", "study.toml", "--out", str(done), "--force"]).exit_code == 0
-    saved = {"workflow": (tmp_path / "study.toml").read_text(), "wall_seconds": 1.0, "cpu_seconds": 1.0,
-             "sweeps": {"runs": []}, "catalogs": [], "threshold": []}
-    (done / "data.json").write_text(json.dumps(saved))
     r = CliRunner().invoke(cli, ["study", "chain", "study.toml", "--out", str(done), "--from-data"])
     assert r.exit_code == 0, r.output
     assert runs == [["study.toml", "--out", str(done)], ["study.toml", "--out", str(done), "--from-data"]]

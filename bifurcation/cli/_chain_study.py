@@ -71,6 +71,10 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
     elif not force and any((out / mark).exists() for mark in _MARKS):
         raise InputError("--out", str(out), "already holds a chain study (REPORT.md or data.json), which a run "
                          "replaces", "give --force to run it again, --from-data to re-render it, or another --out")
+    elif (out / "REPORT.md").exists() and not (out / "data.json").is_file():
+        # --force replaces a chain study, never another command's report (results/rate-state, results/paper)
+        raise InputError("--out", str(out), "holds a REPORT.md that is not a chain study's (no data.json beside it)",
+                         "give another --out (--force replaces only a chain study)")
     from ..models.chain.study import main
 
     main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else []),
