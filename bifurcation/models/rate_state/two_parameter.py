@@ -243,75 +243,17 @@ def period_doubling(branch, index: int, *, beyond: float = 1e-3, max_steps: int 
     """
     import numpy as np
 
-    from .continuation import ReturnMap
+    from .continuation import ReturnMap, _NoReturn
+    from .doubling import locate_doubling
 
-    spec = branch.spec
-    k_c = branch.hopf.k_c
-    v_lp = branch.v_lp
-    pmap = ReturnMap(spec, v_lp, t_max=1e4 * 2 * math.pi / branch.hopf.omega_c, max_steps=max_steps)
-    m = len(branch.points[index].w)
-
-    def P(w, kappa):
-        r = pmap(np.asarray(w, dtype=float), kappa * k_c)
-        if r is None:
-            raise RuntimeError(pmap.last_failure)
-        return r
-
-    def jac(fun, w):
-        h = 1e-7 * np.maximum(np.abs(w), 1.0)
-        return np.array([(fun(w + e) - fun(w - e)) / (2 * hj) for hj, e in zip(h, np.diag(h))]).T
-
-    def cycle(w, kappa):
-        w = np.array(w, dtype=float)
-        for _ in range(12):
-            J = jac(lambda u: P(u, kappa)[0], w) - np.eye(m)
-            dw = np.linalg.solve(J, P(w, kappa)[0] - w)
-            w = w - dw
-            if np.max(np.abs(dw)) < 1e-13 * max(1.0, np.max(np.abs(w))):
-                break
-        return w, np.linalg.eig(jac(lambda u: P(u, kappa)[0], w))
-
-    a, b = branch.points[index], branch.points[index + 1]
-    state = {"w": np.array(a.w)}
-
-    def mu_plus_one(kappa):
-        t = (kappa - a.kappa) / (b.kappa - a.kappa)
-        w0 = np.array(a.w) + t * (np.array(b.w) - np.array(a.w))
-        w, (mult, _) = cycle(w0, kappa)
-        state["w"] = w
-        real = [z.real for z in mult if abs(z.imag) < 1e-9]
-        return min(real) + 1
-
-    with mp.workdps(20):
-        kappa_pd = float(mp.findroot(lambda x: mu_plus_one(float(x)), (a.kappa, b.kappa), solver="anderson", tol=1e-26, verify=False))
-    w_pd, (mult, vecs) = cycle(state["w"], kappa_pd)
-    j = int(np.argmin([z.real if abs(z.imag) < 1e-9 else np.inf for z in mult]))
-    v = np.real(vecs[:, j])
-    v = v / np.linalg.norm(v)
-    eps = beyond
-
-    # Branch switching (Kuznetsov 2004, §10.3): the period-2 cycle through w_pd + ε v, with κ free:
-    # unknowns (w, κ), equations P(P(w; κ); κ) − w = 0 and v·(w − w_pd) = ε.
-    def G(X):
-        w, kappa = X[:m], X[m]
-        return np.append(P(P(w, kappa)[0], kappa)[0] - w, v @ (w - w_pd) - eps)
-
-    X = np.append(w_pd + eps * v, kappa_pd)
-    for _ in range(30):
-        h = 1e-7 * np.maximum(np.abs(X), 1.0)
-        J = np.array([(G(X + e) - G(X - e)) / (2 * hj) for hj, e in zip(h, np.diag(h))]).T
-        dX = np.linalg.solve(J, G(X))
-        X = X - dX
-        if np.max(np.abs(dX)) < 1e-13 * max(1.0, np.max(np.abs(X))):
-            break
-    w, kappa_2 = X[:m], float(X[m])
-
-    def P2(u):
-        return P(P(u, kappa_2)[0], kappa_2)[0]
-
-    r1 = P(w, kappa_2)
-    r2 = P(r1[0], kappa_2)
-    mult2 = np.linalg.eigvals(jac(P2, w))
-    return PeriodDoubling(kappa_pd, float(min(z.real for z in mult if abs(z.imag) < 1e-9)), P(w_pd, kappa_pd)[1],
-                          tuple(w_pd), kappa_2, (tuple(w), tuple(r1[0])), r1[1] + r2[1],
-                          tuple(complex(z) for z in mult2), float(np.max(np.abs(r2[0] - w))))
+    try:   # the period-n locator and switch at n = 1 (doubling.py): one implementation of both
+        d = locate_doubling(branch, index, beyond=beyond, max_steps=max_steps)
+        pmap = ReturnMap(branch.spec, branch.v_lp, t_max=1e4 * 2 * math.pi / branch.hopf.omega_c,
+                         max_steps=max_steps)
+        image = pmap(np.asarray(d.w_2, dtype=float), d.kappa_2 * branch.hopf.k_c)
+        if image is None:
+            raise _NoReturn
+    except _NoReturn:
+        raise RuntimeError(f"the return map failed near the doubling between points {index} and {index + 1}") from None
+    return PeriodDoubling(d.kappa, d.multiplier, d.period, d.w, d.kappa_2, (d.w_2, tuple(image[0])), d.period_2,
+                          d.multipliers_2, d.residual_2)
