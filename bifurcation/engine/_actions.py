@@ -5,9 +5,9 @@ The compiled system says, per terminal event index, its kind and what it records
 ``Run`` holds what an event may change in one run (one point): its runtime parameters, its piece of
 the friction law, its records. In batch mode a ``Run`` is one lane: its parameters and state are
 column views of the batch's arrays and its records are the lane's entries of the recorder's arrays;
-"maximum" and "first" events are not terminal there (the recorder's callbacks take them), so
-``act`` sees only ends, switches, sets and rungs (the last three from heyoka's event callback,
-``_integrator.LaneActions``).
+"maximum" and "first" events write them in their own callbacks there (``LaneActions.record``, the
+same record without the dispatch), so ``act`` sees only ends, switches, sets and rungs (the last
+three from heyoka's event callback, ``_integrator.LaneActions``).
 """
 
 from __future__ import annotations

@@ -2,10 +2,10 @@
 
 A terminal event that stops the integration in any lane returns control for the whole batch (heyoka's
 batch semantics); the lanes without an event have just finished a step and continue at the next call.
-So only a point's end returns (a callback notes its lane): switches, sets and rungs are terminal (the
-step ends exactly there) but act in heyoka's callback and let the integration go on
-(``_integrator.LaneActions``); velocity maxima and t1 are recorded by non-terminal events
-(``LaneRecorder``). ``cycle.batch_order`` queues alike points together, so that lanes often end in the
+So only a point's end returns (a callback notes its lane): switches, sets, rungs, velocity maxima and
+t1 are terminal too (the step ends exactly there, as in the scalar loop: the same steps) but act in
+heyoka's callback and let the integration go on (``_integrator.LaneActions``; maxima and t1 are
+written into ``LaneRecorder``). ``cycle.batch_order`` queues alike points together, so that lanes often end in the
 same step and share a return (~10 µs); for the single block an ended lane is parked at rest until 3/4
 of the lanes have ended (``PARK_SHARE``), so one return reloads several. A lane whose point
 has stopped is loaded with the next point at the next return (its own time, state and parameters), so the SIMD
@@ -44,7 +44,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     names = list(c.state_names)
     out_time = np.full(n_points, math.nan)
     out_state = {name: np.full(n_points, math.nan) for name in names}
-    recorded = c.recorder.values   # written by the non-terminal events too
+    recorded = c.recorder.values   # written by the maximum and first events' callbacks
     out_records = {name: np.full(n_points, math.nan) for name in recorded}
     out_steps = np.zeros(n_points, dtype=np.int64)
     out_status = np.zeros(n_points, dtype=np.int8)

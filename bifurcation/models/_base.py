@@ -38,8 +38,8 @@ __all__ = ["ACTIONS", "Axis", "Event", "Hooks", "Labels", "Model", "Output", "Sl
 #:             history's step, say: the event function is t − t_k);
 #: ``step``    terminal: ends the Taylor step there and does nothing else (a rung of a ladder that keeps
 #:             a step from stepping over friction that fades).
-#: ``maximum`` and ``first`` events are terminal in scalar mode (exact time and state at the event)
-#: and non-terminal callbacks in batch mode (a terminal event stops every SIMD lane).
+#: ``maximum`` and ``first`` events are terminal (exact time and state at the event); in batch mode
+#: they record in heyoka's callback and the integration goes on (a return stops every SIMD lane).
 ACTIONS = ("end", "first", "maximum", "set", "step", "switch")
 _SCALES = ("linear", "log")
 _DTYPES = ("float64", "int64", "int8", "bool")
