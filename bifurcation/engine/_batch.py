@@ -62,7 +62,8 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     queue = iter(range(n_points))
     initial = np.asarray(c.initial, dtype=float)
     slot_values = [(slots.index(name), np.asarray(values[name], dtype=float).tolist()) for name in slots.names]
-    reset_recorder = c.recorder.reset
+    first_values = [recorded[name] for name in c.recorder.first]            # NaN until recorded
+    max_values = [recorded[name] for name, _ in c.recorder.maxima]          # 0 until recorded
     # each lane as one run of the event actions (``_actions``): column views of the batch's parameters
     # and state (heyoka never reallocates them), its entries of the recorder's arrays, its time
     runs = []
@@ -74,12 +75,17 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     actions.runs, ended = runs, actions.ended
     ended.clear()
 
+    # a lane parked at the model's rest state is at its initial state already when they are the same
+    rest_is_start = not np.any(initial)
+    fresh = [True] * lanes   # a lane's first load: its piece slots hold 1.0, not a one-hot piece 0
+
     def load(lane: int) -> bool:
         """Next point into ``lane`` (time 0); False when the queue is empty (the lane idles)."""
         i = next(queue, -1)
         point[lane] = i
         new_hi[lane] = new_lo[lane] = 0.0
-        state[:, lane] = initial
+        if not (rest_is_start and is_parked[lane]):
+            state[:, lane] = initial
         if i < 0:
             # an idle lane rests at the start, time 0 = its target: it does not move, and a lane left
             # non-finite by its last point (time or state NaN) cannot poison this call or the next
@@ -90,9 +96,16 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         column = run.pars
         for index, given in slot_values:   # Python floats into the lane's column view: the same doubles
             column[index] = given[i]
-        run.start(c)
+        if run.piece or fresh[lane]:
+            run.start(c)
+            fresh[lane] = False
+        else:   # on piece 0 already, and its one-hot slots say so (``_actions._switch`` keeps both)
+            run.crossings, run.message = [], ""
         steps[lane] = 0
-        reset_recorder(lane)
+        for column in first_values:   # LaneRecorder.reset, inlined
+            column[lane] = math.nan
+        for column in max_values:
+            column[lane] = 0.0
         return True
 
     def finish(lane: int, status: Status, message: str = "") -> None:
@@ -111,6 +124,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     # integration goes on until ``park_at`` lanes have ended; they are then reloaded together, one return
     # for several points.
     parked = []
+    is_parked = [False] * lanes
     forcing = slots.index(c.model.rest_slot) if c.model is not None and c.model.rest_slot else -1
     park_at = max(2, int(PARK_SHARE * lanes)) if forcing >= 0 and PARK_SHARE > 0 else 0
     stop_hi = [0.0] * lanes
@@ -125,7 +139,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
             return False
         # ``finish`` with its status (an end is a stick-slip stop), inlined: ~1 µs of ~15 per point
         i = point[lane]
-        out_time[i] = stop_hi[lane] = hi[lane]
+        out_time[i] = stop_hi[lane] = hi.item(lane)
         out_status[i] = stick_slip
         column = runs[lane].state
         for out, value in zip(out_columns, column.tolist()):
@@ -134,6 +148,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
             out[i] = values_[lane]
         column[:] = 0.0
         runs[lane].pars[forcing] = 0.0
+        is_parked[lane] = True
         parked.append(lane)
         return len(parked) < park_at
 
@@ -165,9 +180,10 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         it = max(counts)
         before, clock = clock, clock + it
         done = []
+        times = hi.tolist()
         for lane, index in fired:
-            if lane in parked:   # finished in the callback; a parked lane counted its step to t_max
-                steps[lane] = n = before + counts[lane] - start[lane] - (hi[lane] != stop_hi[lane])
+            if is_parked[lane]:   # finished in the callback; a parked lane counted its step to t_max
+                steps[lane] = n = before + counts[lane] - start[lane] - (times[lane] != stop_hi[lane])
                 out_steps[point[lane]] = n
                 done.append(lane)
                 continue
@@ -179,9 +195,9 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         # (a lane that reached t_max in the call's last iteration counted it all: seen by its time)
         slow = it == 0 or clock - oldest >= max_steps
         if not slow and not parked:
-            slow = counts.count(it) != len(live) or max(hi.tolist()) >= t_near
+            slow = counts.count(it) != len(live) or max(times) >= t_near
         elif not slow:
-            slow = any(counts[lane] != it or hi[lane] >= t_near for lane in live if lane not in done)
+            slow = any(counts[lane] != it or times[lane] >= t_near for lane in live if lane not in done)
         if slow:
             results = ta.propagate_res
             for lane in live:
@@ -208,6 +224,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
                 if not load(lane):
                     live.remove(lane)
                     start[lane] = _IDLE
+                is_parked[lane] = False
             ta.set_dtime(new_hi, new_lo)
             oldest = min(start)   # an idle lane's start is _IDLE
     actions.park = None
