@@ -84,3 +84,21 @@ def test_parked_lanes_give_the_same_bits(monkeypatch):
         monkeypatch.undo()
         _same(parked, plain)
         assert parked.messages == plain.messages
+
+
+@pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear", "exponential"])
+def test_batch_takes_the_scalar_loops_steps(law):
+    # velocity maxima and t1 are terminal events in batch mode too (acted on in heyoka's callback), so a
+    # batch point takes the scalar loop's Taylor steps, maxima and t1 at the step's end, not from dense
+    # output; values equal to rounding (the bound is test_engine's batch test's: ν_f = 0.51 is ill-conditioned)
+    rng = np.random.default_rng(5)
+    nu = 10.0 ** -rng.uniform(3, 15, 120)
+    nu_f = rng.uniform(0.01, 0.99, 120)
+    scalar = bf.slip(law, nu=nu, nu_f=nu_f, batch=1)
+    batch = bf.slip(law, nu=nu, nu_f=nu_f, batch=16)
+    np.testing.assert_array_equal(batch.steps, scalar.steps)
+    np.testing.assert_array_equal(batch.status, scalar.status)
+    for field in ("delta", "max_velocity", "creep_time", "stop_time"):
+        a, b = getattr(batch, field), getattr(scalar, field)
+        np.testing.assert_array_equal(np.isnan(a), np.isnan(b), err_msg=field)
+        assert np.nanmax(np.abs(a - b) / np.abs(b)) <= 3e-14, field

@@ -21,7 +21,7 @@ from ._integrator import Compiled, compiled
 from ._validate import check_batch, check_nu, check_nu_f, check_precision, check_work
 from .result import DEFAULT_MAX_STEPS, DEFAULT_T_MAX, SlipResult
 
-__all__ = ["AUTO_BATCH_MIN_POINTS", "AUTO_BATCH_WIDE_POINTS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "auto_batch", "batch_lanes", "batch_order",
+__all__ = ["AUTO_BATCH_MIN_POINTS", "DEFAULT_MAX_STEPS", "DEFAULT_T_MAX", "auto_batch", "batch_lanes", "batch_order",
            "run_cycle",
            "run_model", "slip"]
 
@@ -232,23 +232,19 @@ def _run_group(model, law, values, size, structure, precision, t_max, max_steps,
     return model.classify(raw, values)
 
 
-#: From this many points ``slip``'s default batch doubles its lanes (``batch_lanes``).
-AUTO_BATCH_WIDE_POINTS = 1000
-
-
-def batch_lanes(size: int = AUTO_BATCH_MIN_POINTS) -> int:
-    """Lanes of ``slip``'s default batch for ``size`` points on this host: twice heyoka's recommended SIMD
-    width (4 on the AVX2 and the AVX-512 hosts measured: 8 lanes), four times from
-    ``AUTO_BATCH_WIDE_POINTS`` points. Measured on the AVX2 host (CPU time per point, random points in
-    ``batch_order``): at 2 000 points 16 lanes beat 8 by 4-7 % (Carlson-Langer 15.9 against 17.1 µs,
-    piecewise-linear 15.1 / 15.8, exp(-x) 25.9 / 27.8: a return for all lanes is shared by more lanes);
-    at 250 points and fewer 8 lanes are as fast or faster (the lanes drain at the end of the queue)."""
-    width = int(hy.recommended_simd_size())
-    return 4 * width if size >= AUTO_BATCH_WIDE_POINTS else 2 * width
+def batch_lanes() -> int:
+    """Lanes of ``slip``'s default batch on this host: four times heyoka's recommended SIMD width (4 on
+    the AVX2 and the AVX-512 hosts measured: heyoka keeps to 256-bit vectors, and ``force_avx512`` was no
+    faster here). A return of the batch integrator is shared by more lanes, and the per-lane cost of a
+    step is lowest at 16 (0.22 µs against 0.26 at 8 and 0.31 at 4, Carlson-Langer). Measured on the
+    AVX-512 host (CPU time per point, one process): 16 lanes as fast as or faster than 4, 8 and 32 from
+    16 to 10 000 points for Carlson-Langer and piecewise-linear (1 989-point bench grid: 11.7 µs against
+    12.9 at 8 and 13.0 at 32; 128 random points: 15.0 against 15.6 at 8)."""
+    return 4 * int(hy.recommended_simd_size())
 
 
 def auto_batch(law, size: int, precision: str = "double") -> int:
-    """The batch ``slip`` uses by default for ``size`` points: ``batch_lanes(size)`` from
+    """The batch ``slip`` uses by default for ``size`` points: ``batch_lanes()`` from
     ``AUTO_BATCH_MIN_POINTS`` points in double precision, else 1 (scalar).
 
     A function of the inputs and the host only (never of timing), so a call gives the same bits every
@@ -260,7 +256,7 @@ def auto_batch(law, size: int, precision: str = "double") -> int:
     """
     if precision != "double" or size < AUTO_BATCH_MIN_POINTS:
         return 1
-    return batch_lanes(size)
+    return batch_lanes()
 
 
 def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
@@ -280,7 +276,7 @@ def slip(law: str | FrictionLaw, *, nu, nu_f, precision: str = "double",
         Bounds after which a point that has not stopped gets status ``no-stop``.
     batch : int, optional
         Lanes of heyoka's batch (SIMD) integrator (double only); 1 integrates point by point. Default:
-        ``auto_batch`` (a batch of ``batch_lanes(size)`` from 16 points in double precision, else scalar),
+        ``auto_batch`` (a batch of ``batch_lanes()`` from 16 points in double precision, else scalar),
         chosen from the number of points, the precision and the host, never from timing. Results of a
         batch run do not depend on the batch size or the order of points, and agree with the scalar
         run to rounding (≤ 7e-15 on the bench grid), not bit for bit (SIMD code differs): pass
