@@ -71,20 +71,14 @@ def test_a_tile_that_raises_is_retried_then_reported(tmp_path, monkeypatch):
     assert_store_equals(tmp_path / "s.zarr", compute_serial(w))
 
 
-@pytest.mark.slow   # ~10-20 s: starts a local cluster of two worker processes, twice
+@pytest.mark.slow   # ~10-20 s: starts two helper processes, twice
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="a hand-over needs 2 cores")
 def test_a_large_study_hands_the_rest_to_the_embedded_cluster(tmp_path, monkeypatch):
     # A study made "large" by a zero threshold: after two tiles here (the first compiles, the second
-    # measures) a real local cluster of 3 - 1 = 2 worker processes starts in the background and shares
-    # the rest with this process; both write tiles, and the store equals the serial run bit for bit.
+    # measures) 3 - 1 = 2 real helper processes start and share the rest with this process (the tiles
+    # queued to them are theirs, however long they take to start); both write tiles, and the store
+    # equals the serial run bit for bit.
     monkeypatch.setattr(submission, "HANDOVER_CPU_SECONDS", 0.0)
-
-    class Started(submission._Helpers):   # tiles of 15 points take ~1 ms: wait for the cluster to be up
-        def __init__(self, n_workers):
-            super().__init__(n_workers)
-            self._thread.join()
-
-    monkeypatch.setattr(submission, "_Helpers", Started)
     where = []
     real = submission.run_tile
     monkeypatch.setattr(submission, "run_tile", lambda *a: where.append(os.getpid()) or real(*a))
@@ -119,3 +113,34 @@ def test_bench_embedded_smoke():
     # the parent that ru_maxrss reported, not small changes
     assert 50 < out["serial_peak_rss_mb"] < 1000 and 50 < out["submit_peak_rss_mb"] < 1000
     assert out["serial_cpu_s"] > 0 and out["submit_cpu_s"] > 0
+
+
+@pytest.mark.slow   # ~5-10 s: starts a helper process and kills it
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="a hand-over needs 2 cores")
+def test_a_killed_helper_leaves_its_tiles_to_this_process(tmp_path, monkeypatch):
+    # kill -9 of a helper breaks the pool: the tiles it held or had queued come back and are computed
+    # here; the study completes, no tile is reported failed, and the store equals the serial run
+    import signal
+    import time
+
+    monkeypatch.setattr(submission, "HANDOVER_CPU_SECONDS", 0.0)
+    killed = []
+
+    class Killer(submission._Helpers):
+        def submit(self, *args):
+            future = super().submit(*args)
+            if not killed:
+                deadline = time.monotonic() + 60
+                while not self.pool._processes and time.monotonic() < deadline:   # spawned on first submit
+                    time.sleep(0.01)
+                pid = next(iter(self.pool._processes))
+                os.kill(pid, signal.SIGKILL)
+                killed.append(pid)
+            return future
+
+    monkeypatch.setattr(submission, "_Helpers", Killer)
+    w = workflow(nu_f=tuple(round(0.01 * k, 2) for k in range(1, 100)))   # 66 tiles
+    summary = submit(w, store=tmp_path / "k.zarr", workers=2, progress=False)
+    assert killed and summary.complete and summary.computed == w.n_points and not summary.errors
+    assert summary.failed == 0 and summary.cluster == "this process"   # the helper finished no tile
+    assert_store_equals(tmp_path / "k.zarr", compute_serial(w))

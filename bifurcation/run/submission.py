@@ -330,56 +330,97 @@ def _read_done(path: Path) -> np.ndarray:
                          f"run `{repair_command(path)}`") from None
 
 
-#: Measured CPU seconds of remaining work above which the embedded default starts a local cluster to
-#: share the rest. A cluster costs ~2 s of wall time and ~4 s of CPU to start (worker processes importing
-#: heyoka and compiling), so on 2 cores it saves time only when the work left is well above that.
+#: Measured CPU seconds of remaining work above which the embedded default starts helper processes to
+#: share the rest. A helper costs ~2 s of CPU to start (a fresh Python importing numpy, heyoka, zarr and
+#: compiling the law), so on 2 cores it saves time only when the work left is well above that.
 HANDOVER_CPU_SECONDS = 10.0
 
 
+def _pool_tile(tile: Tile, store: str, run_id: str, writer: str):
+    """A helper process's task: ``run_tile`` (it writes the tile), or with ``writer="client"`` only
+    ``compute_tile`` (the submitting process writes). Module-level: pickled by name."""
+    if writer == "workers":
+        return run_tile(tile, store, run_id)
+    return compute_tile(tile)
+
+
+def _helper_start(parent: int) -> None:
+    """A helper process's start: Ctrl-C is for the submitting process (it stops the pool), and a helper
+    whose submitting process died (``kill -9``) exits instead of waiting on the pool's pipe for ever."""
+    import os
+    import signal
+    import threading
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)   # a tile being written is left without its done mask: the next submit recomputes it
+
+    threading.Thread(target=watch, daemon=True, name="bifurcation-helper-watch").start()
+
+
 class _Helpers:
-    """A local cluster of worker processes started in the background (``connect``), while this process
-    goes on computing tiles; ``client`` is None until it is up (or if it failed to start: then this
-    process computes everything, and says why)."""
+    """Helper processes of the embedded default: a pool of ``n_workers`` fresh Python processes
+    (``spawn``: no state or threads of this process are inherited) that take tiles while this process
+    goes on computing its own.
+
+    A plain process pool, not a Dask cluster: no scheduler and client threads in this process and no
+    event loop, nanny or heartbeats beside the computation in the helpers (measured: 4-8 % more CPU for
+    the same tiles, and ~1 s of CPU to start each worker's nanny and scheduler connection), and tiles go
+    over a pipe. A helper that dies (``kill -9``) breaks the pool: its tiles and those queued come back
+    here and are computed in this process (``lost``), and no more go to the pool.
+    """
 
     def __init__(self, n_workers: int) -> None:
-        import threading
+        import multiprocessing
+        import os
+        from concurrent.futures import ProcessPoolExecutor
 
-        self.client = self.error = self._context = None
-        self._thread = threading.Thread(target=self._start, args=(n_workers,), daemon=True,
-                                        name="bifurcation-cluster-start")
-        self._thread.start()
-
-    def _start(self, n_workers: int) -> None:
+        self.n = n_workers
+        self.error = None
+        self.broken = False
         try:
-            context = connect(None, n_workers)
-            client = context.__enter__()
-        except BaseException as exc:  # noqa: BLE001 — reported; this process computes the rest
-            self.error = exc
-        else:
-            self._context, self.client = context, client
+            self.pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=multiprocessing.get_context("spawn"),
+                                            initializer=_helper_start, initargs=(os.getpid(),))
+        except (OSError, ValueError) as exc:  # no processes here (a sandbox, a limit): this process computes
+            self.pool, self.error = None, exc
 
     def ready(self):
-        return self.client if not self._thread.is_alive() else None
+        return self.pool if self.pool is not None and not self.broken else None
 
-    def close(self) -> None:
-        self._thread.join()
-        if self._context is not None:
-            self._context.__exit__(None, None, None)
+    def submit(self, tile: Tile, store: str, run_id: str, writer: str):
+        """The tile's future, or None if the pool cannot take it (its processes did not start, or one
+        died): then this process computes it, and every later tile."""
+        try:
+            return self.pool.submit(_pool_tile, tile, store, run_id, writer)
+        except Exception as exc:  # noqa: BLE001 — BrokenProcessPool, or no process could be started
+            self.broken = True
+            if self.error is None and not isinstance(exc, RuntimeError):   # (BrokenProcessPool: said below)
+                self.error = exc
+            return None
+
+    def close(self, cancel: bool = False) -> None:
+        if self.pool is not None:
+            self.pool.shutdown(wait=True, cancel_futures=cancel)
 
 
 def _run_here(workflow, path: Path, run_id: str, done, statuses, errors, progress, retries, workers,
               writer: str = "workers"):
     """The embedded default: compute tiles in this process; once the work left, measured on the tiles
     so far (the fastest tile per point: the first one compiles), exceeds ``HANDOVER_CPU_SECONDS`` and
-    more than one process is allowed, start a local cluster of ``workers - 1`` processes in the
-    background and share the rest with it (this process keeps computing: the start is overlapped and no
-    core waits on a coordinator). Returns (computed, failed, tiles, where).
+    more than one process is allowed, start ``workers - 1`` helper processes (``_Helpers``) and share
+    the rest with them (this process keeps computing: their start is overlapped and no core waits on a
+    coordinator). Returns (computed, failed, tiles, where).
 
     The store is the same bit for bit wherever a tile runs: ``run_tile`` is the same pure function the
-    workers run, data first and ``done`` last. A tile that raises here is retried ``retries`` times as
-    Dask would, then reported. Where a tile runs depends on timing; what is stored does not.
+    helpers run, data first and ``done`` last. A tile that raises is retried ``retries`` times here (a
+    helper's failure comes back and is retried here), then reported. Where a tile runs depends on
+    timing; what is stored does not.
     """
     import os
+    from concurrent.futures.process import BrokenProcessPool
 
     store = str(path.resolve())
     processes = workers or os.cpu_count() or 1
@@ -387,8 +428,9 @@ def _run_here(workflow, path: Path, run_id: str, done, statuses, errors, progres
     computed = failed = n_tiles = here = 0
     per_point = float("inf")
     helpers = None
-    pending: dict = {}
-    tiles = iter_tiles(workflow, done)
+    pending: list = []   # (future, tile) in submission order
+    lost: list = []      # tiles a helper did not finish: computed here
+    shared = 0           # tiles the helpers finished
 
     def record(tile, counts=None, exc=None):
         nonlocal computed, failed
@@ -401,77 +443,96 @@ def _run_here(workflow, path: Path, run_id: str, done, statuses, errors, progres
         progress.update(tile.n_todo)
 
     def harvest(block: bool) -> None:
-        if block and pending:   # the oldest task (they finish about in order); its error is handled below
+        nonlocal shared
+        if block and pending:   # the oldest task (they finish about in order)
+            pending[0][0].exception()
+        for item in [item for item in pending if item[0].done()]:
+            pending.remove(item)
+            future, tile = item
             try:
-                next(iter(pending.values()))[0].result()
-            except Exception:  # noqa: BLE001
-                pass
-        for key in [k for k, (future, _) in pending.items() if future.done()]:
-            future, tile = pending.pop(key)
+                result = future.result()
+                counts = result if writer == "workers" else _write_here(store, tile, result, run_id)
+            except BrokenProcessPool:   # a helper died: its tiles (and the queued ones) are done here
+                helpers.broken = True
+                lost.append(tile)
+            except Exception:  # noqa: BLE001 — a tile that raised in a helper: retried here
+                lost.append(tile)
+            else:
+                shared += 1
+                record(tile, counts)
+
+    def compute_here(tile) -> None:
+        for attempt in range(retries + 1):
             try:
-                counts = _tile_counts(future, tile, store, run_id, writer)
-            except Exception as exc:  # noqa: BLE001 — a failed tile is reported, the rest goes on
-                record(tile, exc=exc)
+                counts = run_tile(tile, store, run_id)
+            except Exception as exc:  # noqa: BLE001 — retried, then reported
+                if attempt == retries:
+                    record(tile, exc=exc)
             else:
                 record(tile, counts)
-            finally:
-                future.release()
+                break
 
-    token = uuid.uuid4().hex[:8]
+    tiles = iter_tiles(workflow, done)
     try:
         while True:
-            client = helpers.ready() if helpers is not None else None
-            if client is not None:
+            pool = helpers.ready() if helpers is not None else None
+            if pool is not None:
                 harvest(block=False)
-                # one task running and one queued per worker: a short tail when the tiles run out
-                while len(pending) < 2 * sum(client.nthreads().values()):
+                # one task running and one queued per helper: a short tail when the tiles run out
+                while len(pending) < 2 * helpers.n and helpers.ready() is not None:
                     tile = next(tiles, None)
                     if tile is None:
                         break
                     n_tiles += 1
-                    future = _submit_tile(client, tile, store, run_id, writer,
-                                          f"bifurcation-tile-{tile.name}-{token}", retries)
-                    pending[future.key] = (future, tile)
+                    future = helpers.submit(tile, store, run_id, writer)
+                    if future is None:
+                        lost.append(tile)
+                        break
+                    pending.append((future, tile))
+            if lost:
+                compute_here(lost.pop(0))
+                continue
             tile = next(tiles, None)
             if tile is None:
-                break
+                if not pending:
+                    break
+                harvest(block=True)
+                continue
             n_tiles += 1
             here += 1
             cpu = time.process_time()
-            for attempt in range(retries + 1):
-                try:
-                    counts = run_tile(tile, store, run_id)
-                except Exception as exc:  # noqa: BLE001 — retried, then reported
-                    if attempt == retries:
-                        record(tile, exc=exc)
-                else:
-                    record(tile, counts)
-                    break
+            compute_here(tile)
             per_point = min(per_point, (time.process_time() - cpu) / max(tile.n_todo, 1))
             remaining -= tile.n_todo
             if (helpers is None and processes > 1 and here >= 2
                     and per_point * remaining > HANDOVER_CPU_SECONDS):
-                progress.note(f"about {per_point * remaining:.0f} CPU s left: starting a local cluster of "
-                              f"{processes - 1} worker process(es) beside this one")
+                progress.note(f"about {per_point * remaining:.0f} CPU s left: starting {processes - 1} helper "
+                              f"process(es) beside this one")
                 helpers = _Helpers(processes - 1)
-        while pending:   # the tiles the cluster still has
-            harvest(block=True)
     except BaseException:
-        if pending:
-            helpers.client.cancel([future for future, _ in pending.values()])
+        if helpers is not None:
+            helpers.close(cancel=True)
         raise
     finally:
         progress.close()
         if helpers is not None:
             helpers.close()
             if helpers.error is not None:
-                errors.append(f"the local cluster did not start ({type(helpers.error).__name__}: "
-                              f"{helpers.error}); this process computed its share")
+                errors.append(f"the helper processes did not start ({type(helpers.error).__name__}: "
+                              f"{helpers.error}); this process computed their share")
     where = "this process"
-    if helpers is not None and helpers.client is not None:
+    if helpers is not None and shared:
         n = processes - 1
         where = f"this process and an embedded local cluster of {n} worker process{'es' if n > 1 else ''}"
     return computed, failed, n_tiles, where
+
+
+def _write_here(store: str, tile: Tile, values: dict, run_id: str) -> list[int]:
+    """``writer="client"``: a helper's computed tile written by this process."""
+    from ..store import write_tile
+
+    write_tile(store, tile, values, run_id)
+    return _report(values)
 
 
 def _window(client) -> int:
