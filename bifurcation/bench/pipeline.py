@@ -26,7 +26,7 @@ import numpy as np
 __all__ = ["bench_pipeline", "bench_workflow"]
 
 
-def bench_workflow(points: int, *, law: str = "carlson-langer", tiles=(128, 64)):
+def bench_workflow(points: int, *, law: str = "carlson-langer", tiles=(128, 64), batch: int = 1):
     """A grid of about ``points`` points: 64 ν log-spaced over 1e-3 … 1e-15, ν_f evenly over (0, 1)."""
     from ..workflow import Workflow
     from ..workflow._axes import linear_points, log_points
@@ -34,7 +34,7 @@ def bench_workflow(points: int, *, law: str = "carlson-langer", tiles=(128, 64))
     n_nu = 64
     n_nu_f = max(2, math.ceil(points / n_nu))
     return Workflow(name=f"bench-{points}", laws=(law,), nu=log_points(1e-3, 1e-15, n_nu),
-                    nu_f=linear_points(1e-3, 0.999, n_nu_f), tiles=tuple(tiles),
+                    nu_f=linear_points(1e-3, 0.999, n_nu_f), tiles=tuple(tiles), batch=batch,
                     description="bifurcation.bench.pipeline grid")
 
 
@@ -127,7 +127,7 @@ import json, resource, sys, time
 import numpy as np
 from bifurcation.bench.pipeline import bench_workflow
 from bifurcation.engine.solve import solve
-w = bench_workflow({points}, law={law!r}, tiles={tiles!r})
+w = bench_workflow({points}, law={law!r}, tiles={tiles!r}, batch={batch})
 nu_f, nu = np.meshgrid(np.asarray(w.nu_f), np.asarray(w.nu), indexing="ij")
 t0, c0 = time.perf_counter(), time.process_time()
 solve(w.spec, {law!r}, {{"nu_f": nu_f, "nu": nu}}, batch=w.batch)   # compiles first, as a fresh script does
@@ -141,7 +141,7 @@ import json, resource, sys, time
 from bifurcation.bench.pipeline import bench_workflow
 from bifurcation.run.submission import submit
 import dask.array, xarray, zarr   # imports are not timed (create_store and write_tile need them)
-w = bench_workflow({points}, law={law!r}, tiles={tiles!r})
+w = bench_workflow({points}, law={law!r}, tiles={tiles!r}, batch={batch})
 if __name__ == "__main__":
     c0 = time.process_time()
     s = submit(w, store={store!r}, workers={workers}, progress=False, new_store=True)
@@ -175,7 +175,7 @@ def _best(key: str, a, b):
 
 
 def bench_embedded(points: int = 100_000, workers: int = 2, *, law: str = "carlson-langer",
-                   tiles=(128, 64), repeat: int = 1) -> dict:
+                   tiles=(128, 64), repeat: int = 1, batch: int = 1) -> dict:
     """``submit`` on the embedded default (no scheduler) against one process computing the same grid
     (``solve`` with the workflow's batch, as the store does), each in a fresh Python process, imports
     untimed, compilation timed in both. Returns wall and CPU seconds, the rate per core (points per
@@ -183,14 +183,15 @@ def bench_embedded(points: int = 100_000, workers: int = 2, *, law: str = "carls
     workers), and the submitting process's peak RSS (a worker's is not read here: ``bench_pipeline``
     reads it on an explicit cluster). ``repeat``: pairs of runs taken alternately (one process, submit,
     one process, ...), each figure the best of its side, so that load on a shared machine hits both
-    alike."""
+    alike. ``batch``: the workflow's SIMD lanes (1: the workflows' default, the scalar loop).
+    """
     import os
 
     serial = run = None
     with tempfile.TemporaryDirectory(prefix="bifurcation-bench-") as tmp:
         for _ in range(repeat):
-            one = _child(_SERIAL_CHILD.format(points=points, law=law, tiles=tuple(tiles)), tmp)
-            two = _child(_SUBMIT_CHILD.format(points=points, law=law, tiles=tuple(tiles), workers=workers,
+            one = _child(_SERIAL_CHILD.format(points=points, law=law, tiles=tuple(tiles), batch=batch), tmp)
+            two = _child(_SUBMIT_CHILD.format(points=points, law=law, tiles=tuple(tiles), batch=batch, workers=workers,
                                               store=str(Path(tmp) / "embedded.zarr")), tmp)
             # times: the best of each side; peak RSS: the largest (it hardly varies: the conservative one)
             serial = one if serial is None else {k: _best(k, v, one[k]) for k, v in serial.items()}
