@@ -6,8 +6,8 @@ So only a point's end returns (a callback notes its lane): switches, sets, rungs
 t1 are terminal too (the step ends exactly there, as in the scalar loop: the same steps) but act in
 heyoka's callback and let the integration go on (``_integrator.LaneActions``; maxima and t1 are
 written into ``LaneRecorder``). ``cycle.batch_order`` queues alike points together, so that lanes often end in the
-same step and share a return (~10 µs); for the single block an ended lane is parked at rest until 3/4
-of the lanes have ended (``PARK_SHARE``), so one return reloads several. A lane whose point
+same step and share a return (~10 µs); for the single block an ended lane is parked at rest until all
+the lanes have ended (``PARK_SHARE``), so one return reloads them all. A lane whose point
 has stopped is loaded with the next point at the next return (its own time, state and parameters), so the SIMD
 width stays busy until the queue is empty. Every lane keeps its double-length time exactly
 (``dtime``/``set_dtime``), so a point gives the same bits whichever lane and neighbours it had.
@@ -30,8 +30,11 @@ _SUCCESS = hy.taylor_outcome.success
 #: The share of the lanes that ends (parked) before the batch returns to reload them (``run_batch``; 0: no
 #: parking). Measured (single block, 16 lanes, 2 000 points, CPU time per point, against no parking):
 #: 1/8 and 1/4 are slower (more lanes idle than returns saved), 3/4 is 4-9 % faster, all lanes about
-#: the same as 3/4.
-PARK_SHARE = 0.75
+#: the same as 3/4. Once the returns' bookkeeping and the callbacks were cheaper (issue 18), all lanes
+#: (1.0) beat 3/4 (best of 9 alternating runs, 2 000 points, CPU time per point): Carlson-Langer 11.5 ->
+#: 11.0 µs on the bench grid and 11.6 -> 11.0 on random points, piecewise-linear 9.4 -> 9.6 and 10.1 ->
+#: 9.9 µs: lanes reloaded together start alike points together, so fewer wait parked for a laggard.
+PARK_SHARE = 1.0
 _IDLE = 1 << 62   # the step clock's start of a lane without a point: never the oldest
 
 
