@@ -220,15 +220,22 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
                     finish(lane, *limit(outcome, hi[lane], steps[lane], t_max, max_steps))
                     done.append(lane)
         if done:
-            new_hi[:] = hi
-            new_lo[:] = lo
+            # every live lane ended (the usual return, all lanes parked): all times restart at 0 (idle
+            # lanes rest at 0), set by one scalar (~0.1 µs; the arrays cost ~8 µs a return)
+            everyone = len(done) == len(live)
+            if not everyone:
+                new_hi[:] = hi
+                new_lo[:] = lo
             for lane in done:
                 start[lane] = clock
                 if not load(lane):
                     live.remove(lane)
                     start[lane] = _IDLE
                 is_parked[lane] = False
-            ta.set_dtime(new_hi, new_lo)
+            if everyone:
+                ta.set_dtime(0.0, 0.0)
+            else:
+                ta.set_dtime(new_hi, new_lo)
             oldest = min(start)   # an idle lane's start is _IDLE
     actions.park = None
     out = {"time": out_time, **out_state, **out_records, "steps": out_steps, "status": out_status,
