@@ -251,7 +251,7 @@ def auto_batch(law, size: int, precision: str = "double") -> int:
     time on a host. Batch results do not depend on the lane count or the order of points, and equal the
     scalar ones to rounding (≤ 7e-15 on the bench grid of 1 989 points; more at the ill-conditioned
     ν_f ≈ 0.51, see test_engine), not bit for bit. On the bench grid (2 000 points, CPU time per
-    point, ``bifurcation bench``) the default batch is 2.0x (Carlson-Langer) and 1.7x (piecewise-linear)
+    point, ``bifurcation bench``) the default batch is 2.6x (Carlson-Langer) and 2.3x (piecewise-linear)
     faster than the scalar loop.
     """
     if precision != "double" or size < AUTO_BATCH_MIN_POINTS:
