@@ -144,3 +144,72 @@ def test_a_killed_helper_leaves_its_tiles_to_this_process(tmp_path, monkeypatch)
     assert killed and summary.complete and summary.computed == w.n_points and not summary.errors
     assert summary.failed == 0 and summary.cluster == "this process"   # the helper finished no tile
     assert_store_equals(tmp_path / "k.zarr", compute_serial(w))
+
+
+_ORPHAN = """
+import bifurcation.run.submission as submission
+from bifurcation.run import submit
+from bifurcation.workflow import Workflow
+if __name__ == "__main__":
+    submission.HANDOVER_CPU_SECONDS = 0.0
+    w = Workflow(name="orphan", laws=("carlson-langer",), nu=tuple(10.0 ** -k for k in range(3, 16)),
+                 nu_f=tuple(round(1e-4 * k, 4) for k in range(1, 9999)), tiles=(64, 13))
+    submit(w, store={store!r}, workers=2, progress=False)
+"""
+
+
+@pytest.mark.slow   # ~5-20 s: a real submit whose helper is orphaned by kill -9
+@pytest.mark.skipif(not os.path.isdir("/proc") or (os.cpu_count() or 1) < 2, reason="reads /proc; needs 2 cores")
+def test_a_helper_exits_when_its_submitting_process_is_killed(tmp_path):
+    # kill -9 of the submitting process: its helper (blocked on the pool's pipe, or in a tile) exits
+    # within about a second instead of living on as an orphan (``submission._helper_start``)
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / "parent.py"
+    script.write_text(_ORPHAN.format(store=str(tmp_path / "o.zarr")))
+    env = {k: v for k, v in os.environ.items() if not k.startswith("DASK_")}
+    parent = subprocess.Popen([sys.executable, str(script)], cwd=tmp_path, env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+    def helpers() -> list[int]:
+        found = []
+        for entry in os.listdir("/proc"):
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+                with open(f"/proc/{entry}/cmdline", "rb") as f:
+                    spawned = b"spawn_main" in f.read()
+            except (OSError, ValueError, IndexError):
+                continue
+            if ppid == parent.pid and spawned:
+                found.append(int(entry))
+        return found
+
+    pids = []
+    try:
+        deadline = time.monotonic() + 120
+        while not (pids := helpers()):
+            assert parent.poll() is None, "the submit ended before its helper started"
+            assert time.monotonic() < deadline, "no helper within 120 s"
+            time.sleep(0.05)
+        time.sleep(1.0)   # the helper is in its first tiles (or still importing)
+        parent.send_signal(signal.SIGKILL)
+        parent.wait(10)
+        deadline = time.monotonic() + 30
+        alive = pids
+        while alive and time.monotonic() < deadline:
+            time.sleep(0.1)
+            alive = [pid for pid in pids if os.path.exists(f"/proc/{pid}") and
+                     open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"]
+        assert not alive, f"helper(s) {alive} still running 30 s after their submitting process was killed"
+    finally:
+        if parent.poll() is None:
+            parent.kill()
+        for pid in pids:   # a failed check leaves no process behind
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
