@@ -367,9 +367,9 @@ class _Helpers:
     goes on computing its own.
 
     A plain process pool, not a Dask cluster: no scheduler and client threads in this process and no
-    event loop, nanny or heartbeats beside the computation in the helpers (measured: 4-8 % more CPU for
-    the same tiles, and ~1 s of CPU to start each worker's nanny and scheduler connection), and tiles go
-    over a pipe. A helper that dies (``kill -9``) breaks the pool: its tiles and those queued come back
+    event loop, nanny or heartbeats beside the computation in the helpers, and tiles go over a pipe.
+    Measured at 10^6 single-block points, 2 processes, CPU time of all of them: 42.1 s with a Dask
+    LocalCluster as helper, 33.5-34.4 s with this pool, 31.1-31.6 s for one process without a store. A helper that dies (``kill -9``) breaks the pool: its tiles and those queued come back
     here and are computed in this process (``lost``), and no more go to the pool.
     """
 
