@@ -217,6 +217,9 @@ class Workflow:
                          **{axis: [repr(x) for x in values] for axis, values in self.grid})
         if self.batch != 1:  # batch results equal scalar ones to rounding only; 1 keeps old fingerprints
             canonical["batch"] = self.batch
+            # Revision 2: maxima and t1 became terminal events in batch mode (the scalar loop's steps), which
+            # moved last bits; an older batch store must not be resumed with tiles of the new revision.
+            canonical["batch_revision"] = 2
         if self.model != DEFAULT_MODEL:   # the single block's stores predate models: keep their prints
             canonical["model"] = self.model
         if self.catalog_chunk:
