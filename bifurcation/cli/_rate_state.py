@@ -205,13 +205,15 @@ def _cycle(spec, history, precision, as_json) -> None:
 def continue_cmd(workflow: str, out, damping, force: bool) -> None:
     """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
     from ..models.rate_state.spec import _finite
-    from ..models.rate_state.study import load_study, run_study
+    from ..models.rate_state.study import check_damping, load_study, run_study
 
     from ._common import check_replace, check_writable_dir
 
     study = load_study(workflow)  # validate before anything is computed or written
     if damping is not None:
         damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
+        for branch in study.branches:
+            check_damping(branch, damping, "--damping")
     # and where it goes (run_study's default)
     check_writable_dir(out if out is not None else f"results/local/{study.name}")
     check_replace(out, ("REPORT.md", "branches.zarr", "bifurcation-diagram.png"), given=out is not None, force=force)
