@@ -629,6 +629,9 @@ CASES += [
     "bench --suite chain --pipeline 100 ## --pipeline=100: does not apply to --suite chain",
     "bench --suite rs-chain --json --json ## --json is given twice",
     "bench --suite engine --suite chain ## --suite is given twice",
+    "report --store {sb} --store {sb} --out {newdir} ## --store='{sb}': is given twice",   # was a report of it twice
+    "report --store {sb} --store {sb}/ --out {newdir} ## is given twice",
+    "extrapolate --store {sb} --store {sb} --law carlson-langer --nu-f 0.4 ## is given twice",
 ]
 
 
