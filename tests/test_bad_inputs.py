@@ -632,6 +632,9 @@ CASES += [
     "report --store {sb} --store {sb} --out {newdir} ## --store='{sb}': is given twice",   # was a report of it twice
     "report --store {sb} --store {sb}/ --out {newdir} ## is given twice",
     "extrapolate --store {sb} --store {sb} --law carlson-langer --nu-f 0.4 ## is given twice",
+    f"{HOPF} --mass 1e26 ## --mass=1e+26: η = M V_lp²/(a Dc) = 1e+30",   # a ZeroDivisionError traceback before
+    f"{HOPF} --mass 1e40 ## --mass",
+    f"{HOPF} --mass 1e300 ## b, mass",                                   # named b alone before
 ]
 
 
