@@ -635,6 +635,7 @@ CASES += [
     f"{HOPF} --mass 1e26 ## --mass=1e+26: η = M V_lp²/(a Dc) = 1e+30",   # a ZeroDivisionError traceback before
     f"{HOPF} --mass 1e40 ## --mass",
     f"{HOPF} --mass 1e300 ## b, mass",                                   # named b alone before
+    f"{_set(RATE, '--v-lp', '0,10')} ## --v-lp='0,10': starts with a hold",   # named v0, no CLI option, before
 ]
 
 

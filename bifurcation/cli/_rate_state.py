@@ -145,6 +145,10 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
     if t_end is None:
         raise InputError("--t-end", None, "is missing", "give the end time of the run, e.g. --t-end 40 (or --cycle)")
     _check_steps(t_end, at)
+    if not history.velocities[0] > 0:   # the start V is the first velocity; the API's v0 is no CLI option
+        raise InputError("--v-lp", ",".join(f"{v:g}" for v in history.velocities),
+                         "starts with a hold (0): the slider starts sliding steadily at the first velocity",
+                         "begin with a velocity > 0 and hold after it, e.g. --v-lp 1,0,1 --at 5,10")
     t = np.linspace(history.times[0], t_end, outputs)
     r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, damping=damping,
                    precision=precision)
