@@ -554,6 +554,90 @@ CASES = [
     "continue {wf_rs} --out {oldrun} --damping 0.001 ## --force",
 ]
 
+# -- review (issue 21 walk): new bad inputs, one block. The first rows failed before (refused only after
+#    the study had printed its closed-form sweep, or named the wrong thing); the rest were refused already.
+BRANCHES = "{root}/results/rate-state/branches.zarr"   # the committed rate-state-branches store (read only)
+WORKFLOWS.update({
+    "rv_rs_damping_no_hopf": (RS, "points = 4", "points = 4\ndamping = 0.1"),   # ηV_lp ≥ b − a: no Hopf point
+    "rv_rs_vlp_huge": (RS, "v_lp = 1.0", "v_lp = 1e300"),
+    "rv_rs_a_huge": (RS, "a = 0.01", "a = 1e300"),
+    "rv_rs_damping_str": (RS, "points = 4", 'points = 4\ndamping = "1"'),
+    "rv_rs_damping_inf": (RS, "points = 4", "points = 4\ndamping = inf"),
+    "rv_rs_branch_mass": (RS, "points = 4", "points = 4\nmass = 1.0"),
+    "rv_rs_label_dup": (RS, "[hopf]", '[[branch]]\nlabel = "prz"\nstate_law = "prz"\npoints = 4\n[hopf]'),
+    "rv_rs_bautin_int": (RS, "bautin = false", "bautin = 1"),
+    "rv_rs_b_eq_a": (RS, "b = 0.015", "b = 0.01"),
+    "rv_rsc_mass_neg": (RSC, "[tiles]", "[grid.mass]\nvalues = [-1.0]\n[tiles]"),
+    "rv_rsc_vth_inf": (RSC, "[tiles]", "[grid.v_th]\nvalues = [inf]\n[tiles]"),
+    "rv_rsc_periodic_str": (RSC, "[tiles]", '[grid.periodic]\nvalues = ["periodic"]\n[tiles]'),
+    "rv_rsc_seed_float": (RSC, "[tiles]", "[grid.seed]\nvalues = [1.5]\n[tiles]"),
+    "rv_rsc_law_combo": (RSC, 'laws = ["aging"]', 'laws = ["aging+slip"]'),
+    "rv_rsc_eta_range": (RSC, "[grid.eta]\nvalues = [1e-3]", "[grid.eta]\nranges = [{ start = -1, stop = 1, num = 3 }]"),
+    "rv_rsc_grid_nu": (RSC, "[tiles]", "[grid.nu]\nvalues = [1e-3]\n[tiles]"),
+    "rv_chain_sigma_nan": (CHAIN, "[tiles]", "[grid.sigma]\nvalues = [nan]\n[tiles]"),
+    "rv_chain_vth_str": (CHAIN, "[tiles]", '[grid.v_threshold]\nvalues = ["default"]\n[tiles]'),
+    "rv_chain_engine": (CHAIN, 'laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nengine = "compiled"'),
+})
+CASES += [
+    "continue {wf_rv_rs_damping_no_hopf} --out {newdir} ## branch[0].damping=0.1: gives ηV_lp = 0.1 >= b - a",
+    "continue {wf_rs} --out {newdir} --damping 0.005 ## --damping=0.005: gives ηV_lp = 0.005 >= b - a",
+    "continue {wf_rs} --out {newdir} --damping 1e300 ## --damping",
+    "continue {wf_rv_rs_vlp_huge} --out {newdir} ## slider.v_lp=1e+300",      # was 'a, b, dc, v_lp', after work
+    "continue {wf_rv_rs_a_huge} --out {newdir} ## slider.a=1e+300",           # was 'slider.b ... must be > 1e+300'
+    f"query --store {BRANCHES} --law nope ## use one of aging, quasi-static; slip, quasi-static",   # labels with commas
+    *[f"continue {{wf_{name}}} --out {{newdir}} ## {needle}" for name, needle in [
+        ("rv_rs_damping_str", "branch[0].damping"), ("rv_rs_damping_inf", "branch[0].damping"),
+        ("rv_rs_branch_mass", "branch[0].mass"), ("rv_rs_label_dup", "branch[1].label"),
+        ("rv_rs_bautin_int", "hopf.bautin"), ("rv_rs_b_eq_a", "slider.b")]],
+    *[f"continue {{wf_rs}} --out {{newdir}} --damping {v} ## --damping" for v in ("nan", "-1", "''", "1,2", "inf")],
+    *[f"submit {{wf_{name}}} --store {{newstore}} ## {needle}" for name, needle in [
+        ("rv_rsc_mass_neg", "grid.mass"), ("rv_rsc_vth_inf", "grid.v_th"), ("rv_rsc_periodic_str", "grid.periodic"),
+        ("rv_rsc_seed_float", "grid.seed"), ("rv_rsc_law_combo", "engine.laws[0]"), ("rv_rsc_eta_range", "grid.eta"),
+        ("rv_rsc_grid_nu", "grid.nu"), ("rv_chain_sigma_nan", "grid.sigma"), ("rv_chain_vth_str", "grid.v_threshold"),
+        ("rv_chain_engine", "engine.engine")]],
+    *_values(CHAIN_CLI, "--ell", ["''", "1,2"]),
+    *_values(CHAIN_CLI, "--nu", ["inf", "-1e-3"]),
+    *_values(CHAIN_CLI, "--nu-f", ["0", "inf"]),
+    *_values(CHAIN_CLI, "--events", ["2147483648", "1e3"]),
+    *_values(CHAIN_CLI, "--sigma", ["inf"]),
+    *_values(CHAIN_CLI, "--v-threshold", ["0x10"]),
+    *_values(_set(CHAIN_CLI, "--engine", "compiled"), "--verify", ["inf"]),
+    "chain --preset mori-kawamura-2006 --u0 0,0 --events 3 ## --u0",
+    "chain --preset mori-kawamura-2006 --amplitude 0.1 --seed 1 --events 100000000 ## --events",
+    "chain --preset carlson-langer-1991 --amplitude 0.1 --seed 1 --events 3 --nu 0 ## --nu",
+    "chain --preset ' carlson-langer-1991' --amplitude 0.1 --seed 1 --events 3 ## --preset",
+    *[f"rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json {o} {v} ## {o}"
+      for o, v in [("--damping", "1,2"), ("--mass", "inf"), ("--mass", "''"), ("--k", "1e300"), ("--dc", "1e300")]],
+    "rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,,10 --at 10 --t-end 40 ## --v-lp",
+    "rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10,20 --t-end 40 ## --at",
+    *[f"{HOPF} --damping {v} ## --damping" for v in ("nan", "-1", "0.005", "inf")],
+    f"{HOPF} --mass inf ## --mass",
+    *[f"query --store {BRANCHES} {o} ## {o.split()[0]}" for o in ("--point 1e9", "--point -1", "--point 1.5",
+                                                                   "--point nan", "--nu 1e-3", "--kappa 1")],
+    f"query --store {BRANCHES} --catalog ## --catalog",
+    f"export --store {BRANCHES} --out {{existing_nc}} ## --out",
+    f"export --store {BRANCHES} --out {BRANCHES}/x.nc ## --out",
+    f"report --store {BRANCHES} --out {BRANCHES}/rep ## --out",
+    f"status --store {BRANCHES}/point ## --store",
+    *[f"{cmd} --store {BRANCHES} --law prz --nu-f 0.4 ## --store" for cmd in ("extrapolate", "fit-period")],
+    f"submit {{wf_rsc}} --store {BRANCHES} ## --store",
+    "query --store {chain} --sigma 0.5 ## --sigma",
+    "query --store {chain} --v-threshold 1 ## --v-threshold",
+    "query --store {chain} --periodic 3 ## --periodic",
+    "query --store {sb} --eta 1 ## --eta",
+    "bench --suite rs-chain --pipeline 100 ## --pipeline=100: does not apply to --suite rs-chain",
+    "bench --suite chain --pipeline 100 ## --pipeline=100: does not apply to --suite chain",
+    "bench --suite rs-chain --json --json ## --json is given twice",
+    "bench --suite engine --suite chain ## --suite is given twice",
+    "report --store {sb} --store {sb} --out {newdir} ## --store='{sb}': is given twice",   # was a report of it twice
+    "report --store {sb} --store {sb}/ --out {newdir} ## is given twice",
+    "extrapolate --store {sb} --store {sb} --law carlson-langer --nu-f 0.4 ## is given twice",
+    f"{HOPF} --mass 1e26 ## --mass=1e+26: η = M V_lp²/(a Dc) = 1e+30",   # a ZeroDivisionError traceback before
+    f"{HOPF} --mass 1e40 ## --mass",
+    f"{HOPF} --mass 1e300 ## b, mass",                                   # named b alone before
+    f"{_set(RATE, '--v-lp', '0,10')} ## --v-lp='0,10': starts with a hold",   # named v0, no CLI option, before
+]
+
 
 def _split(case: str) -> tuple[str, str]:
     argv, _, needle = case.partition(" ## ")

@@ -41,8 +41,17 @@ _NAMES = {"nu_f": "--nu-f", "law": "--law", "store": "--store", "nu": "--store (
 
 
 def _stores(paths):
-    from ..analysis import load_stores
+    import os
 
+    from ..analysis import load_stores
+    from ..errors import InputError
+
+    seen = set()
+    for path in paths:   # the same store twice made a report of it twice, section for section (found at review)
+        real = os.path.realpath(path)
+        if real in seen:
+            raise InputError("--store", path, "is given twice", "give each store once")
+        seen.add(real)
     with _with_options(_NAMES):
         return load_stores(list(paths))
 

@@ -78,8 +78,8 @@ class Group(click.Group):
         except click.exceptions.Exit as exc:
             sys.exit(exc.exit_code)
         except (click.exceptions.Abort, KeyboardInterrupt):
-            click.echo("bifurcation: interrupted. A submit keeps every finished tile in its store: submit "
-                       "the same workflow again to resume.", err=True)
+            name = getattr(self._command, "name", None)
+            click.echo(f"bifurcation: interrupted. {_KEPT.get(name, 'Nothing of this run was written.')}", err=True)
             sys.exit(130)
         except click.UsageError as exc:
             fail(" ".join(exc.format_message().split()))
@@ -94,6 +94,19 @@ class Group(click.Group):
                    "tiles are kept" if exc.errno == errno.ENOSPC else "")
             click.echo(f"bifurcation: error: {exc.strerror or exc}{where}{fix}", err=True)
             sys.exit(1)
+
+
+#: What an interrupted command kept, by command (the submit's words were printed for every command: a
+#: `continue` or `study chain` user was told to submit again and that tiles were kept, found at review).
+_KEPT = {
+    "submit": "A submit keeps every finished tile in its store: submit the same workflow again to resume.",
+    "reproduce": "Every finished tile is kept in the paper's stores: run the same command again to resume.",
+    "verify": "A repair keeps every tile it recomputed: run the same command again to finish it.",
+    "continue": "continue writes its store and report only at the end, so this run left nothing new (an "
+                "earlier output in --out is kept): run the same command again; it starts from the beginning.",
+    "study": "A study writes its directory only at the end, so this run left nothing new: run the same "
+             "command again; it starts from the beginning.",
+}
 
 
 def as_typed(exc: InputError, command: click.Command | None) -> str:

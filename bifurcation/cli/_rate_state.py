@@ -145,6 +145,10 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
     if t_end is None:
         raise InputError("--t-end", None, "is missing", "give the end time of the run, e.g. --t-end 40 (or --cycle)")
     _check_steps(t_end, at)
+    if not history.velocities[0] > 0:   # the start V is the first velocity; the API's v0 is no CLI option
+        raise InputError("--v-lp", ",".join(f"{v:g}" for v in history.velocities),
+                         "starts with a hold (0): the slider starts sliding steadily at the first velocity",
+                         "begin with a velocity > 0 and hold after it, e.g. --v-lp 1,0,1 --at 5,10")
     t = np.linspace(history.times[0], t_end, outputs)
     r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, damping=damping,
                    precision=precision)
@@ -205,13 +209,15 @@ def _cycle(spec, history, precision, as_json) -> None:
 def continue_cmd(workflow: str, out, damping, force: bool) -> None:
     """Continue cycles of the rate-state slider from its Hopf points: store, report, figure."""
     from ..models.rate_state.spec import _finite
-    from ..models.rate_state.study import load_study, run_study
+    from ..models.rate_state.study import check_damping, load_study, run_study
 
     from ._common import check_replace, check_writable_dir
 
     study = load_study(workflow)  # validate before anything is computed or written
     if damping is not None:
         damping = _finite("--damping", damping, nonnegative=True, fix="give a radiation damping >= 0 (0: none)")
+        for branch in study.branches:
+            check_damping(branch, damping, "--damping")
     # and where it goes (run_study's default)
     check_writable_dir(out if out is not None else f"results/local/{study.name}")
     check_replace(out, ("REPORT.md", "branches.zarr", "bifurcation-diagram.png"), given=out is not None, force=force)

@@ -101,5 +101,6 @@ def match_label(axis: str, labels, value, identity, *, argument: str | None = No
                 return Match(axis, value, i, label, True)
         except InputError:   # a label this version cannot parse matches nothing
             continue
-    raise InputError(argument, value, f"is not a {axis} of this store",
-                     f"use one of {', '.join(labels)}")
+    # labels with commas ("prz, quasi-static": the rate-state branches) were unreadable joined by commas
+    sep = "; " if any("," in label for label in labels) else ", "
+    raise InputError(argument, value, f"is not a {axis} of this store", f"use one of {sep.join(labels)}")

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -32,6 +33,24 @@ from .analysis import (b_value, finite_size_fit, hysteresis, magnitude_frequency
                        sweep_nu_f)
 
 __all__ = ["main", "saved_data", "study_blocks"]
+
+
+def _exit_with_parent(parent: int) -> None:
+    """In a pool worker: end when ``parent`` (the study) is gone. A kill -9 of `study chain` left its forked
+    workers alive and idle for good (~200 MB each), waiting on a queue that no one would fill."""
+    import threading
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True, name="exit-with-parent").start()
+
+
+def _pool(workers: int) -> ProcessPoolExecutor:
+    """The study's worker processes, each ending with this process (``_exit_with_parent``)."""
+    return ProcessPoolExecutor(workers, initializer=_exit_with_parent, initargs=(os.getpid(),))
 
 
 def _sweep(args):
@@ -128,7 +147,7 @@ def main(argv=None) -> None:
         jobs = sorted(preset_jobs(cfg), key=lambda j: -j[2])
         runs = [done[json.dumps(a[1], sort_keys=True)] for f, a, _ in jobs if json.dumps(a[1], sort_keys=True) in done]
         jobs = [j for j in jobs if json.dumps(j[1][1], sort_keys=True) not in done]   # a run already in data.json is kept
-        with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
+        with _pool(cfg["study"].get("workers", 2)) as pool:
             futures = [pool.submit(f, a) for f, a, _ in jobs]
             for fut in futures:
                 runs.append(fut.result())
@@ -147,7 +166,7 @@ def main(argv=None) -> None:
         _render(out, cfg, path, saved_data(out, cfg))
         return
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(cfg["study"].get("workers", 2)) as pool:
+    with _pool(cfg["study"].get("workers", 2)) as pool:
         futures = [(f.__name__, pool.submit(f, a)) for f, a, _ in _jobs(cfg)]
         results = {"_sweep": [], "_catalog": [], "_threshold": [], "_budgeted_catalog": [], "_sweep_small_nu": [],
                    "_preset_catalog": []}

@@ -140,8 +140,10 @@ def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, damping=0.0, dps: int = 
         g = [mp.re(_max_real(spec, kk, v_lp)) for kk in grid]
         # Stable (Re λ < 0) for large k; the last sign change going down in k is k_c.
         idx = [i for i in range(len(g) - 1) if g[i] > 0 >= g[i + 1]]
-        if not idx:
-            raise InputError("b", spec.b, "gives no loss of stability of steady sliding over 16 decades of k",
+        if not idx:   # with a huge mass too (--mass 1e300 was reported as a bad b alone; review)
+            raise InputError("b, mass" if spec.inertial else "b", (spec.b, spec.mass) if spec.inertial else spec.b,
+                             "gives no loss of stability of steady sliding over 16 decades of k",
+                             "check a, b, dc and the mass (a Hopf point needs b > a)" if spec.inertial else
                              "check a, b, dc (a Hopf point needs b > a)")
         i = idx[-1]
         try:
@@ -159,7 +161,16 @@ def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, damping=0.0, dps: int = 
         if not lyapunov:
             return HopfPoint(float(k_c), float(omega), math.nan, "not computed", float(k_cf), float(w_cf),
                              (), (), math.nan, *dev)
-        l1, q, p = _lyapunov(spec, k_c, v_lp, omega)
+        try:
+            l1, q, p = _lyapunov(spec, k_c, v_lp, omega)
+        except ZeroDivisionError:   # mpmath's "matrix is numerically singular": a traceback before (review)
+            eta = (f"η = M V_lp²/(a Dc) = {spec.mass * v_lp ** 2 / (spec.a * min(spec.dc)):.3g}: "
+                   if spec.inertial else "")
+            raise InputError("mass" if spec.inertial else "a, b, dc, v_lp",
+                             spec.mass if spec.inertial else (spec.a, spec.b, spec.dc, v_lp),
+                             f"{eta}the first Lyapunov coefficient's linear system is singular at {dps} digits",
+                             "give a smaller mass" if spec.inertial else
+                             "give values of physical size (e.g. a = 0.01, b = 0.015, dc = 0.01, v_lp = 1)") from None
         # Degenerate: |l1| below half the working digits of the size of its terms (the terms are
         # O(1); a true zero comes out at ~10^-dps, a nonzero l1 far above 10^-dps/2).
         tol = mp.mpf(10) ** (-dps // 2)

@@ -112,7 +112,9 @@ def load_study(path) -> StudySpec:
             if not at(key).has(key):
                 raise InputError(br.path(key), None, "is missing", f"set {key} in [slider] or the branch")
         law = resolve_state_law(br.string("state_law", ""), argument=br.path("state_law")).name
-        a = at("a").number("a", above=0)
+        # a ≤ 1 and V_lp ≤ 1e6 (the rs-chain grid's bounds): beyond them the Hopf root did not converge, after
+        # the study had started (a = 1e300 was reported as a bad b)
+        a = at("a").number("a", above=0, high=1.0)
         label = br.string("label", f"{law} {i}")
         if not label.strip():   # the store finds a branch by its label (query --law): an empty one cannot be
             raise InputError(br.path("label"), label, "is empty", "give the branch a label, e.g. \"prz, quasi-static\"")
@@ -122,7 +124,7 @@ def load_study(path) -> StudySpec:
         labels[label.strip()] = i
         out.append(BranchSpec(
             label=label, state_law=law, a=a, b=at("b").number("b", above=a, fix="give b > a (velocity weakening)"),
-            dc=at("dc").number("dc", above=0), v_lp=at("v_lp").number("v_lp", above=0),
+            dc=at("dc").number("dc", above=0), v_lp=at("v_lp").number("v_lp", above=0, high=1e6),
             eta=br.number("eta", 0.0, low=0, high=MAX_ETA, fix=_ETA_FIX),
             damping=br.number("damping", 0.0, low=0, high=MAX_ETA, fix=_DAMPING_FIX),
             points=br.integer("points", 30, low=3, high=MAX_POINTS, fix=_POINTS_FIX),
@@ -130,6 +132,7 @@ def load_study(path) -> StudySpec:
             kappa_min=br.number("kappa_min", 0.05, above=0),
             kappa_max=br.number("kappa_max", 20.0, above=1),
             **_v_lp_keys(br, at("v_lp").number("v_lp"))))
+        check_damping(out[-1], out[-1].damping, br.path("damping"))
     hopf = root.table("hopf", _HOPF_KEYS, required=False) or Table({}, "hopf", _HOPF_KEYS)
     fix = "give a list of at most 100 numbers (the closed-form check takes every combination)"
     return StudySpec(name, description, tuple(out),
@@ -137,6 +140,17 @@ def load_study(path) -> StudySpec:
                      hopf.numbers("v_lp", [1e-3, 1.0, 1e3], above=0, high=1e6, most=MAX_HOPF_VALUES, fix=fix),
                      hopf.numbers("eta", [0.0, 1.0], low=0, high=MAX_ETA, most=MAX_HOPF_VALUES, fix=_ETA_FIX),
                      text, hopf.boolean("bautin", True))
+
+
+def check_damping(branch: BranchSpec, damping: float, argument: str) -> None:
+    """Refuse a radiation damping that leaves ``branch`` no Hopf point (ηV_lp ≥ b − a: steady sliding is
+    stable for every k; hopf.hopf_point's test), before any work: found there, it came after the closed-form
+    sweep had printed, and named ``--damping`` for a workflow's key."""
+    if damping * branch.v_lp >= branch.b - branch.a:
+        raise InputError(argument, damping, f"gives ηV_lp = {damping * branch.v_lp:g} >= b - a = "
+                         f"{branch.b - branch.a:g} for branch '{branch.label}': steady sliding is stable for "
+                         "every k and there is no Hopf point to continue from",
+                         f"give damping < (b - a)/V_lp = {(branch.b - branch.a) / branch.v_lp:g}")
 
 
 def _v_lp_keys(br, v_lp: float) -> dict:
