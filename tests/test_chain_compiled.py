@@ -229,14 +229,26 @@ def test_compiled_engine_follows_fading_friction_at_a_large_drop():
     said ~1e-11: a DOP853 step that straddled a stop had its stages past the stop, at v < 0, and none
     where friction rises steeply near v = 0. Such a step is now re-taken to the stop (``_segment``):
     measured 5.0e-12, 9.3e-12, 2.3e-12 (σ = 0.5, 0.9, 0.98) from the quad engine, error estimates
-    ≤ 8.5e-12; bounds 1e-10 (tol 1e-11, docs/chain.md)."""
+    ≤ 8.5e-12; bounds 1e-10 (tol 1e-11, docs/chain.md). Above σ = 0.95 the API still refuses friction that
+    fades (``COMPILED_FADING_SIGMA``: a random chain 2.7e-7 off there), so σ = 0.98 runs ``CompiledChain``."""
     args = dict(n=5, ell=1.0, nu=1e-4, nu_f=0.05, u0=[0, -0.1, -0.2, -0.3, -0.4], events=3)
+    law = resolve_law("exp(-x-4*x^2)")
     for sigma in (0.5, 0.9, 0.98):
-        fast = bf.chain("exp(-x-4*x^2)", engine="compiled", sigma=sigma, **args)
-        quad = bf.chain("exp(-x-4*x^2)", sigma=sigma, precision="quad", **args)
-        assert list(fast.n_blocks) == list(quad.n_blocks)
-        assert np.max(np.abs(fast.potency - quad.potency) / quad.potency) < 1e-10, sigma
-        assert np.max(fast.error_estimate) < 1e-10
+        quad = bf.chain(law, sigma=sigma, precision="quad", **args)
+        if sigma < 0.95:
+            fast = bf.chain(law, engine="compiled", sigma=sigma, **args)
+        else:
+            fast = CompiledChain(law, 5, 1.0, 1e-4, 0.05, "free", np.array(args["u0"], dtype=float),
+                                 sigma=sigma).run(3)["catalog"]
+        assert list(fast["n_blocks"]) == list(quad.n_blocks)
+        assert np.max(np.abs(fast["potency"] - quad.potency) / quad.potency) < 1e-10, sigma
+        assert np.max(fast["error_estimate"]) < 1e-10
+    with pytest.raises(InputError) as err:
+        bf.chain(law, engine="compiled", sigma=0.98, **args)
+    assert err.value.argument == "sigma" and "engine='exact'" in str(err.value)
+    # an algebraic law or a piecewise one has no rungs and keeps the compiled engine at any drop
+    for name in ("carlson-langer", "piecewise-linear"):
+        assert bf.chain(name, engine="compiled", sigma=0.98, **args).status == 1
 
 
 def test_compiled_engine_keeps_a_restart_inside_the_event_with_switches_and_a_drop():
@@ -327,14 +339,16 @@ def test_compiled_engine_on_random_chains_that_failed(k):
 @pytest.mark.slow
 def test_compiled_engine_on_many_random_chains():
     """150 random chains (``_random_chain``, 12 events each: both piecewise laws, Carlson–Langer, two fading
-    laws, σ_f over (0, 0.95)): every hypocentre, size and status as the exact engine's, times, potencies
-    and durations within VERIFY_BOUND; velocity maxima (located on DOP853's 7th-order dense output) within
-    1e-9 (measured ≤ 1.1e-10 over 1500 random chains). Before the fix, 11 of 1400 random chains (5 laws,
-    then piecewise-linear alone) differed in an event's size or status or by 1e-6 … 0.4 in potency."""
+    laws, σ_f over (0, 0.95)): every hypocentre, size and status as the exact engine's, times, potencies,
+    durations and velocity maxima within 1e-9: DOP853 runs at tol 1e-11, and an event's end is the root of
+    v, where v can be slow to reach 0 (measured ≤ 1.1e-10 over 1500 random chains: 1.0e-10 a duration,
+    exp(-x-4x^2) at σ = 0.73, potency 2.5e-11; 1.1e-10 a velocity maximum, on the dense output). Before
+    the fix, 11 of 1400 random chains (5 laws, then piecewise-linear alone) differed in an event's size or
+    status or by 1e-6 … 0.4 in potency."""
     bad, switched = [], 0
     for k in range(5000, 5150):
         first, worst, vmax, s = _cross_check(k)
-        if first is not None or worst > VERIFY_BOUND or vmax > 1e-9:
+        if first is not None or worst > 1e-9 or vmax > 1e-9:
             bad.append((k, first, worst, vmax))
         switched += s
     assert not bad, bad
