@@ -767,7 +767,7 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
             # Past the stop the stages follow v < 0 and need not see friction's steep rise near v = 0
             # (exp(-x-4x^2), σ_f = 0.9: 1e-6 off, error estimate 1e-12); the new step's last stages are next
             # to v = 0. (Exactly to the stop, it often ended just short of it: the next step again, steps
-            # shrinking to 1e-31.) Algebraic and piecewise laws agreed without it (+15 % CPU with it).
+            # shrinking to 1e-31.) Algebraic and piecewise laws agree without it (random chains, σ_f < 0.999).
             acc[0] -= 1.0
             h = 1.01 * best * hh
             again = True
