@@ -149,7 +149,7 @@ def test_slip_law_plunge_one_turn_against_the_40_digit_reference():
     # (slow_manifold.py, "Fast time") this overflowed (non-finite state at ln V ≈ −30: the fast mode's
     # Taylor coefficients in physical time); now one turn from the stored section point must return the
     # mpmath period (reference_inertial: physical time, variables τ, V, θ, the transient waited out to
-    # 1e-30 instead of projected). Measured 2.7e-16 relative (see docs/rate-state.md, "Deep cycles with
+    # 1e-30 instead of projected). Measured 3.1e-15 relative (see docs/rate-state.md, "Deep cycles with
     # mass"); 1e-13 as for the aging turn above.
     case = CASES["8"]
     spec = _spec(case)
