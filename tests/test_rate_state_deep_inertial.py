@@ -228,3 +228,25 @@ def test_registry_point_with_mass_uses_the_event_split_cycle():
     assert abs(out["period"][0] / float(mp.mpf(case["period"])) - 1) < 1e-12
     assert abs(out["ln_v_min"][0] - float(mp.mpf(case["ln_v_min"]))) < 1e-10
     assert out["multiplier_max"][0] < 1
+
+
+def test_continuation_return_map_takes_the_split_turn_where_the_explicit_run_fails():
+    # continuation.ReturnMap (the map the κ and V_lp continuations, folds and doublings iterate): at the
+    # slip-law cycle of case 6 the explicit run fails in the plunge (measured: "stall" at ln V = −26.4, its
+    # steps below the resolution of t);
+    # with mass and V small there the map now takes the event-split turn, and from then on only that (a
+    # Jacobian never mixes the two). Its return must be the mpmath period (1e-12; measured 7e-16) and the
+    # section point a fixed point (to 1e-9 scaled: the engine's own Newton left ~1e-15).
+    from bifurcation.models.rate_state.continuation import ReturnMap
+
+    case = CASES["6"]
+    spec = _spec(case)
+    w = np.array([float(v) for v in case["start_section"]])
+    period = float(mp.mpf(case["period"]))
+    pmap = ReturnMap(spec, BASE["v_lp"], t_max=50 * period, max_steps=200_000)
+    got = pmap(w, spec.k)
+    assert got is not None and pmap.split and "ln V" in pmap.last_failure
+    w1, t, top, bottom = got
+    assert abs(t / period - 1) < 1e-12
+    assert np.max(np.abs(w1 - w) / np.maximum(np.abs(w), 1e-3)) < 1e-9
+    assert abs(bottom - float(mp.mpf(case["ln_v_min"]))) < 1e-10
