@@ -183,7 +183,7 @@ def test_a_run_the_split_cannot_finish_is_not_resolved():
     assert math.isnan(c.period) and math.isnan(c.ln_v_min)
 
 
-@pytest.mark.slow   # ~5–40 s (load): the slip law's transient run overflows at once, then the split
+@pytest.mark.slow   # 5–70 s (measured, load 2–18): the transient run fails at once, then the split
 def test_cli_cycle_with_mass_reaches_the_slip_law_deep_cycle():
     import subprocess
     import sys
