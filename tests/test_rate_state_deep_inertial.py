@@ -25,8 +25,8 @@ CASES = DATA["cases"]
 
 
 def _spec(case):
-    return SliderSpec(a=BASE["a"], b=BASE["b"], dc=BASE["dc"], state_law=case["state_law"], k=case["k"],
-                      damping=case["damping"], mass=case["mass"])
+    return SliderSpec(a=BASE["a"], b=case.get("b", BASE["b"]), dc=BASE["dc"], state_law=case["state_law"],
+                      k=case["k"], damping=case["damping"], mass=case["mass"])
 
 
 def test_slow_manifold_series_against_the_mpmath_slow_solution():
@@ -119,6 +119,7 @@ def test_deep_inertial_cycles_against_mpmath(index):
                    damping=spec.damping, dps=30, lyapunov=False)
     c = sm.deep_cycle(spec, BASE["v_lp"], 2 * math.pi / h.omega_c)
     assert c.status == "limit-cycle", c.message
+    assert abs(spec.k / h.k_c - case["kappa"]) < 1e-12
     period = float(mp.mpf(case["period"]))
     assert abs(c.period / period - 1) < 1e-12
     assert c.period_error < 1e-12 * period
@@ -142,19 +143,62 @@ def test_cli_cycle_with_mass_reaches_the_deep_cycle(tmp_path):
     assert out["ln_v_max"] - out["ln_v_min"] > 40
 
 
-@pytest.mark.slow   # ~1–3 s: compiles the slip law's integrators
-def test_a_case_the_split_cannot_follow_is_not_resolved():
-    # Slip law, b = 0.05, M = 1e-4, κ = 0.01: the first slip's inertial plunge drives ln V so deep that
-    # e^{−x} overflows before the force recovers (measured: non-finite state at t ≈ 2.76). That must be
-    # a status with the reason and no numbers, never a plausible cycle.
+def test_slip_law_plunge_one_turn_against_the_40_digit_reference():
+    # Slip law, b = 0.05, M = 1e-2, κ = 0.01 (case 8): after each slip θ does not heal without slip, so the
+    # inertial plunge carries ln V to −41.2 (span 46.0). Before the fast-time inertial phase
+    # (slow_manifold.py, "Fast time") this overflowed (non-finite state at ln V ≈ −30: the fast mode's
+    # Taylor coefficients in physical time); now one turn from the stored section point must return the
+    # mpmath period (reference_inertial: physical time, variables τ, V, θ, the transient waited out to
+    # 1e-30 instead of projected). Measured 3.1e-15 relative (see docs/rate-state.md, "Deep cycles with
+    # mass"); 1e-13 as for the aging turn above.
+    case = CASES["8"]
+    spec = _spec(case)
+    w = np.array([float(v) for v in case["start_section"]])
+    period = mp.mpf(case["period"])
+    got = sm._turn(spec, BASE["v_lp"], "inertial", w, float(period))
+    assert got is not None
+    assert abs(got[1] / float(period) - 1) < 1e-13
+    run = got[2]
+    assert [s[1] for s in run.switches] == ["down", "up"]
+    down = run.switches[0]
+    # the switch down is where the plunge ends (deep), and projecting its transient away is exact there
+    assert down[2] < -40 and down[3] <= sm.TRANSIENT
+    lo = min(e[1] for e in run.extrema)
+    assert abs(lo - float(mp.mpf(case["ln_v_min"]))) < 1e-12
+    assert float(mp.mpf(case["ln_v_max"])) - float(mp.mpf(case["ln_v_min"])) > 40
+
+
+@pytest.mark.slow   # ~2–4 s: compiles the slip law's integrators
+def test_a_run_the_split_cannot_finish_is_not_resolved():
+    # Slip law, b = 0.05, M = 1e-4, κ = 0.01 (span 63 with the default budget): with a step budget too small
+    # for one turn the search must end as a status with the reason and no numbers, never a plausible cycle.
+    # (This case used to be the overflow example: non-finite state at ln V ≈ −30, before the fast time.)
     from bifurcation.models.rate_state.hopf import hopf_point
 
     h = hopf_point(a=0.01, b=0.05, dc=1.0, state_law="slip", v_lp=1.0, mass=1e-4, damping=0.0, dps=30,
                    lyapunov=False)
     spec = SliderSpec(a=0.01, b=0.05, dc=1.0, state_law="slip", k=0.01 * h.k_c, mass=1e-4)
-    c = sm.deep_cycle(spec, 1.0, 2 * math.pi / h.omega_c)
-    assert c.status == "not-resolved" and "non-finite state" in c.message, c.message
+    c = sm.deep_cycle(spec, 1.0, 2 * math.pi / h.omega_c, max_steps=300)
+    assert c.status == "not-resolved" and "step budget" in c.message, c.message
     assert math.isnan(c.period) and math.isnan(c.ln_v_min)
+
+
+@pytest.mark.slow   # 5–70 s (measured, load 2–18): the transient run fails at once, then the split
+def test_cli_cycle_with_mass_reaches_the_slip_law_deep_cycle():
+    import subprocess
+    import sys
+
+    case = CASES["6"]   # slip, b = 0.05, M = 1e-4, κ = 0.03: ln V from −45.8 to 7.05
+    cmd = [sys.executable, "-m", "bifurcation", "rate-state", "--state-law", "slip", "--a", "0.01", "--b", "0.05",
+           "--dc", "1", "--k", repr(case["k"]), "--v-lp", "1", "--mass", "1e-4", "--cycle", "--json"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out["status"] == "limit-cycle", out["message"]
+    assert abs(out["period"] / float(mp.mpf(case["period"])) - 1) < 1e-12
+    assert out["period_error"] < 1e-12 * out["period"]
+    assert abs(out["ln_v_min"] - float(mp.mpf(case["ln_v_min"]))) < 1e-10
+    assert out["ln_v_max"] - out["ln_v_min"] > 40
 
 
 def test_inertial_bench_references_are_the_golden_periods():
@@ -163,3 +207,46 @@ def test_inertial_bench_references_are_the_golden_periods():
 
     golden = {(c["state_law"], c["damping"], c["kappa"], c["mass"]): c["period"] for c in CASES.values()}
     assert _INERTIAL_REFERENCE and all(golden[key] == value for key, value in _INERTIAL_REFERENCE.items())
+
+
+@pytest.mark.slow   # ~3–30 s (load): the transient run overflows at once, then the event-split search
+def test_registry_point_with_mass_uses_the_event_split_cycle():
+    # A workflow point (model runner, as `bifurcation submit` computes it) where the explicit run of
+    # attractor.fate cannot follow the slip law's inertial plunge: the point is the event-split cycle
+    # (model._deep), its ln V extrema in the units of V_lp (ln V, not ln V/V_lp; here V_lp = 1), and it
+    # must agree with the mpmath turn of case 6 as --cycle does (1e-12; measured 7e-16).
+    from bifurcation.engine.solve import solve
+    from bifurcation.models import get_model
+    from bifurcation.models.rate_state.model import RateStateStatus
+
+    case = CASES["6"]
+    pts = {"kappa": [case["kappa"]], "v_lp": BASE["v_lp"], "a": BASE["a"], "b": case["b"], "dc": BASE["dc"],
+           "mass": case["mass"], "b2": 0.0, "dc2": 0.1, "damping": case["damping"]}
+    out = solve(get_model("rate-state"), "slip", pts)
+    assert out["status"][0] == RateStateStatus.LIMIT_CYCLE, out["messages"]
+    assert out["k"][0] == pytest.approx(case["k"], rel=1e-15)
+    assert abs(out["period"][0] / float(mp.mpf(case["period"])) - 1) < 1e-12
+    assert abs(out["ln_v_min"][0] - float(mp.mpf(case["ln_v_min"]))) < 1e-10
+    assert out["multiplier_max"][0] < 1
+
+
+def test_continuation_return_map_takes_the_split_turn_where_the_explicit_run_fails():
+    # continuation.ReturnMap (the map the κ and V_lp continuations, folds and doublings iterate): at the
+    # slip-law cycle of case 6 the explicit run fails in the plunge (measured: "stall" at ln V = −26.4, its
+    # steps below the resolution of t);
+    # with mass and V small there the map now takes the event-split turn, and from then on only that (a
+    # Jacobian never mixes the two). Its return must be the mpmath period (1e-12; measured 7e-16) and the
+    # section point a fixed point (to 1e-9 scaled: the engine's own Newton left ~1e-15).
+    from bifurcation.models.rate_state.continuation import ReturnMap
+
+    case = CASES["6"]
+    spec = _spec(case)
+    w = np.array([float(v) for v in case["start_section"]])
+    period = float(mp.mpf(case["period"]))
+    pmap = ReturnMap(spec, BASE["v_lp"], t_max=50 * period, max_steps=200_000)
+    got = pmap(w, spec.k)
+    assert got is not None and pmap.split and "ln V" in pmap.last_failure
+    w1, t, top, bottom = got
+    assert abs(t / period - 1) < 1e-12
+    assert np.max(np.abs(w1 - w) / np.maximum(np.abs(w), 1e-3)) < 1e-9
+    assert abs(bottom - float(mp.mpf(case["ln_v_min"]))) < 1e-10

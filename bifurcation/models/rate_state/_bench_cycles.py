@@ -44,15 +44,16 @@ _REFERENCE = {
     ("prz", 1e-8, 0.03): "675.213037010269605571231616814",
 }
 _BASE = {"a": 0.01, "b": 0.025, "dc": 1.0, "v_lp": 1.0}
-# With mass (slow_manifold.py): (law, η, κ, M) and the mpmath period (tests/data/rate_state_deep_inertial.json)
-# (the slip law with mass has no case spanning 40 and no mpmath reference yet: docs/rate-state.md)
+# With mass (slow_manifold.py): (law, η, κ, M[, b]) and the mpmath period (tests/data/rate_state_deep_inertial.json)
 _INERTIAL_CASES = (
     ("aging", 1e-8, 0.1, 1e-6),
     ("prz", 1e-8, 0.1, 1e-6),
+    ("slip", 0.0, 0.03, 1e-4, 0.05),
 )
 _INERTIAL_REFERENCE = {
     ("aging", 1e-8, 0.1, 1e-6): "313.588142034062321455320093443",
     ("prz", 1e-8, 0.1, 1e-6): "284.758080733042039355930602426",
+    ("slip", 0.0, 0.03, 1e-4): "669.901580388787572858918657242",
 }
 _RTOLS = (1e-8, 1e-10, 1e-12)
 
@@ -267,16 +268,16 @@ def _inertial_rows(cycles, repeat, echo, numbalsoda) -> list:
     from .spec import SliderSpec
 
     rows = []
-    for law, eta, kappa, mass in _INERTIAL_CASES:
+    for law, eta, kappa, mass, *rest in _INERTIAL_CASES:
         key = (law, eta, kappa, mass)
         if key not in _INERTIAL_REFERENCE:
             continue
-        a, b, dc, v_lp = _BASE["a"], _BASE["b"], _BASE["dc"], _BASE["v_lp"]
+        a, b, dc, v_lp = _BASE["a"], (rest or [_BASE["b"]])[0], _BASE["dc"], _BASE["v_lp"]
         h = hopf_point(a=a, b=b, dc=dc, state_law=law, v_lp=v_lp, mass=mass, damping=eta, dps=30, lyapunov=False)
         spec = SliderSpec(a=a, b=b, dc=dc, state_law=law, k=kappa * h.k_c, damping=eta, mass=mass)
         c, phase, w = deep_cycle_point(spec, v_lp, 2 * math.pi / h.omega_c)
         if c.status != "limit-cycle" or phase != "inertial":
-            rows.append({"case": f"{law} η={eta:g} κ={kappa:g} M={mass:g}", "status": c.status})
+            rows.append({"case": f"{law} b={b:g} η={eta:g} κ={kappa:g} M={mass:g}", "status": c.status})
             continue
         t_ref = float(_INERTIAL_REFERENCE[key])
         t_end = cycles * t_ref
@@ -291,7 +292,7 @@ def _inertial_rows(cycles, repeat, echo, numbalsoda) -> list:
             return run_hybrid(spec, v_lp, "inertial", u0, t_end)
 
         t_eng, r = _best(engine, repeat)
-        row = {"case": f"{law} η={eta:g} κ={kappa:g} M={mass:g}", "span_ln_v": c.ln_v_max - c.ln_v_min,
+        row = {"case": f"{law} b={b:g} η={eta:g} κ={kappa:g} M={mass:g}", "span_ln_v": c.ln_v_max - c.ln_v_min,
                "cycles": cycles, "engine_ms_per_cycle": 1e3 * t_eng / cycles,
                "engine_drift_per_cycle": drift(float(r.state[0])) if r.status == "ok" else math.nan,
                "engine_steps_per_cycle": r.steps / cycles, "lsoda": []}

@@ -66,10 +66,13 @@ class ReturnMap:
         self.c = compiled(spec.state_law, spec.inertial, 1, "double", section=True, damped=spec.damped)
         self.x0 = math.log(self.v_lp)
         self.last_failure = ""
+        self.split = False   # set once the explicit run failed with mass: the event-split turn from then on
 
     def __call__(self, w, k, v_lp=None):
         if v_lp is not None:   # a branch in V_lp: the section x = ln V_lp moves with it
             self.v_lp, self.x0 = float(v_lp), math.log(v_lp)
+        if self.split:
+            return self._split_turn(w, k)
         c, ta, spec = self.c, self.c.integrator, self.spec
         ta.time = 0.0
         ta.state[0] = self.x0
@@ -93,9 +96,28 @@ class ReturnMap:
             what = guard.reason or (outcome.name if hasattr(outcome, "name") else outcome)
             self.last_failure = (f"{what} at t = {ta.time:.6g}, "
                                  f"ln V = {ta.state[0]:.4g}, after {steps} steps")
+            if spec.inertial and ta.state[0] < self.x0:   # stiff at small V (deep stick, slip-law plunge)
+                self.split = True
+                return self._split_turn(w, k)
             return None
         ext = np.array([e[1] for e in c.recorder.extrema] + [self.x0])
         return np.array(ta.state[1:]), float(ta.time), float(ext.max()), float(ext.min())
+
+    def _split_turn(self, w, k):
+        """One turn by the event-split integrator (``slow_manifold``: fast-time inertial phases, slow manifold
+        at tiny V), section phase inertial; sticky, so a Jacobian never mixes the two integrators."""
+        from dataclasses import replace
+
+        from .slow_manifold import _turn
+
+        got = _turn(replace(self.spec, k=float(k)), self.v_lp, "inertial", np.array(w, dtype=float),
+                    self.t_max / 50, max_steps=self.max_steps)
+        if got is None:
+            self.last_failure += "; event-split integrator: no return to the section in its phase"
+            return None
+        w1, period, run = got
+        ext = np.array([e[1] for e in run.extrema] + [self.x0])
+        return np.array(w1), float(period), float(ext.max()), float(ext.min())
 
 
 def _jac(fun, x, h):

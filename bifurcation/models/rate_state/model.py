@@ -7,7 +7,8 @@ axes b, dc, the second b2, dc2). Axes: κ = k/k_c, V_lp, a, b, Dc, M (0: quasi-s
 
 1. the Hopf point of steady sliding at V_lp (``hopf.hopf_point`` at 30 digits, shared by the points
    that differ only in κ): k_c, ω_c, the first Lyapunov coefficient l1 and its sign (``criticality``);
-2. at k = κ k_c, the fate of steady sliding perturbed by 1e-2 in ln V (``attractor.fate``):
+2. at k = κ k_c, the fate of steady sliding perturbed by 1e-2 in ln V (``attractor.fate``; with mass,
+   where it is not resolved, the event-split integrator ``slow_manifold.deep_cycle``):
    ``RateStateStatus`` and, for a limit cycle, its period, max and min ln V, slip per cycle and
    largest Floquet multiplier. Whatever the engine cannot vouch for is NaN with a status that says so.
 
@@ -157,6 +158,8 @@ def _run(model, label, points, *, precision, t_max, max_steps, batch):
         # [engine] t_max is in the single block's time unit; here time scales like Dc/V_lp, so the run's
         # bound is MAX_PERIODS linear periods (and max_steps), whatever V_lp is
         f = fate(spec, p["v_lp"], 2 * math.pi / h.omega_c, max_steps=max_steps, t_max=math.inf)
+        if f.kind == "unresolved" and spec.inertial:
+            f = _deep(spec, p["v_lp"], 2 * math.pi / h.omega_c, max_steps, f)
         fields["status"][i] = _FATE[f.kind]
         fields["steps"][i] = f.steps
         for name in ("period", "ln_v_max", "ln_v_min", "slip", "multiplier_max"):
@@ -164,6 +167,23 @@ def _run(model, label, points, *, precision, t_max, max_steps, batch):
         if f.message:
             messages[i] = f.message
     return fields, messages
+
+
+def _deep(spec, v_lp, period0, max_steps, f):
+    """With mass, where the explicit run stalls or overflows (a deep stick phase or the slip law's inertial
+    plunge), the event-split integrator's cycle (``slow_manifold.deep_cycle``, as ``--cycle`` does); ``f``
+    (with both reasons) where it cannot vouch for one either."""
+    from dataclasses import replace
+
+    from .attractor import Fate
+    from .slow_manifold import deep_cycle
+
+    d = deep_cycle(spec, v_lp, period0, max_steps=max_steps)
+    if d.status != "limit-cycle":
+        return replace(f, message=f"{f.message}; event-split integrator: {d.message}", steps=f.steps + d.steps)
+    x_lp = math.log(v_lp)   # Fate's extrema are ln V, CycleResult's ln(V/V_lp)
+    return Fate("cycle", d.message, d.period, d.ln_v_max + x_lp, d.ln_v_min + x_lp, d.slip, d.multiplier_max,
+                f.steps + d.steps)
 
 
 RATE_STATE = Model(

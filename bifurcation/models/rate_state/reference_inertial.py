@@ -218,7 +218,9 @@ def reference_inertial_cycle(spec, v_lp, start, *, turns: int = 1, dps: int = 40
                     tau, v = _horner(T, h), v1
                     vdot = _horner(dV, h)
                     resist = m.a + m.eta * v
-                    if v < m.v_lp / mp.e and abs(m.mass * vdot) / resist < sw and vdot < 0:
+                    # (on the way down or already rising: the slip law's inertial plunge overshoots
+                    # onto the manifold where V is already increasing again)
+                    if v < m.v_lp / mp.e and abs(m.mass * vdot) / resist < sw:
                         taup = tau - m.mass * vdot
                         _, Vs, _, _ = m.slow_converged(taup, thetas, 4, extra, conv_tol)
                         # the fast transient's shift of ln V, far below the step tolerance

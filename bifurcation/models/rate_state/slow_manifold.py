@@ -18,15 +18,34 @@ O(ε^{ORDER+1}) in ẋ.
 The run alternates compiled Taylor integrators, switched by terminal events:
 
 - **inertial** (x, y, z) while |z|/a' (= ε) is above ``SWITCH``; when ε rises through −``SWITCH`` on the
-  way down (V below V_lp/e) it hands over to the same equations with two more events (**approach**),
+  way down (V below V_lp/e) it hands over to the same equations with more events (**approach**),
   which switch down once the manifold's own ε (from x, y) is within ±``SWITCH`` and the fast
-  transient |z/a' − ε| is below ``TRANSIENT`` (whichever becomes true last) to
+  transient w = z/a' − ε is below ``TRANSIENT``, or below ``PROJECT`` where projecting it away is
+  accurate to ``TRANSIENT`` (whichever becomes true last), to
 - **reduced** (x, y) with ẋ = f_ORDER: the massless stick phase plus the inertial correction; when
   M V f/a' rises through +``SWITCH`` on the way up (or falls through −4·``SWITCH``: a descent steepening
   again) it switches back, with z = M e^x f_ORDER(x, y) (on the manifold).
 
-Error of the split, per switch: (1) going down, the fast transient z − h(x, y) left at the switch shifts
-x by (z − h)/a' (it decays as exp(−∫a'/(MV) dt)); the run records that shift (``switches[i][3]``). (2)
+**Fast time.** The inertial and approach phases run in s with dt = M e^x ds (the clock t a state variable):
+
+    dx/ds = z,   dy_i/ds = M e^x ẏ_i,   dz/ds = M e^x (k(V_lp − e^x) − Σ b_i ẏ_i) − a' z,   dt/ds = M e^x.
+
+In physical time (ẋ = z e^{−x}/M) the fast mode's Taylor coefficients grow like (a'/(M V))^n: past
+a'/(M V) ~ 1e15 (order ~20) they overflow, and the step is NaN. The slip law's inertial plunge after a
+slip is that case: θ does not heal without slip, so the force deficit left by the overshoot, z ≈ −0.05
+at b = 0.05, is only recovered by ln V falling by |z|/a ≈ 5 more after V is already e^−30 (measured
+overflow at ln V = −29.9, M = 1e-4). In s every coefficient is O(a'^n) at any V, and the deep end of
+the plunge (ln V = −55.6 there) costs a few dozen steps.
+
+**Projection.** Below |x| ~ 1 the integrator resolves z only to ~1e-16·max|x, y| (its error control is
+relative to the state's largest component): at ln V = −55.6 the transient w stalls at ~7e-14 and never
+reaches ``TRANSIENT``. So the switch down moves x along the fast fibre by w (x + z/a' is constant under
+the fast dynamics), wrong only by |w| times the coupling of the fibres to the slow flow,
+M e^x(|∂_x drive| + Σ b_i |∂_x ẏ_i|)/a'² (drive = k(V_lp − V) − Σ b_i ẏ_i), plus η e^x w²/(2a'): at most
+``TRANSIENT`` (measured 3e-56 at the slip law's deep switch, where that coupling is ~1e-43).
+
+Error of the split, per switch: (1) going down, the error of projecting the fast transient away (above;
+with |w| ≤ ``TRANSIENT`` it is below that too); the run records it (``switches[i][3]``). (2)
 In the reduced phase the neglected order, f_{ORDER+1} − f_ORDER ∝ V^{ORDER+1}, is largest at the switch
 and integrates to at most |Δẋ|/((ORDER + 1)|ẋ|) in x (V falls exponentially below it); the run
 records its estimate relative to ẋ at both switches (``switches[i][4]``: the last term times the ratio
@@ -44,6 +63,7 @@ import heyoka as hy
 import numpy as np
 
 from ._system import Slots, _peak, parameters, rhs_expressions
+from .laws import resolve_state_law
 
 __all__ = ["ORDER", "SWITCH", "TRANSIENT", "HybridRun", "deep_cycle", "deep_cycle_point", "hybrid_integrators",
            "manifold_rates", "run_hybrid"]
@@ -56,8 +76,14 @@ ORDER = 4
 #: The reduced phase also hands back to the inertial one if ε falls below −ESCAPE·SWITCH (a second,
 #: steeper descent): the series is not trusted beyond a few times the level it was entered at.
 ESCAPE = 4.0
-#: The fast transient left at a switch down, |z/a' − ε| (a shift of x it would have caused): at most this.
+#: The fast transient left at a switch down, |z/a' − ε| (a shift of x it would have caused): at most this,
+#: or ``PROJECT`` with the shift added to x (the switch projects along the fast fibre, x + z/a' − ε) where
+#: the projection's own error, |w|·coupling (``_Guard``), is at most ``TRANSIENT``.
 TRANSIENT = 1e-16
+#: Largest transient w the switch down projects away (w is resolved to ~1e-13 only once |x| ~ 50: the
+#: integrator's error control is relative to the state's largest component, so there z, and w, stall at a
+#: floor ~ 1e-16·|x|/a' far above ``TRANSIENT``; measured 7e-14 at ln V = −55.6, a = 0.01).
+PROJECT = 1e-8
 
 _CACHE: dict = {}
 
@@ -83,7 +109,7 @@ class _Pair:
     inertial: object
     approach: object
     reduced: object
-    tail: object          # cfunc: (f_N − f_{N−1}, f_{N−1} − f_{N−2}, f_N, ε) at (x, y)
+    tail: object          # cfunc: (f_N − f_{N−1}, f_{N−1} − f_{N−2}, f_N, ε, coupling…) at (x, y)
     order: int
     extrema: "_Extrema"
 
@@ -98,46 +124,67 @@ def hybrid_integrators(laws: tuple[str, ...], damped: bool, order: int = ORDER, 
         return hit
     n = len(laws)
     names = ["x"] + [f"y{i}" for i in range(n)]
-    v = hy.make_vars(*names, "z")
-    x, ys, z = v[0], list(v[1:1 + n]), v[1 + n]
-    # pars: the engine's slots, then the switch level s and the section ln V_lp
+    v = hy.make_vars(*names, "z", "t")
+    x, ys, z, clock = v[0], list(v[1:1 + n]), v[1 + n], v[2 + n]
+    # pars: the engine's slots (the section ln V_lp the one threshold), then the switch level s and the
+    # physical time at which an inertial segment is to stop (its clock is a state variable, below)
     size = Slots.size(n, 1)
-    par = [hy.par[i] for i in range(size + 1)]
-    s_par, ln_lp = par[size], par[Slots.threshold(n, 0)]
+    par = [hy.par[i] for i in range(size + 2)]
+    s_par, ln_lp, t_stop = par[size], par[Slots.threshold(n, 0)], par[size + 1]
     resist = par[Slots.A] + par[Slots.DAMPING] * hy.exp(x) if damped else par[Slots.A]
 
     fs, g = manifold_rates(laws, x, ys, par, hy.exp, order, damped, hy.diff)
     f = fs[order]
     eps = par[Slots.MASS] * hy.exp(x) * f / resist        # ε on the manifold, from (x, y) alone
-    rec = _Extrema()
+    rec = _Extrema(n)
 
-    rhs_i = rhs_expressions(laws, True, [x, *ys, z], par, hy.exp, hy.log, damped=damped)
+    # The inertial phases run in the fast time s, dt = M e^x ds (module docstring, "Fast time"): the
+    # physical-time right-hand sides times M e^x, so no e^{−x}, and the fast mode decays at the rate a'
+    # in s whatever V is (in t it is a'/(M V), whose Taylor coefficients overflow once it passes ~1e15).
+    mv = par[Slots.MASS] * hy.exp(x)
+    g_t = [resolve_state_law(law).rate(x, y, par[Slots.dc(n, i)], hy.exp, hy.log) for i, (law, y) in enumerate(zip(laws, ys))]
+    drive = par[Slots.K] * (par[Slots.V_LP] - hy.exp(x))                 # k(V_lp − V) − Σ b_i ẏ_i
+    for i, gy in enumerate(g_t):
+        drive = drive - par[Slots.b(n, i)] * gy
+    rhs_i = [z, *[mv * gy for gy in g_t], mv * drive - resist * z, mv]
     w = z / resist - eps                                   # the fast transient, in units of x
     guard = _Guard(n)
     pos, neg = hy.event_direction.positive, hy.event_direction.negative
     # plain inertial: only z-based events (the series ε is meaningless, and huge, where V is large)
     ev_i = [hy.t_event(z / resist + s_par, direction=pos, callback=_Below(n)),    # → approach
-            hy.t_event(x - ln_lp, direction=pos)]                                # section
-    inertial = hy.taylor_adaptive(list(zip([x, *ys, z], rhs_i)), np.zeros(n + 2), pars=np.zeros(len(par)),
+            hy.t_event(x - ln_lp, direction=pos),                                # section
+            hy.t_event(clock - t_stop, direction=pos)]                           # the run's end
+    inertial = hy.taylor_adaptive(list(zip([x, *ys, z, clock], rhs_i)), np.zeros(n + 3), pars=np.zeros(len(par)),
                                   t_events=ev_i, nt_events=[hy.nt_event(z, rec)])
     # the approach to the manifold: the same equations, switched down when the manifold's ε is small
     # and the fast transient is gone (the last of the two conditions to become true fires)
     ev_a = [hy.t_event(eps + s_par, direction=pos, callback=guard),
             hy.t_event(w - TRANSIENT, direction=neg, callback=guard),
             hy.t_event(w + TRANSIENT, direction=pos, callback=guard),
+            hy.t_event(w - PROJECT, direction=neg, callback=guard),
+            hy.t_event(w + PROJECT, direction=pos, callback=guard),
             hy.t_event(z / resist + ESCAPE * s_par, direction=neg),              # steeper again → inertial
             hy.t_event(x - (ln_lp - 1), direction=pos),                          # back above V_lp/e → inertial
-            hy.t_event(x - ln_lp, direction=pos)]                                # section (not reached)
-    approach = hy.taylor_adaptive(list(zip([x, *ys, z], rhs_i)), np.zeros(n + 2), pars=np.zeros(len(par)),
+            hy.t_event(x - ln_lp, direction=pos),                                # section (not reached)
+            hy.t_event(clock - t_stop, direction=pos)]                           # the run's end
+    approach = hy.taylor_adaptive(list(zip([x, *ys, z, clock], rhs_i)), np.zeros(n + 3), pars=np.zeros(len(par)),
                                   t_events=ev_a, nt_events=[hy.nt_event(z, rec)], compact_mode=compact)
 
     ev_r = [hy.t_event(eps - s_par, direction=pos),                  # switch up
             hy.t_event(eps + ESCAPE * s_par, direction=neg),         # steeper again
             hy.t_event(x - ln_lp, direction=pos)]                    # section
-    reduced = hy.taylor_adaptive(list(zip([x, *ys], [f, *g])), np.zeros(n + 1), pars=np.zeros(len(par)),
+    reduced = hy.taylor_adaptive(list(zip([x, *ys], [f, *g])), np.zeros(n + 1), pars=np.zeros(len(par) - 1),
                                  t_events=ev_r, nt_events=[hy.nt_event(f, rec)], compact_mode=compact)
     # the last two terms of the series (their ratio estimates the next, neglected one), ẋ and ε
-    tail = hy.cfunc([fs[order] - fs[order - 1], fs[order - 1] - fs[order - 2], f, eps], [x, *ys],
+    # and the coupling of the fast fibres to the slow flow (x + z/a' drifts at M e^x ∂_x(drive)/a'² per
+    # unit of transient, and y at M e^x ∂_x ẏ_i/a', which moves x by b_i/a' times that): the projection's
+    # error per unit of w (``_Guard``)
+    drive = par[Slots.K] * (par[Slots.V_LP] - hy.exp(x))
+    for i, gy in enumerate(g):
+        drive = drive - par[Slots.b(n, i)] * gy
+    mv2 = par[Slots.MASS] * hy.exp(x) / (resist * resist)
+    coupling = [mv2 * hy.diff(drive, x)] + [mv2 * par[Slots.b(n, i)] * hy.diff(gy, x) for i, gy in enumerate(g)]
+    tail = hy.cfunc([fs[order] - fs[order - 1], fs[order - 1] - fs[order - 2], f, eps, *coupling], [x, *ys],
                     compact_mode=compact)
     guard.tail = tail
     hit = _CACHE[key] = _Pair(inertial, approach, reduced, tail, order, rec)
@@ -147,8 +194,8 @@ def hybrid_integrators(laws: tuple[str, ...], damped: bool, order: int = ORDER, 
 class _Extrema:
     """Velocity extrema (ẋ = 0) of both integrators at their exact times, in the run's time."""
 
-    def __init__(self) -> None:
-        self.base, self.out = 0.0, []
+    def __init__(self, n: int) -> None:
+        self.base, self.out, self.n = 0.0, [], n
 
     def __call__(self, ta, time, d_sgn) -> None:
         ta.update_d_output(time)
@@ -156,7 +203,9 @@ class _Extrema:
         kind = 1 if d_sgn < 0 else -1     # ẋ (or z) decreasing through 0 at a maximum of V
         if self.out and self.out[-1][2] == kind:
             return                        # rounding noise of a flat extremum, not a new one
-        self.out.append((self.base + float(time), x, kind))
+        # (the inertial phases run in fast time: their physical time is the clock, the last variable)
+        t = float(ta.d_output[self.n + 2]) if ta.state.size == self.n + 3 else float(time)
+        self.out.append((self.base + t, x, kind))
 
     def __deepcopy__(self, memo):
         return self
@@ -195,14 +244,27 @@ class _Guard:
         n, u, p = self.n, ta.state, ta.pars
         if not u[0] < p[Slots.threshold(n, 0)] - 1.0:
             return True
-        *_, eps = self.tail(u[:1 + n], pars=p[:self.tail.nparams])
-        resist = p[Slots.A] + p[Slots.DAMPING] * np.exp(u[0])
-        w = u[1 + n] / resist - eps
+        eps, w, error = _transient(self.tail, u, p, n)
         # (2× and 1e-6: an event's root is located to the time's rounding, its value to ~1e-9 of the level)
-        return not (abs(eps) <= p[-1] * (1 + 1e-6) and abs(w) <= 2 * TRANSIENT)
+        small = abs(w) <= 2 * TRANSIENT or (abs(w) <= PROJECT * (1 + 1e-6) and error <= TRANSIENT)
+        return not (abs(eps) <= p[Slots.size(n, 1)] * (1 + 1e-6) and small)
 
     def __deepcopy__(self, memo):
         return self
+
+
+def _transient(tail, u, p, n):
+    """(ε on the manifold, transient w = z/a' − ε, error of projecting w away) at the inertial state u.
+
+    Along a fast fibre x + z/a' is constant but for the slow flow: projecting onto the manifold moves x
+    by w, wrong by |w| times the coupling (summed with its signs dropped) plus the damping's curvature
+    η e^x w²/(2a') (a' depends on x)."""
+    out = tail(u[:1 + n], pars=p[:tail.nparams])
+    eps = out[3]
+    resist = p[Slots.A] + p[Slots.DAMPING] * math.exp(u[0])
+    w = u[1 + n] / resist - eps
+    error = abs(w) * float(np.sum(np.abs(out[4:]))) + p[Slots.DAMPING] * math.exp(u[0]) * w * w / (2 * resist)
+    return float(eps), float(w), error
 
 
 @dataclass
@@ -229,7 +291,7 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
     pair = hybrid_integrators(spec.state_law, spec.damped, order)
     n = spec.n_states
     ln_lp = math.log(v_lp)
-    pars = np.array(parameters(spec, spec.k, v_lp, [ln_lp]) + [switch], dtype=float)
+    pars = np.array(parameters(spec, spec.k, v_lp, [ln_lp]) + [switch, t_end], dtype=float)
     out = HybridRun("ok", phase=phase)
     done: list = []        # durations of the finished segments (their sum, math.fsum, is the run's time)
     u = np.array(state, dtype=float)
@@ -238,53 +300,59 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
     fresh = True
     while True:
         ta = {"inertial": pair.inertial, "approach": pair.approach, "reduced": pair.reduced}[phase]
+        fast = phase != "reduced"   # fast time s, the physical time a state variable (the clock)
         if fresh:   # a new segment (the start or a switch); after a section event the segment goes on
             ta.time = 0.0
-            ta.state[:] = u
-            ta.pars[:] = pars
+            ta.state[:] = np.concatenate([u, [0.0]]) if fast else u
+            pars[-1] = t_end - math.fsum(done)
+            ta.pars[:] = pars[:len(ta.pars)]
             ta.reset_cooldowns()
             rec.base = math.fsum(done)
-        res = ta.propagate_until(t_end - rec.base, max_steps=max(max_steps - out.steps, 1))
+        if fast:   # bounded by the clock's terminal event and the step budget, not by s
+            res = ta.propagate_until(1e300, max_steps=max(max_steps - out.steps, 1))
+        else:
+            res = ta.propagate_until(t_end - rec.base, max_steps=max(max_steps - out.steps, 1))
         outcome, steps = res[0], res[3]
         out.steps += steps
-        if phase != "reduced":
+        if fast:
             out.inertial_steps += steps
-        t = math.fsum([*done, float(ta.time)])
-        u = np.array(ta.state, dtype=float)
+        local = float(ta.state[-1]) if fast else float(ta.time)
+        t = math.fsum([*done, local])
+        u = np.array(ta.state[:-1] if fast else ta.state, dtype=float)
         fresh = False
-        if outcome == hy.taylor_outcome.time_limit:
+        ev = -int(outcome) - 1     # a terminal event i stops with outcome −(i + 1)
+        if outcome == hy.taylor_outcome.time_limit or (fast and ev == {"inertial": 2, "approach": 8}[phase]):
             out.status, out.t, out.phase, out.state = "ok", t, phase, u
             return out
-        ev = -int(outcome) - 1     # a terminal event i stops with outcome −(i + 1)
         if 0 <= ev < 16:
-            section = ev == {"inertial": 1, "approach": 5, "reduced": 2}[phase]
+            section = ev == {"inertial": 1, "approach": 7, "reduced": 2}[phase]
             if section:
                 out.sections.append((t, phase, u.copy()))
                 if stop_at_sections and len(out.sections) >= stop_at_sections:
                     out.status, out.t, out.phase, out.state = "section", t, phase, u
                     return out
                 continue
-            done.append(float(ta.time))
+            done.append(local)
             fresh = True
             if phase == "inertial":   # near the manifold: watch for the switch
                 # (already on it — a descent slow enough that the transient is gone — switch now: the
                 # approach's crossing events would not fire from where they already are)
                 phase = "approach" if pair.approach.t_events[0].callback(_At(u, pars), 0) else "switch"
-            elif phase == "approach" and ev >= 3:   # not there after all
+            elif phase == "approach" and ev in (5, 6):   # not there after all
                 phase = "inertial"
             else:
                 phase = "switch" if phase == "approach" else phase
-            if phase == "switch":   # down: drop z, record the transient it leaves
+            if phase == "switch":   # down: drop z, projecting the transient it leaves onto x
                 x, ys, z = u[0], u[1:1 + n], u[1 + n]
+                _, w, error = _transient(pair.tail, u, pars, n)
+                x = x + w
                 tail, f = _tail(pair, np.concatenate([[x], ys]), pars)
-                resist = spec.a + spec.damping * math.exp(x)
-                h = spec.mass * math.exp(x) * f
-                out.switches.append((t, "down", x, abs(z - h) / resist, tail))
+                out.switches.append((t, "down", x, error, tail))
                 kind = 1 if z > 0 else -1
                 if (z < 0) != (f < 0) and z != 0 and (not rec.out or rec.out[-1][2] != kind):
-                    # ẋ changes sign within the dropped transient: the extremum is here, to ≤ 1e-16 in x
+                    # ẋ changes sign within the dropped transient: the extremum is where it ends, at x + w
                     rec.out.append((t, float(x), kind))
-                phase, u = "reduced", u[:1 + n].copy()
+                phase, u = "reduced", np.concatenate([[x], ys])
             elif phase == "reduced":  # up: z on the manifold
                 x = u[0]
                 tail, f = _tail(pair, u, pars)
@@ -302,7 +370,7 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
 def _tail(pair, xy, pars):
     """(estimated neglected term relative to ẋ, ẋ) on the manifold at (x, y): the next term of the series
     as the last one times the ratio of the last two (they shrink by ~ε per order)."""
-    last, before, f, _ = pair.tail(xy, pars=pars[:pair.tail.nparams])
+    last, before, f = pair.tail(xy, pars=pars[:pair.tail.nparams])[:3]
     ratio = abs(last / before) if before != 0 else 0.0
     return abs(last) * ratio / max(abs(f), 1e-300), float(f)
 
