@@ -59,10 +59,10 @@ _NEG_INF = -np.inf
 
 
 _CACHE = CACHE   # numba has a writable disk cache here (_numba_cache); else compile per process
-_jit = nb.njit(cache=_CACHE, nogil=True, error_model="numpy")
+_jit = nb.njit(cache=_CACHE, nogil=True, error_model="numpy", _nrt=False)
 #: small functions called per block and stage: inlined in numba's IR (a call passed the window's
 #: struct of arrays by value: 260 ns per block and right-hand side against 15 inlined)
-_inline = nb.njit(cache=_CACHE, nogil=True, error_model="numpy", inline="always")
+_inline = nb.njit(cache=_CACHE, nogil=True, error_model="numpy", inline="always", _nrt=False)
 
 
 # -- friction ---------------------------------------------------------------------------------------
@@ -145,7 +145,7 @@ def g_law(kind, code, consts, tstart, regs, pc, xs):
     raise TypeError("g_law is called from compiled code only")
 
 
-@overload(g_law, jit_options={"cache": _CACHE, "nogil": True, "error_model": "numpy"})
+@overload(g_law, jit_options={"cache": _CACHE, "nogil": True, "error_model": "numpy", "_nrt": False})
 def _g_law(kind, code, consts, tstart, regs, pc, xs):
     if getattr(kind, "instance_class", None) is CarlsonLanger:
         return lambda kind, code, consts, tstart, regs, pc, xs: g_carlson_langer(code, consts, tstart, regs, pc, xs)
@@ -903,7 +903,7 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
     slips alone, ``par[6]`` ≠ 0). Returns (events done, outcome code)."""
     n, periodic = g.s.size, par[4] != 0.0
     nu, l2, t_max = fr[0], par[0], par[5]
-    acc = np.zeros(3)
+    acc = scal[3:6]
     for e in range(k):
         g.evid[0] += 1
         if abs(scal[1]) > 1.0:       # fold the load into s (O(N), once per loading cycle)
@@ -1052,7 +1052,7 @@ class CompiledChain:
 
         self._lone = lone_tables(law, n, ends, self.nu, self.nu_f, self.ell, self.sigma) if lone else \
             lone_tables(law, 0, "periodic", self.nu, self.nu_f, self.ell, self.sigma)
-        self._scal = np.array([0.0, 0.0, 0.1])    # t, L, the next event's first step
+        self._scal = np.array([0.0, 0.0, 0.1, 0.0, 0.0, 0.0])    # t, L, the next event's first step
         self.t_max, self.max_steps = t_max, max_steps
         self.widest: list[int] = []
 
