@@ -210,7 +210,7 @@ def _dense(F, y0, i, th):
     return y0[i] + y
 
 
-@_jit
+@_inline   # (a call passed the window's and the law's arrays by value: 1.17x per event at N = 64)
 def _step(m, h, tau, win, law, gfun, fr, l2, rtol, atol):
     """One DOP853 step of size h from (win.w, win.v) with K[0] set; fills K[1..12], w1, v1.
     Returns (error norm, Σ|err(w)|). Stuck slots keep their state (K = 0): only slipping ones are
@@ -569,6 +569,7 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
     tau = 0.0
     _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, 0)
     t_end = min(tau_far, t_left)
+    h_acc, e_acc, rejected = 0.0, 0.0, False   # the last accepted step and error (predictive control)
     nslip = 0
     for i in range(m):
         nslip += slip[i]
@@ -587,13 +588,25 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
                 h = 0.2 * hh
                 continue
             h = hh * max(0.2, 0.9 * err ** -0.125)
+            rejected = True
             if h < 1e-14 * max(1.0, tau):
                 return 3, -1, tau, h
             continue
         acc[0] += 1.0
         if acc[0] > max_steps:
             return 3, -1, tau, h
-        hnext = hh * (10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** -0.125)))
+        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** -0.125))
+        if h_acc > 0.0 and err > 0.0:
+            # Gustafsson's predictive controller (as in Hairer's radau5, exponent 1/8 here): the error grows
+            # ~4x per step towards a stop (the continuation of v past 0 meets the pole of Φ), and the
+            # standard controller then rejected every other step there (49 % of all steps, N = 64).
+            # Safety 0.8, not 0.9: the steps' errors then stay where the rejections had kept them
+            # (a 20-event σ_f = 0.05 run drifted from the heyoka engine's 3.5x more at 0.9)
+            fac = min(fac, max(0.2, 0.8 * (hh / h_acc) * (e_acc / (err * err)) ** 0.125))
+        if rejected:
+            fac = min(fac, 1.0)
+        h_acc, e_acc, rejected = hh, max(1e-2, err), False
+        hnext = hh * fac
         # sign changes of the event functions over the step
         best, kind_b, slot_b, brk_b = 2.0, -1, -1, -1
         dense = False
