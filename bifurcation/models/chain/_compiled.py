@@ -6,7 +6,8 @@ The same model and event algorithm as the heyoka engine (``_loop``), in one numb
   kept in a tournament tree, so finding the next hypocentre costs O(log N), not O(N);
 * during an event only a *window* is integrated: the slipping blocks and their chain neighbours, in
   the heyoka engine's per-segment scaled variables (U_j = U_j(t_s) + ν w_j, V_j = ν v_j, a new segment
-  at every start), with DOP853 (Hairer's 8th-order pair, ``_dop853``) under a mixed tolerance ``tol``;
+  at every start), with DOP853 (Hairer's 8th-order pair, ``_dop853``) under a mixed tolerance ``tol``,
+  its step by Gustafsson's predictive control (``_segment``: the approach to every stop);
 * every stop (v_j = 0), start of a stuck window block (σ_j = 1) and friction-piece switch is found
   where its event function changes sign over a step and located on the step's 7th-order dense output
   by bracketing root-finding to rounding (the step is then cut there, never at a step boundary); a
