@@ -15,6 +15,7 @@ __all__ = ["BINS_PER_DECADE", "figure_balance", "figure_sizes", "figure_space_ti
 
 #: Bins of the size density per decade of potency (edges at 10^(j/5): a fixed grid, not data-dependent).
 BINS_PER_DECADE = 5
+_MARKERS = ("o", "s", "^", "v", "D", "P")
 
 
 def log_binned_density(sizes, n_total: int):
@@ -43,9 +44,11 @@ def figure_sizes(curves):
 
     fig, axes = F._figure(5.8, 4.2)
     ax = axes[0][0]
-    for label, sizes, fit in curves:
+    for k, (label, sizes, fit) in enumerate(curves):
         centres, density, _ = log_binned_density(sizes, np.count_nonzero(np.asarray(sizes) > 0))
-        line = ax.plot(centres, density, "o", ms=3.5, label=label)[0]
+        # one marker per run (runs of one characteristic size can share a bin); hollow when not fitted
+        line = ax.plot(centres, density, _MARKERS[k % len(_MARKERS)], ms=4.5 if fit is None else 3.5,
+                       mfc="none" if fit is None else None, label=label + ("" if fit is not None else " (not fitted)"))[0]
         if fit is not None:
             p = np.geomspace(fit.xmin, float(np.max(sizes)), 50)
             scale = fit.n_tail / fit.n * (fit.alpha - 1) / fit.xmin
@@ -61,24 +64,25 @@ def figure_sizes(curves):
 def figure_space_time(panels, n_cols: int = 2):
     """Hypocentre against start time, one panel per run: marker area ∝ n_blocks, colour log10 P.
 
-    ``panels``: (label, t_start, hypocentre, n_blocks, potency, t_cut) per run; ``t_cut`` (the start of
-    the first kept event) is drawn as a dashed line.
+    ``panels``: (label, t_start, hypocentre, n_blocks, potency, t_cut, N) per run; ``t_cut`` (the start
+    of the first kept event) is drawn as a dashed line; the vertical axis spans the N blocks.
     """
     from ...report import figures as F
 
     rows = -(-len(panels) // n_cols)
     cols = min(n_cols, len(panels))
     fig, axes = F._figure(3.3 * cols + 0.8, 2.6 * rows, ncols=cols, nrows=rows)
-    logs = np.concatenate([np.log10(p[p > 0]) for *_, p, _ in panels]) if panels else np.zeros(1)
+    logs = np.concatenate([np.log10(p[p > 0]) for *_, p, _, _ in panels]) if panels else np.zeros(1)
     lo, hi = float(np.min(logs)), float(np.max(logs))
     image = None
-    for k, (label, t, hyp, nb, pot, cut) in enumerate(panels):
+    for k, (label, t, hyp, nb, pot, cut, n) in enumerate(panels):
         ax = axes[k // cols][k % cols]
         image = ax.scatter(t, hyp, s=4 + 30 * nb / max(1, int(np.max(nb))), c=np.log10(np.maximum(pot, 1e-300)),
                            cmap="viridis", vmin=lo, vmax=hi if hi > lo else lo + 1, lw=0)
         if math.isfinite(cut):
             ax.axvline(cut, color="k", ls="--", lw=0.7)
-        ax.set(xlabel="event start time t_start", ylabel="hypocentre (block, 0-based)", title=label)
+        ax.set(xlabel="event start time t_start", ylabel="hypocentre (block, 0-based)", title=label,
+               ylim=(-0.5, n - 0.5))
         ax.title.set_fontsize(8)
     for k in range(len(panels), rows * cols):
         axes[k // cols][k % cols].set_axis_off()

@@ -140,7 +140,8 @@ def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
                 fits.append((label, s))
                 t = np.asarray(cat["t_start"], dtype=float)
                 panels.append((label, t, np.asarray(cat["hypocentre"]), np.asarray(cat["n_blocks"]),
-                               np.asarray(cat["potency"], dtype=float), float(t[s.dropped]) if s.dropped else math.nan))
+                               np.asarray(cat["potency"], dtype=float), float(t[s.dropped]) if s.dropped else math.nan,
+                               n))
         if r < MAX_RUNS:
             rows.append((*cells, names.get(int(status[index]), str(int(status[index]))), str(k), mean_p, big, spanning,
                          f"{float(balance[index]):.1e}"))
