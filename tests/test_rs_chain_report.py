@@ -125,6 +125,11 @@ def test_the_numbers_in_the_text_are_those_of_the_catalog(store, report):
         tail = kept[kept >= f.xmin]
         alpha = 1 + tail.size / np.sum(np.log(tail / f.xmin))
         assert tail.size == f.n_tail and abs(alpha - f.alpha) < 1e-12   # closed form both: rounding only
+        # and its KS distance: the two-sided sup |S_n − F| of the tail, F(P) = 1 − (P/x_min)^(1−α): the distance CSN Sec. 3.3 minimise (clauset.py)
+        t, m = np.sort(tail), tail.size
+        cdf = 1 - (t / f.xmin) ** (1 - alpha)
+        ks = max(np.max(np.arange(1, m + 1) / m - cdf), np.max(cdf - np.arange(m) / m))
+        assert abs(ks - f.ks) < 1e-12 and fit_row[7] == f"{ks:.4f}"
         # a sample with a tail to fit: two decades of potency, events of 1 to 8 blocks
         assert kept.max() / kept.min() > 10 and nb.min() == 1 and nb.max() == 8
     worst = float(np.nanmax(ds["balance_max"].values))
