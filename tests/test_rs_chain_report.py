@@ -125,7 +125,8 @@ def test_the_numbers_in_the_text_are_those_of_the_catalog(store, report):
         tail = kept[kept >= f.xmin]
         alpha = 1 + tail.size / np.sum(np.log(tail / f.xmin))
         assert tail.size == f.n_tail and abs(alpha - f.alpha) < 1e-12   # closed form both: rounding only
-        # and its KS distance: the two-sided sup |S_n − F| of the tail, F(P) = 1 − (P/x_min)^(1−α): the distance CSN Sec. 3.3 minimise (clauset.py)
+        # and its KS distance: the two-sided sup |S_n − F| of the tail, F(P) = 1 − (P/x_min)^(1−α), the
+        # distance CSN Sec. 3.3 minimise over x_min (clauset.py)
         t, m = np.sort(tail), tail.size
         cdf = 1 - (t / f.xmin) ** (1 - alpha)
         ks = max(np.max(np.arange(1, m + 1) / m - cdf), np.max(cdf - np.arange(m) / m))
