@@ -104,7 +104,7 @@ def _fit_row(label: str, s: SizeFit) -> list:
 def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
     """Report blocks for an ``rs-chain`` store ``ds`` (the model's ``report`` hook); with ``out`` (a
     directory) also the size, space–time and stress-balance figures, their paths appended to ``figures``."""
-    from ...report.document import Figure, Paragraph, Section, Table
+    from ...report.document import Paragraph, Section, Table
     from ...store.catalog import open_catalog
 
     path = ds.attrs.get("store_path")
