@@ -248,7 +248,8 @@ def first_root(c, h, samples=48, skip0=False):
     ts = [h * k / samples for k in range(samples + 1)]
     vs = [peval(c, t) for t in ts]
     ds = [peval(d, t) for t in ts]
-    eps = mpf(10) ** (-mp.dps + 5) * max(mpf(1), max(abs(a) for a in c))
+    # the rounding of p on [0, h]: a touching root is one that |p| reaches to within it
+    eps = mpf(10) ** (-mp.dps + 5) * peval([abs(a) for a in c], h)
     for k in range(samples):
         a, b = ts[k], ts[k + 1]
         va, vb = vs[k], vs[k + 1]
