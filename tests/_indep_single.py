@@ -166,3 +166,49 @@ def piecewise_linear_closed_form(nu, nu_f, dps=40):
                 continue
             return {"delta": u(s_stop), "stop_time": t + s_stop, "creep_time": t1, "max_velocity": vmax}
         raise RuntimeError("no stop")
+
+
+def limit_delta0(law, nu_f, eps=mpf(10) ** -22, dps=50, order=40):
+    """Δ0 = lim_{ν→0} Δ for ν_f < 1/2: the ν = 0 orbit leaving U = U̇ = 0 along the fast eigenvector.
+
+    Started at U = ε, U̇ = λ+ ε (λ+ = α + ω, α = 1/(2ν_f), ω = √(α² − 1)); the start's offset from the
+    unstable manifold is O(ε²) and its slow-mode part decays relative to the fast one, so with
+    ε = 1e-22 the error in Δ0 is ~1e-22 relative (checked by halving ε in the test).
+    Returns Δ0 = U at the first return of U̇ to 0 (the fixed point is at U = 0), and max U̇.
+    """
+    with mp.workdps(dps):
+        tol = mpf(10) ** (-(dps - 4))
+        nu_f = mpf(nu_f)
+        al = 1 / (2 * nu_f)
+        lp = al + mp.sqrt(al * al - 1)
+        pieces, _breaks = _law_pieces(law)
+        systems = []
+        for g in pieces:
+            def rhs(t, x, g=g):
+                return [x[1], -x[0] + g(x[1] / nu_f)]
+
+            systems.append(tt.System(2, rhs, lambda t, x, rhs=rhs: [x[1] / nu_f, x[1] / nu_f - 1,
+                                                                     rhs(t, x)[1]]))
+        piece, t, st, vmax = 0, mpf(0), [mpf(eps), lp * mpf(eps)], mpf(0)
+        skip = set()
+        for _ in range(100000):
+            xs, gs, _o = systems[piece].series(t, st, order)
+            h = tt.step_size(xs, order, mpf(tol) * max(abs(st[0]), mpf(eps)))
+            hits = []
+            for gi in range(3):
+                r = tt.first_root(gs[gi], h, skip0=gi in skip)
+                if r is not None:
+                    hits.append((r, gi))
+            skip = set()
+            r, gi = min(hits) if hits else (h, None)
+            st = [tt.peval(c, r) for c in xs]
+            t += r
+            if gi is not None:
+                skip.add(gi)
+            if gi == 0:
+                return {"delta0": st[0], "max_velocity0": vmax}
+            if gi == 1 and len(pieces) > 1:
+                piece = 1 if tt.peval(tt.pderiv(gs[1]), r) > 0 else 0
+            if gi == 2:
+                vmax = max(vmax, st[1])
+        raise RuntimeError("no stop")

@@ -89,3 +89,19 @@ def test_the_two_references_agree():
 @pytest.mark.parametrize("precision", ["double", "quad"])
 def test_slip_against_mpmath(law, nu, nuf, precision):
     _check(law, nu, nuf, precision)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("law,nuf", [("piecewise-linear", 0.3), ("carlson-langer", 0.27), ("exponential", 0.41)])
+def test_limit_against_mpmath(law, nuf):
+    """bf.limit's Δ0 (ν → 0, computed directly) against the ν = 0 orbit of _indep_single.limit_delta0.
+
+    Reference: started ε = 1e-22 along the fast eigenvector at 50 digits; ε = 1e-26 changes Δ0 by
+    ≤ 3e-38 relative (measured at these points). The package's Δ0 is a double from a 12th-order
+    manifold series and its compiled integrator (README: Eq. 18 to ≤ 3e-16), so 4e-16 relative;
+    measured ≤ 1.1e-16.
+    """
+    r = ref.limit_delta0(law, nuf)
+    lim = bf.limit(law, nu_f=nuf)
+    assert abs(mpf(float(lim.delta0)) - r["delta0"]) / r["delta0"] <= 4e-16
+    assert abs(mpf(float(lim.max_velocity0)) - r["max_velocity0"]) / r["max_velocity0"] <= 4e-16
