@@ -115,7 +115,7 @@ CYCLES = _cycle_sets()
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", CYCLES[:6])
+@pytest.mark.parametrize("case", CYCLES)
 def test_limit_cycle_against_mpmath_shooting(case):
     law, a, b, dc, v, eta, mass, k = case
     args = ["rate-state", "--state-law", law, "--a", repr(a), "--b", repr(b), "--dc", repr(dc), "--v-lp", repr(v),
