@@ -109,9 +109,18 @@ def max_real_eig(laws, a, bs, dcs, vlp, k, mass=0, eta=0):
     return max(ev, key=lambda z: mp.re(z))
 
 
-def hopf_numeric(laws, a, bs, dcs, vlp, mass=0, eta=0, k_guess=None):
-    """k_c where max Re λ(J(k)) = 0, and ω_c = |Im λ| there."""
-    kc = mp.findroot(lambda k: mp.re(max_real_eig(laws, a, bs, dcs, vlp, k, mass, eta)), mpf(k_guess))
+def hopf_numeric(laws, a, bs, dcs, vlp, mass=0, eta=0, k_guess=None, bracket=False):
+    """k_c where max Re λ(J(k)) = 0, and ω_c = |Im λ| there. With `bracket`, a sign change of the
+    largest real part is first looked for on a geometric scan k_guess·[0.1, 10] (64 points) and the
+    root refined by the Anderson bracketing method (for two state variables, where the guess is poor)."""
+    g = lambda k: mp.re(max_real_eig(laws, a, bs, dcs, vlp, k, mass, eta))
+    if bracket:
+        ks = [mpf(k_guess) * mpf(10) ** (mpf(2 * i) / 63 - 1) for i in range(64)]
+        vals = [g(k) for k in ks]
+        i = next(i for i in range(63) if (vals[i] > 0) != (vals[i + 1] > 0))
+        kc = mp.findroot(g, (ks[i], ks[i + 1]), solver="anderson")
+    else:
+        kc = mp.findroot(g, mpf(k_guess))
     return kc, abs(mp.im(max_real_eig(laws, a, bs, dcs, vlp, kc, mass, eta)))
 
 

@@ -87,9 +87,9 @@ def test_hopf_two_state_variables():
     out = _cli_json(["hopf", "--state-law", "aging,slip", "--a", repr(a), "--b", ",".join(map(repr, bs)),
                      "--dc", ",".join(map(repr, dcs)), "--v-lp", repr(v), "--json"])
     with mp.workdps(40):
-        # start findroot from the one-variable closed form with b = Σb and the first Dc: a guess only
+        # bracket around the one-variable closed form with b = Σb and the first Dc (a scale only)
         g, _ = ref.hopf_closed_form(a, sum(bs), dcs[0], v)
-        kn, wn = ref.hopf_numeric(["aging", "slip"], a, bs, dcs, v, k_guess=g)
+        kn, wn = ref.hopf_numeric(["aging", "slip"], a, bs, dcs, v, k_guess=g, bracket=True)
         assert abs(out["k_c"] - kn) / kn <= 2.3e-16
         assert abs(out["omega_c"] - wn) / wn <= 2.3e-16
 
