@@ -190,6 +190,8 @@ def _render(out: Path, cfg, path: Path, data) -> None:
         from ._study_presets import presets_figure
 
         presets_figure(out, data["presets"])
+    # the presets at their own ν, split by a velocity threshold (subevent_study.py writes these files)
+    data["published_nu"] = [json.loads(q.read_text()) for q in sorted(out.glob("subevents_*.json"))]
     blocks = study_blocks(out, cfg, path, data)
     (out / "REPORT.md").write_text(to_markdown(blocks), encoding="utf-8")
     (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")
