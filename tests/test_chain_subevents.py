@@ -55,7 +55,7 @@ def test_resumed_runs_are_bit_identical():
     kw = dict(v_threshold=1e-4, sigma=0.01)
     one = SubeventRun(LAW, n, 10.0, 0.01, 0.2, "free", u.copy(), **kw).run(1500)["catalog"]
     run = SubeventRun(LAW, n, 10.0, 0.01, 0.2, "free", u.copy(), **kw)
-    parts = [run.run(400)["catalog"], run.run(10**6, t_stop=run.chain.t + 37.3)["catalog"]]
+    parts = [run.run(400)["catalog"], run.run(10**6, t_stop=run.t + 37.3)["catalog"]]
     while sum(p["potency"].size for p in parts) < 1500:
         parts.append(run.run(1500 - sum(p["potency"].size for p in parts), t_stop=np.inf)["catalog"])
     cat = {k: np.concatenate([p[k] for p in parts]) for k in one}

@@ -280,7 +280,8 @@ def _verdict(cfg, data, sw, star) -> list:
             if notes["cl"][0] and not notes["cl"][1] else "")
          + f" (ℓ = {cfg['chain']['ell']:g}, ν = {nu:g}"
          + (f" and {cfg['near_half']['nus'][-1]:g}" if notes["cl"][0] else "")
-         + "; Carlson & Langer used ℓ ≈ 10 and a far smaller ν)"),
+         + "; the `carlson-langer-1991` preset, after J. Xia's reimplementation, has ℓ = 10 and ν = 0.01, and CLST's "
+         "drop model is the ν → 0 limit there: presets.py)"),
          ("Mori & Kawamura (2005–08): near-critical behaviour at weak weakening (ν_f ≈ 1/2)", "b from "
          f"ν_f = 0.2 to 0.35: {bs} (the distribution broadens towards weak weakening, but KS rejects an exponential "
          f"in every case, see the table). {slide}. {notes['mk'][0]}",

@@ -206,6 +206,11 @@ class SubeventRun:
         self.totals = np.zeros(5)
         self._ctx = np.zeros(16)     # the state inside an all-stuck stretch between calls
 
+    @property
+    def t(self) -> float:
+        """The run's time: where the last call stopped (inside an all-stuck stretch too)."""
+        return float(self._ctx[4] + self._ctx[3]) if self._ctx[0] else self.chain.t
+
     def run(self, k: int, t_stop: float = math.inf, every: int = 0) -> dict:
         """The next k events (or those before the time t_stop): dict(catalog, status, message)."""
         from .result import ChainStatus

@@ -45,13 +45,11 @@ def run_preset(name, *, nu_f=None, events=10**6, cpu=1500.0, v_threshold=DEFAULT
     r = SubeventRun(resolve_law(p.law), p.n, p.ell, p.nu, nu_f, p.ends, u, v_threshold=v_threshold, sigma=p.sigma)
     parts, done, c0, status = [], 0, time.process_time(), "complete"
     while done < events:
-        now = (r._ctx[4] + r._ctx[3]) if r._ctx[0] else r.chain.t
-        out = r.run(min(chunk, events - done), t_stop=now + 10.0 / p.nu)    # ≤ 10 loading cycles per call
+        out = r.run(min(chunk, events - done), t_stop=r.t + 10.0 / p.nu)    # ≤ 10 loading cycles per call
         parts.append(out["catalog"])
         done += out["catalog"]["potency"].size
         cpu_used = time.process_time() - c0
-        now = (r._ctx[4] + r._ctx[3]) if r._ctx[0] else r.chain.t
-        echo(f"{name} ν_f = {nu_f:g}: {done} events, t = {now:.6g}, "
+        echo(f"{name} ν_f = {nu_f:g}: {done} events, t = {r.t:.6g}, "
              f"{cpu_used:.0f} CPU s, widest window {int(r.totals[4])}", flush=True)
         if str(out["status"]) != "complete":
             status = f"{out['status']}: {out['message']}"
