@@ -104,6 +104,6 @@ def test_the_published_nu_column_reads_each_catalog_by_its_rule():
     # α = 1 (ν_f = 0.5) first: 1.7 decades above x_min is a scaling range only from 1 decade on: 5/0.1 = 50
     assert cell.index("α = 1,") < cell.index("α = 2,")
     one, two = cell.split("; α = 2,")
-    assert "power law plausible" in one and "B = 100" in one and "chain-wide slides" not in one
-    assert "**chain-wide slides**" in two and "power law ruled out" in two and "**excess**" in two
+    assert "power law plausible" in one and "B = 100" in one and "slides of ≥ 1 loading cycle" not in one
+    assert "**slides of ≥ 1 loading cycle**" in two and "power law ruled out" in two and "**excess**" in two
     assert table.rows[1][2] == "not run"    # no carlson-langer-1991 record

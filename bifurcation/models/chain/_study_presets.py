@@ -225,8 +225,8 @@ def preset_section(data) -> list:
 #: the rule of the published-ν column (events split by V_th, subevent_study.py)
 PUBLISHED_NU_RULE = (
     "at the preset's own ν the events are split in time by V_th (an event lasts while some block is faster than "
-    "V_th); a catalog in which events with n_blocks ≥ N/2 last ≥ 1 loading cycle holds **chain-wide slides** "
-    "(the chain slides for cycles, not a stick-slip event), and its size distribution is read with that said; "
+    "V_th); events that last ≥ 1 loading cycle are **slides of ≥ 1 loading cycle** (the chain slides for "
+    "cycles: not stick-slip events), and a size distribution that holds them is read with that said; "
     "fits and words otherwise by the rules above")
 
 
@@ -246,7 +246,7 @@ def _pub_cell(x) -> str:
     return (f"α = {0.5 / x['nu_f']:g}, ν = {x['nu']:g}, V_th = {x['v_threshold']:g}: {x['kept']} events "
             f"({x['status']}; {x['loading_cycles']:.0f} loading cycles, {x['cpu_per_event'] * 1e3:.3g} CPU ms per "
             f"event); n_blocks mean {nb['mean']:.2f}, {nb['large']} ≥ N/2; {slides} events last ≥ 1 loading cycle"
-            f"{' (**chain-wide slides**)' if slides else ''}; {word}: α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} "
+            f"{' (**slides of ≥ 1 loading cycle**)' if slides else ''}; {word}: α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} "
             f"above x_min = {f['xmin']:.3g} ({f['n_tail']} events, {dec:.2f} decades), b_P = {f['b_P']:.3f}, "
             f"b_M = {f['b_M']:.3f}, p = {f['p']:.2f} ± {res:.2f} (B = {f['bootstrap']}); LR: {lr}; {exw}")
 
