@@ -64,7 +64,10 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
          "All numbers: [data.json](data.json)."
          + (" The sections before \"Published parameter sets\" come from that full run; the preset catalogs and "
             "the verdict table were added by `--presets-only` (same workflow, its `[presets]` section)."
-            if data.get("presets_wall_seconds") else ""))]
+            if data.get("presets_wall_seconds") else "")
+         + (" The verdict table's column \"at the preset's own ν\" is read from the `subevents_*.json` of this "
+            "directory, written by `python -m bifurcation.models.chain.subevent_study run` (its catalogs and fits: "
+            "[PUBLISHED_NU.md](PUBLISHED_NU.md))." if data.get("published_nu") else ""))]
     B += _threshold_section(data, c)
     B += _order_section(cfg, data, sw, star)
     from ._study_mfd_text import near_half_section, small_nu_section

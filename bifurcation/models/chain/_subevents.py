@@ -89,7 +89,7 @@ def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f,
                 # (after a crossing, ``refresh`` with no starts: the segment constants d/ν from σ)
                 refresh = False
                 cnt += 1
-                m, first = _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu)
+                m, _ = _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu)
                 ns = 0
                 for i in range(m):
                     if not win.slip[i] and win.sg[i] >= 1.0:
