@@ -195,6 +195,11 @@ class SubeventRun:
 
     def __init__(self, law, n, ell, nu, nu_f, ends, u0, *, v_threshold: float, sigma: float = 0.0,
                  tol: float | None = None, max_steps: int = 10**15) -> None:
+        from ...errors import InputError
+
+        if isinstance(v_threshold, bool) or not isinstance(v_threshold, (int, float)) or not (
+                math.isfinite(v_threshold) and v_threshold > 0):
+            raise InputError("v_threshold", v_threshold, "must be finite and > 0", "give a slip velocity such as 0.1")
         kw = {} if tol is None else {"tol": tol}
         # no t_max: an all-stuck stretch may last the whole run (the bound is the number of events)
         self.chain = CompiledChain(law, n, ell, nu, nu_f, ends, u0, sigma=sigma, t_max=math.inf, max_steps=max_steps,

@@ -163,14 +163,29 @@ def main(argv=None) -> int:
     b.add_argument("folder")
     args = ap.parse_args(argv)
     if args.cmd == "report":
+        if not Path(args.folder).is_dir():
+            print(f"error: folder={args.folder!r}: is not a directory; give the folder of the subevents_*.json "
+                  "files, such as results/chain", file=sys.stderr)
+            return 2
         print(write_report(args.folder))
         return 0
     from .presets import get_preset
     from ...errors import InputError
     try:
         get_preset(args.preset)
+        for name, value, ok, fix in (
+                ("--events", args.events, args.events >= 1, "give a count ≥ 1"),
+                ("--cpu", args.cpu, math.isfinite(args.cpu) and args.cpu > 0, "give CPU seconds > 0"),
+                ("--v-threshold", args.v_threshold, math.isfinite(args.v_threshold) and args.v_threshold > 0,
+                 "give a slip velocity > 0, such as 0.1"),
+                ("--bootstrap", args.bootstrap, args.bootstrap >= 0, "give a count ≥ 0"),
+                ("--nu-f", args.nu_f, args.nu_f is None or (math.isfinite(args.nu_f) and args.nu_f > 0),
+                 "give ν_f > 0"),
+                ("--out", args.out, Path(args.out).is_dir(), "give an existing directory")):
+            if not ok:
+                raise InputError(name, value, "is not accepted", fix)
     except InputError as e:
-        print(e, file=sys.stderr)
+        print(f"error: {e}", file=sys.stderr)
         return 2
     res = run_preset(args.preset, nu_f=args.nu_f, events=args.events, cpu=args.cpu, v_threshold=args.v_threshold,
                      bootstrap=args.bootstrap)
