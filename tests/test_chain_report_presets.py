@@ -33,7 +33,10 @@ def test_the_verdict_table_has_one_row_per_claim_and_prints_its_rules():
                         _run("mori-kawamura-2006", 0.25)]}
     blocks = verdict_table({}, data, {"vas": "x", "vas_word": "**undecided**", "sak": "y"})
     (table,) = [b for b in flatten(blocks) if isinstance(b, Table)]
-    assert table.head == ("claim", "run and numbers", "verdict") and len(table.rows) == 5
+    assert len(table.head) == 4 and table.head[0] == "claim" and table.head[-1] == "verdict"
+    assert len(table.rows) == 5
+    # no published-ν catalog given: that column says so for the chain claims
+    assert table.rows[1][2] == "not run" and table.rows[3][2] == "not run"
     for claim in ("Vasconcelos", "Carlson & Langer", "de Sousa Vieira", "Mori & Kawamura", "Sakaguchi"):
         assert sum(r[0].startswith(claim) for r in table.rows) == 1
     rows = [" | ".join(r) for r in table.rows]
@@ -80,3 +83,27 @@ def test_presets_only_needs_the_full_run_data(tmp_path):
     with pytest.raises(SystemExit, match="--presets-only: .*data.json does not exist"):
         main([str(wf), "--out", str(tmp_path / "o"), "--presets-only"])
     assert not (tmp_path / "o").exists()
+
+
+def _pub(nu_f, slides, large, observed, expected, p=0.0, largest=1e3):
+    return {"preset": "mori-kawamura-2006", "nu_f": nu_f, "nu": 0.01, "v_threshold": 0.1, "kept": 5000,
+            "status": "complete", "loading_cycles": 400.0, "cpu_per_event": 2e-3,
+            "n_blocks": {"mean": 3.0, "large": large}, "duration": {"over_one_cycle": slides},
+            "excess": ({"large": large, "p_large": 50.0, "observed": observed, "expected": expected} if large else
+                       {"large": 0}),
+            "fit": {"alpha": 1.5, "alpha_block_err": 0.01, "xmin": 0.1, "n_tail": 900, "b_P": 0.5, "b_M": 0.75,
+                    "p": p, "bootstrap": 100, "largest": largest, "ratios": {"exponential": [4.0, 1e-4]}}}
+
+
+def test_the_published_nu_column_reads_each_catalog_by_its_rule():
+    data = {"presets": [_run("mori-kawamura-2006", 0.5)],
+            "published_nu": [_pub(0.25, slides=7, large=9, observed=40, expected=2.0),
+                             _pub(0.5, slides=0, large=0, observed=0, expected=0, p=0.4, largest=5.0)]}
+    (table,) = [b for b in flatten(verdict_table({}, data, {})) if isinstance(b, Table)]
+    cell = table.rows[3][2]
+    # α = 1 (ν_f = 0.5) first: 1.7 decades above x_min is a scaling range only from 1 decade on: 5/0.1 = 50
+    assert cell.index("α = 1,") < cell.index("α = 2,")
+    one, two = cell.split("; α = 2,")
+    assert "power law plausible" in one and "B = 100" in one and "slides of ≥ 1 loading cycle" not in one
+    assert "**slides of ≥ 1 loading cycle**" in two and "power law ruled out" in two and "**excess**" in two
+    assert table.rows[1][2] == "not run"    # no carlson-langer-1991 record

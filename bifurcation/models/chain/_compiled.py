@@ -490,6 +490,29 @@ def _vmax_in(i, win, lim):
     return max(fc, fd)
 
 
+@_jit
+def _vmax_at(i, win, lim):
+    """(largest v of slot i on the dense output over θ ∈ [0, lim], its θ) by golden section."""
+    g = 0.6180339887498949
+    a, b = 0.0, lim
+    c = b - g * (b - a)
+    d = a + g * (b - a)
+    fc = _dense(win.fv, win.v, i, c)
+    fd = _dense(win.fv, win.v, i, d)
+    for _ in range(80):
+        if b - a < 1e-12:
+            break
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = _dense(win.fv, win.v, i, c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = _dense(win.fv, win.v, i, d)
+    return (fc, c) if fc > fd else (fd, d)
+
+
 # -- the largest stress outside the windows: a tournament tree ---------------------------------------
 @_jit
 def tree_set(tv, ti, p, j, val):
@@ -657,10 +680,12 @@ def _piece_index(law, xs):
 
 
 @_jit
-def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
+def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above):
     """Integrate the window from w = 0 until the event ends (0), a window block starts (1, slot),
     the far block starts (2), the bounds are reached (3) or the state is not finite (5).
-    Returns (code, slot, τ, next h); ``acc`` accumulates [steps, Σ err(w), vmax]."""
+    Returns (code, slot, τ, next h); ``acc`` accumulates [steps, Σ err(w), vmax].
+    ``vth`` > 0 (scaled, V_th/ν; ``_threshold``): a slipping block's velocity crossing vth against its
+    flag ``above[block]`` also ends the segment (6, slot); 0 leaves the engine as it is."""
     slip, piece, left, right, selfc, d = win.slip, win.piece, win.left, win.right, win.selfc, win.dn
     code, consts, tstart, regs = law.code, law.consts, law.start, law.regs   # (a named tuple's field: ~400 ns per read)
     w, v, w1, v1, fw, fv, tw, tv_ = win.w, win.v, win.w1, win.v1, win.fw, win.fv, win.tw, win.tv
@@ -758,6 +783,38 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
                         best, kind_b, slot_b, brk_b = th, kd, i, bk
                 if kv[i, 0] > 0.0 and kv[i, 12] < 0.0:
                     interior = True
+                if vth > 0.0:
+                    isup = above[win.blk[i]] == 0
+                    fa_t, fb_t = va - vth, vb - vth
+                    if isup and fb_t <= 0.0 and kv[i, 0] > 0.0 and kv[i, 12] < 0.0:
+                        # both ends below, a maximum inside: if it exceeds vth, the up-crossing lies
+                        # before it (bisection on the dense output between the start and the maximum)
+                        if not dense:
+                            _dense_prepare(m, hh, tau, win, law, gfun, fr, l2)
+                            dense = True
+                        vm, thm = _vmax_at(i, win, 1.0)
+                        if vm > vth and thm < best:
+                            a_, b_ = 0.0, thm
+                            for _ in range(200):
+                                if b_ - a_ <= 2.2e-16 * b_:
+                                    break
+                                c_ = 0.5 * (a_ + b_)
+                                if _dense(fv, v, i, c_) > vth:
+                                    b_ = c_
+                                else:
+                                    a_ = c_
+                            if b_ < best:
+                                best, kind_b, slot_b = b_, 3, i
+                    elif (isup and fb_t > 0.0) or (not isup and fb_t <= 0.0):
+                        if (isup and fa_t > 0.0) or (not isup and fa_t <= 0.0):
+                            th = 0.0            # already across at the step's start (rounding of the cut)
+                        else:
+                            if not dense:
+                                _dense_prepare(m, hh, tau, win, law, gfun, fr, l2)
+                                dense = True
+                            th = _root(2, i, win, tau, hh, l2, nu, vth, fa_t, fb_t)
+                        if th < best:
+                            best, kind_b, slot_b = th, 3, i
             else:
                 f0 = _load(i, w, tau, left, right, selfc, d, l2, nu)
                 if f0 < 0.0:
@@ -829,6 +886,8 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc):
         j = slot_b
         if kind_b == 1:
             return 1, j, tau, h
+        if kind_b == 3:                     # a velocity-threshold crossing
+            return 6, j, tau, h
         if kind_b == 0:
             for i in range(m):
                 if slip[i] and (i == j or v[i] <= 0.0):
@@ -1105,7 +1164,7 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
                 first_seg = False               # DOP853 for the rest of the event
                 for i in range(m):
                     win.lt[i] = -1.0
-                code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc)
+                code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc, 0.0, g.evid)
             if code == 5 or code == 3:
                 break
             pot += nu * _commit(m, tau, win, g, l2, nu)

@@ -192,10 +192,9 @@ def preset_section(data) -> list:
          f"p < 0.1; moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
          "resamples of blocks of ⌈n^(1/3)⌉ events). Where a preset's own number was changed, the row says why. "
          "Which numbers of each preset were read in a source: docs/chain.md \"Presets\" and presets.py. "
-         "Event membership: all-stuck. A velocity threshold would not split an event in time, so it cannot end "
-         "the events that never end at ν = 0.01, and with σ > 0 nothing creeps: in docs/chain.md's membership "
-         "study (σ = 0.01) it gave the same catalog as all-stuck; the chain presets are run at a smaller ν "
-         "instead (the rows say why). "
+         "Event membership: all-stuck, so the chain presets are run here at a smaller ν than their own 0.01 (the "
+         "rows say why); at their own ν the events are split in time by a velocity threshold instead "
+         "(`subevent_study.py`, [PUBLISHED_NU.md](PUBLISHED_NU.md), the verdict table's fourth column). "
          + f"This section: {sum(x['cpu'] for x in runs):.0f} CPU s in all (each run's own CPU time, on a 2-core "
          "machine shared with other jobs; `--presets-only`). "
          + "The catalogs are chaotic event sequences: which event comes when, and so every digit of an individual "
@@ -221,6 +220,35 @@ def preset_section(data) -> list:
                "verify: events re-run by the exact engine, largest difference",
                "sizes: mean / max n_blocks, spanning, ≥ N/2", "CSN fit", "large-event excess", "peak"], rows),
         Figure("fig_presets.png", alt="magnitude-frequency of the preset catalogs")])]
+
+
+#: the rule of the published-ν column (events split by V_th, subevent_study.py)
+PUBLISHED_NU_RULE = (
+    "at the preset's own ν the events are split in time by V_th (an event lasts while some block is faster than "
+    "V_th); events that last ≥ 1 loading cycle are **slides of ≥ 1 loading cycle** (the chain slides for "
+    "cycles: not stick-slip events), and a size distribution that holds them is read with that said; "
+    "fits and words otherwise by the rules above")
+
+
+def _pub_cell(x) -> str:
+    """One published-ν catalog (subevent_study.run_preset's record) in a verdict-table cell."""
+    f, nb, du = x["fit"], x["n_blocks"], x["duration"]
+    lr = ", ".join(f"{k.replace('_', ' ')} R = {v[0]:+.1f} (p = {v[1]:.2g})" for k, v in f["ratios"].items())
+    res = math.sqrt(max(f["p"] * (1 - f["p"]), 1 / f["bootstrap"]) / f["bootstrap"]) if f["bootstrap"] else math.nan
+    dec = math.log10(f["largest"] / f["xmin"])
+    word = ("no scaling range" if dec < 1 else ("power law ruled out" if f["p"] <= 0.1 else "power law plausible"))
+    slides = du["over_one_cycle"]
+    ex = x["excess"]
+    exw = ("excess undecided (x_min above the large events)" if ex["large"] and "expected" not in ex else
+           "no event ≥ N/2" if not ex["large"] else
+           ("**excess**" if ex["large"] >= 5 and ex["observed"] >= 3 * ex["expected"] else "no excess")
+           + f" ({ex['observed']} with P ≥ {ex['p_large']:.3g} against {ex['expected']:.3g})")
+    return (f"α = {0.5 / x['nu_f']:g}, ν = {x['nu']:g}, V_th = {x['v_threshold']:g}: {x['kept']} events "
+            f"({x['status']}; {x['loading_cycles']:.0f} loading cycles, {x['cpu_per_event'] * 1e3:.3g} CPU ms per "
+            f"event); n_blocks mean {nb['mean']:.2f}, {nb['large']} ≥ N/2; {slides} events last ≥ 1 loading cycle"
+            f"{' (**slides of ≥ 1 loading cycle**)' if slides else ''}; {word}: α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} "
+            f"above x_min = {f['xmin']:.3g} ({f['n_tail']} events, {dec:.2f} decades), b_P = {f['b_P']:.3f}, "
+            f"b_M = {f['b_M']:.3f}, p = {f['p']:.2f} ± {res:.2f} (B = {f['bootstrap']}); LR: {lr}; {exw}")
 
 
 def verdict_table(cfg, data, old_rows: dict) -> list:
@@ -285,9 +313,19 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
                  "its model has friction with a state variable (its abstract); the chains here have velocity-only "
                  "friction. On the σ = 0 Carlson–Langer chains: " + old_rows.get("sak", "–"),
                  "**not tested** on its model"))
+    pub = data.get("published_nu") or []
+
+    def pub_cells(name):
+        xs = sorted((x for x in pub if x["preset"] == name), key=lambda x: -x["nu_f"])
+        return "; ".join(_pub_cell(x) for x in xs) if xs else "not run"
+
+    keys = ["vasconcelos-1996", "carlson-langer-1991", None, "mori-kawamura-2006", None]
+    rows = [(r[0], r[1], (pub_cells(k) if k and k != "vasconcelos-1996" else
+                          "– (N = 1: its own ν, above)" if k else "not run"), r[2]) for r, k in zip(rows, keys)]
     return [Section("Verdict table (issue 17): one row per claim, each on its own model", [
-        Table(["claim", "run and numbers", "verdict"], rows),
-        Paragraph("Rules: " + PRESET_RULES + ". Published numbers beside ours: none could be read for these claims "
+        Table(["claim", "run and numbers (ν lowered, all-stuck events)",
+               "at the preset's own ν (events split by V_th; PUBLISHED_NU.md)", "verdict"], rows),
+        Paragraph("Rules: " + PRESET_RULES + "; " + PUBLISHED_NU_RULE + ". Published numbers beside ours: none could be read for these claims "
           "(CL 1989's abstract: sizes \"consistent with the Gutenberg-Richter law\", no b; MK's and CLST's texts "
           "were not found; Sakaguchi–Morita arXiv:1309.4583 give b ≈ 2/3 for another, heterogeneous, model), so "
           "no row compares digits with a paper.")])]

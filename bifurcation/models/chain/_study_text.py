@@ -64,7 +64,10 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
          "All numbers: [data.json](data.json)."
          + (" The sections before \"Published parameter sets\" come from that full run; the preset catalogs and "
             "the verdict table were added by `--presets-only` (same workflow, its `[presets]` section)."
-            if data.get("presets_wall_seconds") else ""))]
+            if data.get("presets_wall_seconds") else "")
+         + (" The verdict table's column \"at the preset's own ν\" is read from the `subevents_*.json` of this "
+            "directory, written by `python -m bifurcation.models.chain.subevent_study run` (its catalogs and fits: "
+            "[PUBLISHED_NU.md](PUBLISHED_NU.md))." if data.get("published_nu") else ""))]
     B += _threshold_section(data, c)
     B += _order_section(cfg, data, sw, star)
     from ._study_mfd_text import near_half_section, small_nu_section
@@ -280,7 +283,8 @@ def _verdict(cfg, data, sw, star) -> list:
             if notes["cl"][0] and not notes["cl"][1] else "")
          + f" (ℓ = {cfg['chain']['ell']:g}, ν = {nu:g}"
          + (f" and {cfg['near_half']['nus'][-1]:g}" if notes["cl"][0] else "")
-         + "; Carlson & Langer used ℓ ≈ 10 and a far smaller ν)"),
+         + "; the `carlson-langer-1991` preset, after J. Xia's reimplementation, has ℓ = 10 and ν = 0.01, and CLST's "
+         "drop model is the ν → 0 limit there: presets.py)"),
          ("Mori & Kawamura (2005–08): near-critical behaviour at weak weakening (ν_f ≈ 1/2)", "b from "
          f"ν_f = 0.2 to 0.35: {bs} (the distribution broadens towards weak weakening, but KS rejects an exponential "
          f"in every case, see the table). {slide}. {notes['mk'][0]}",

@@ -38,6 +38,13 @@ MK_PRL = "Mori & Kawamura, PRL 94, 058501 (2005), arXiv cond-mat/0408396 (openin
 #: Searched and NOT found as text: CL PRL 62, 2632 (1989); CLST PRA 44, 884 (1991); CLS RMP 66, 657 (1994)
 #: beyond its abstract (scec.org/publication/171, arXiv adap-org/9307001); MK JGR 111, B07302 (2006) beyond
 #: its title; de Sousa Vieira, Vasconcelos & Nagel, PRE 47, R2221 (1993): nothing.
+#: Searched again for issue 17 (pages and docs corpora; only each page's opening is returned): Kawamura,
+#: Hatano, Kato, Biswas & Chakrabarti, RMP 84, 839 (2012) = arXiv:1112.0148 (arxiv-vanity, scribd): abstract
+#: and contents only (its sections III.1.1-III.1.3 on the 1D BK model were not reached); MK JGR 2006
+#: (sciencedocbox): title only; MK 2D, arXiv:0706.1871 (ar5iv): abstract and introduction only; Weatherley &
+#: Abe, NPG 11, 553 (2004) (123dok), "a reproduction of the Block-Slider model of Carlson et al. (1991)":
+#: title page and abstract only; CLST 1991, de Sousa Vieira-Vasconcelos-Nagel 1993: not found. So every
+#: NOT READ below stays so.
 
 
 @dataclass(frozen=True)

@@ -209,6 +209,7 @@ def _render(out: Path, cfg, path: Path, data) -> None:
         from ._study_presets import presets_figure
 
         presets_figure(out, data["presets"])
+    data["published_nu"] = published_nu(out)
     blocks = study_blocks(out, cfg, path, data)
     (out / "REPORT.md").write_text(to_markdown(blocks), encoding="utf-8")
     (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")
@@ -220,7 +221,14 @@ def saved_data(out: Path, cfg) -> dict:
     data = json.loads((out / "data.json").read_text())
     data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
     _extra_stats(out, cfg, data, None)
+    data["published_nu"] = published_nu(out)
     return data
+
+
+def published_nu(out: Path) -> list:
+    """The presets at their own ν, split by a velocity threshold: the ``subevents_*.json`` of ``out``
+    (written by subevent_study.py, not by the study; read at every rendering)."""
+    return [json.loads(q.read_text()) for q in sorted(out.glob("subevents_*.json"))]
 
 
 def study_blocks(out: Path, cfg, path, data) -> list:

@@ -1,0 +1,239 @@
+"""Events split in time by a slip-velocity threshold, on the compiled engine (docs/chain.md, "Event
+membership", "Split in time").
+
+The compiled engine's event runs until every block is stuck; at a published loading rate (ν = 0.01)
+a long chain is never all stuck, so that event never ends. Here the same dynamics (``_compiled``'s
+windows, DOP853 and located stops and starts) are followed through such a stretch, and the catalog
+is cut in time instead: an event opens when some block's velocity V exceeds V_th and closes when no
+block exceeds it. Every crossing V_j = V_th is located on DOP853's dense output to rounding (a new
+root kind in ``_segment``; a crossing up and down inside one step is caught by maximising V_j on the
+step when both ends are below). Per event: its opening time, the first block above V_th (the
+hypocentre), its duration, the blocks that exceeded V_th (``n_blocks``) and the potency: the slip
+of *every* block during the open interval (blocks below V_th move too, slowly). Slip while no block
+exceeds V_th is summed apart (``below_slip``), so the catalog says how much slip it leaves out.
+
+The lone-block shortcut of ``_compiled`` is not used (its stored trajectory has no crossing roots),
+so a catalog costs what the engine costs with ``lone=False``. The run stops after ``k`` events,
+possibly inside an all-stuck stretch (its state is kept, so the next ``run`` goes on from there).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._compiled import (_NEG_INF, NO_STOP, NONFINITE, CompiledChain, _commit, _rebuild, _segment, _jit,
+                        tree_build, tree_set)
+
+__all__ = ["SubeventRun", "run_subevents"]
+
+#: outcome codes as run_events
+COMPLETE = 1
+
+
+@_jit
+def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f, out_i, tot, t_stop, every, ctx):
+    """Up to k threshold events, or until the time t_stop (then possibly inside a stretch, its state kept
+    in ``ctx`` so the next call goes on from there); a progress line on stdout every ``every`` events
+    (0: none). out_f[:, e] = t_start, potency, duration; out_i[:, e] = hypocentre, n_blocks. ``tot``
+    accumulates [all-stuck stretches ended, slip below V_th, slip in events, steps, largest window].
+    ``vth`` is V_th/ν. Returns (events done, outcome code)."""
+    n, periodic = g.s.size, par[4] != 0.0
+    nu, l2, t_max = fr[0], par[0], par[5]
+    acc = np.zeros(3)
+    nsub = 0
+    sub_id = stamp[n]           # the last event's id (stamps of its member blocks)
+    while nsub < k:
+        if ctx[0] != 0.0:       # resume inside a stretch
+            ctx[0] = 0.0
+            base, lam, dur, t_start = ctx[1], ctx[2], ctx[3], ctx[4]
+            m, cnt, h, nab = int(ctx[5]), int(ctx[6]), ctx[7], int(ctx[8])
+            sub_open, sub_t0, sub_pot = ctx[9] != 0.0, ctx[10], ctx[11]
+            sub_nbl, sub_hyp, ns, refresh = int(ctx[12]), int(ctx[13]), int(ctx[14]), ctx[15] != 0.0
+            starts = win.starts
+            acc[:] = 0.0
+        else:
+            g.evid[0] += 1
+            if abs(scal[1]) > 1.0:
+                for j in range(n):
+                    g.s[j] += scal[1]
+                    g.tv[j] = g.s[j]
+                tree_build(g.tv, g.ti, g.p)
+                scal[1] = 0.0
+            hyp = g.ti[1]
+            base = g.s[hyp]
+            jump = 1.0 - (base + scal[1])
+            t_start = scal[0] + jump / nu
+            if t_start >= t_stop:
+                return nsub, COMPLETE
+            lam = 0.0
+            dur = 0.0
+            acc[:] = 0.0
+            m = 0
+            cnt = g.cnt[0]
+            starts = win.starts
+            starts[0] = hyp
+            ns = 1
+            h = scal[2]
+            nab = 0                 # blocks above V_th now
+            sub_open = False
+            sub_t0 = 0.0
+            sub_pot = 0.0
+            sub_nbl = 0
+            sub_hyp = -1
+            refresh = False
+        code = 0
+        while True:
+            while ns > 0 or refresh:
+                # (after a crossing, ``refresh`` with no starts: the segment constants d/ν from σ)
+                refresh = False
+                cnt += 1
+                m, _ = _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu)
+                ns = 0
+                for i in range(m):
+                    if not win.slip[i] and win.sg[i] >= 1.0:
+                        starts[ns] = win.blk[i]
+                        ns += 1
+                top = g.ti[1]
+                if g.tv[top] > _NEG_INF and ((g.s[top] - base) + 1.0) + lam >= 1.0:
+                    starts[ns] = top
+                    ns += 1
+            if m > tot[4]:
+                tot[4] = m
+            top = g.ti[1]
+            tau_far = np.inf
+            if g.tv[top] > _NEG_INF:
+                tau_far = (1.0 - (((g.s[top] - base) + 1.0) + lam)) / nu
+            for i in range(m):
+                win.lt[i] = -1.0
+            code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc, vth, above)
+            if code == 5 or code == 3:
+                break
+            slip = nu * _commit(m, tau, win, g, l2, nu)
+            if sub_open:
+                sub_pot += slip
+                tot[2] += slip
+            else:
+                tot[1] += slip
+            lam += nu * tau
+            dur += tau
+            for i in range(m):
+                win.w[i] = 0.0
+            # a block that stopped while flagged above (a stop and a crossing at one rounding) is below
+            for i in range(m):
+                b = win.blk[i]
+                if above[b] != 0 and not win.slip[i]:
+                    above[b] = 0
+                    nab -= 1
+            if code == 6:
+                b = win.blk[j]
+                if above[b] != 0:
+                    above[b] = 0
+                    nab -= 1
+                else:
+                    above[b] = 1
+                    nab += 1
+                    if not sub_open:
+                        sub_open = True
+                        sub_id += 1
+                        sub_t0 = t_start + dur
+                        sub_pot = 0.0
+                        sub_nbl = 0
+                        sub_hyp = b
+                    if stamp[b] != sub_id:
+                        stamp[b] = sub_id
+                        sub_nbl += 1
+            if sub_open and nab == 0:
+                out_f[0, nsub] = sub_t0
+                out_f[1, nsub] = sub_pot
+                out_f[2, nsub] = (t_start + dur) - sub_t0
+                out_i[0, nsub] = sub_hyp
+                out_i[1, nsub] = sub_nbl
+                nsub += 1
+                sub_open = False
+                if every > 0 and nsub % every == 0:
+                    print("  events", nsub, "t", t_start + dur, "steps", tot[3] + acc[0], "widest", tot[4])
+            if code == 0:
+                break
+            if code == 6:
+                refresh = True
+            else:
+                starts[0] = win.blk[j] if code == 1 else top
+                ns = 1
+            if nsub >= k or t_start + dur >= t_stop:      # stop inside the stretch: keep its state
+                ctx[0] = 1.0
+                ctx[1], ctx[2], ctx[3], ctx[4] = base, lam, dur, t_start
+                ctx[5], ctx[6], ctx[7], ctx[8] = m, cnt, h, nab
+                ctx[9], ctx[10], ctx[11] = 1.0 if sub_open else 0.0, sub_t0, sub_pot
+                ctx[12], ctx[13], ctx[14], ctx[15] = sub_nbl, sub_hyp, ns, 1.0 if refresh else 0.0
+                g.cnt[0] = cnt
+                stamp[n] = sub_id
+                tot[3] += acc[0]
+                return nsub, COMPLETE
+        g.cnt[0] = cnt
+        stamp[n] = sub_id
+        tot[3] += acc[0]
+        if code == 3 or code == 5:
+            return nsub, code
+        tot[0] += 1.0
+        scal[1] = (1.0 - base) + lam
+        for i in range(m):
+            b = win.blk[i]
+            g.s[b] = win.sg[i] - scal[1]
+            tree_set(g.tv, g.ti, g.p, b, g.s[b])
+            g.slot[b] = -1
+        scal[0] = t_start + dur
+        scal[2] = min(h, 1.0)
+    return nsub, COMPLETE
+
+
+class SubeventRun:
+    """One chain run whose catalog is split in time by V_th (``run_subevents``); the chain as
+    ``CompiledChain`` (double precision, DOP853 throughout). ``run`` goes on where the last call
+    stopped, also inside an all-stuck stretch."""
+
+    def __init__(self, law, n, ell, nu, nu_f, ends, u0, *, v_threshold: float, sigma: float = 0.0,
+                 tol: float | None = None, max_steps: int = 10**15) -> None:
+        from ...errors import InputError
+
+        if isinstance(v_threshold, bool) or not isinstance(v_threshold, (int, float)) or not (
+                math.isfinite(v_threshold) and v_threshold > 0):
+            raise InputError("v_threshold", v_threshold, "must be finite and > 0", "give a slip velocity such as 0.1")
+        kw = {} if tol is None else {"tol": tol}
+        # no t_max: an all-stuck stretch may last the whole run (the bound is the number of events)
+        self.chain = CompiledChain(law, n, ell, nu, nu_f, ends, u0, sigma=sigma, t_max=math.inf, max_steps=max_steps,
+                                   lone=False, **kw)
+        self.v_threshold = float(v_threshold)
+        self._above = np.zeros(n, dtype=np.int64)
+        self._stamp = np.zeros(n + 1, dtype=np.int64)
+        #: [all-stuck stretches ended, slip below V_th, slip in events, DOP853 steps, widest window]
+        self.totals = np.zeros(5)
+        self._ctx = np.zeros(16)     # the state inside an all-stuck stretch between calls
+
+    @property
+    def t(self) -> float:
+        """The run's time: where the last call stopped (inside an all-stuck stretch too)."""
+        return float(self._ctx[4] + self._ctx[3]) if self._ctx[0] else self.chain.t
+
+    def run(self, k: int, t_stop: float = math.inf, every: int = 0) -> dict:
+        """The next k events (or those before the time t_stop): dict(catalog, status, message)."""
+        from .result import ChainStatus
+
+        c = self.chain
+        out_f = np.zeros((3, k))
+        out_i = np.zeros((2, k), dtype=np.int64)
+        done, code = run_subevents(k, c._win, c._g, c._law, c._gfun, c._fr, c._par, c._scal,
+                                   self.v_threshold / c.nu, self._above, self._stamp, out_f, out_i, self.totals,
+                                   float(t_stop), int(every), self._ctx)
+        cat = {"t_start": out_f[0, :done].copy(), "potency": out_f[1, :done].copy(),
+               "duration": out_f[2, :done].copy(), "hypocentre": out_i[0, :done].copy(),
+               "n_blocks": out_i[1, :done].copy()}
+        status, message = ChainStatus.COMPLETE, ""
+        if code == NO_STOP:
+            status, message = ChainStatus.NO_STOP, f"the step size underflowed after {done} events"
+        elif code == NONFINITE:
+            status, message = ChainStatus.NONFINITE, f"non-finite state after {done} events"
+        return dict(catalog=cat, status=status, message=message)
+
+
