@@ -35,13 +35,14 @@ def _numba_cache_cold() -> bool:
                    for law in ("carlson-langer", "exp(-x)"))
 
 
+@pytest.hookimpl(trylast=True)   # after -m/-k deselection: count only the tests that will run
 def pytest_collection_modifyitems(session, config, items):
     import subprocess
     import sys
     from pathlib import Path
 
     later = [item for item in items if item.path.name in _NUMBA_TESTS]
-    if not later or len(items) - len(later) < 300 or not _numba_cache_cold():
+    if config.option.collectonly or not later or len(items) - len(later) < 300 or not _numba_cache_cold():
         return
     _warmup.append(subprocess.Popen([sys.executable, str(Path(__file__).with_name("_numba_warmup.py"))],
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
