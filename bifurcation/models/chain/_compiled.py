@@ -37,6 +37,7 @@ import math
 from collections import namedtuple
 from pathlib import Path
 
+import numba as nb
 import numpy as np
 
 from ._numba_cache import CACHE, jit
