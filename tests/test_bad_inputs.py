@@ -651,7 +651,7 @@ CASES += [
     f"{RATE} --mass 1e-10 ## --t-end=40.0: spans 2e+09",                   # 2e6 steps to t = 0.35, before
     "rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1 --mass 1e-300 --cycle ## --mass",
     "bench --suite rate-state --points 5 ## --points=5: does not apply to --suite rate-state",   # asked for numbalsoda
-    *[f"{cmd} --store {{chain}} --law aging --nu-f 0.5 ## --store='{{chain}}': is a model chain store"
+    *[f"{cmd} --store {{chain}} --law aging --nu-f 0.3 ## --store='{{chain}}': is a model chain store"
       for cmd in ("extrapolate", "fit-period")],                           # --store='model chain' before
     "submit {wf_r2_rsc_batch} --store {newstore} ## engine.batch=8: does not apply to model 'rs-chain'",
     "submit {wf_r2_chain_batch} --store {newstore} ## engine.batch=8: does not apply to model 'chain'",
