@@ -638,6 +638,25 @@ CASES += [
     f"{_set(RATE, '--v-lp', '0,10')} ## --v-lp='0,10': starts with a hold",   # named v0, no CLI option, before
 ]
 
+# -- review2 (issue 21 review): bounds and names the first review found missing. Each failed before: ran
+#    unbounded and silent, ran to a NaN with exit 0, was accepted and ignored, or named the wrong thing.
+WORKFLOWS.update({
+    "r2_rsc_batch": (RSC, 'laws = ["aging"]', 'laws = ["aging"]\nbatch = 8'),   # ignored, changed the fingerprint
+    "r2_chain_batch": (CHAIN, 'laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = 8'),
+})
+CASES += [
+    f"{_set(RATE, '--t-end', '1e6')} ## --t-end=1000000.0: spans 1e+06 times the slider's shortest time scale",
+    f"{_set(RATE, '--t-end', '1e300')} ## --t-end=1e+300",                   # > 120 s, no output, before
+    f"{RATE} --mass 1e-300 ## --mass=1e-300: gives an inertial relaxation time",   # exit 0, 'nonfinite', before
+    f"{RATE} --mass 1e-10 ## --t-end=40.0: spans 2e+09",                   # 2e6 steps to t = 0.35, before
+    "rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1 --mass 1e-300 --cycle ## --mass",
+    "bench --suite rate-state --points 5 ## --points=5: does not apply to --suite rate-state",   # asked for numbalsoda
+    *[f"{cmd} --store {{chain}} --law aging --nu-f 0.3 ## --store='{{chain}}': is a model chain store"
+      for cmd in ("extrapolate", "fit-period")],                           # --store='model chain' before
+    "submit {wf_r2_rsc_batch} --store {newstore} ## engine.batch=8: does not apply to model 'rs-chain'",
+    "submit {wf_r2_chain_batch} --store {newstore} ## engine.batch=8: does not apply to model 'chain'",
+]
+
 
 def _split(case: str) -> tuple[str, str]:
     argv, _, needle = case.partition(" ## ")

@@ -95,3 +95,26 @@ def test_stable_cuts_the_digits_a_change_can_move():
     assert _stable.stable(0.50000186, 3e-9, ".8f") == "0.50000186"
     assert _stable.stable(2.27, 0.0, ".2f") == "2.27"
     assert np.isnan(float("nan")) and _stable.stable(float("nan"), 1.0, ".2f") == "—"
+
+
+def test_rounding_level_numbers_print_as_a_bound():
+    """README: the report prints only digits that hold on any x86-64. A deviation at rounding level (2.2e-16
+    here, 0 or 4.4e-16 on another CPU: found at review) is printed as the bound "< 1e-14", never its digits,
+    in the claims table and the extrapolation table alike (the committed report is checked)."""
+    import re
+
+    from bifurcation.analysis.claims import ROUNDING, deviation_text
+
+    assert ROUNDING == 1e-14   # README's "≤ 1e-14 relative" between machines
+    assert deviation_text(2.2e-16) == deviation_text(0.0) == deviation_text(-4.4e-16) == "< 1e-14 (rounding)"
+    assert deviation_text(2.9e-6) == "2.9e-06" and deviation_text(1e-14) == "1.0e-14"
+    text = _committed()
+    claims = [line for line in text.splitlines() if line.startswith("| Eq. (")]
+    assert len(claims) >= 9
+    for line in claims:   # a mantissa with a decimal at e-15 … e-19, or an exact zero in e-notation
+        assert not re.search(r"\d\.\de-1[5-9]|\de\+00", line), line
+    rows = _rows(text, "| law | ν_f | regime |")
+    assert rows
+    for row in rows:
+        for cell in (row[4], row[6], row[8]):   # uncertainty, direct error, extrap. − direct
+            assert cell.startswith("< 1e-14") or abs(float(cell)) >= ROUNDING, row

@@ -59,9 +59,17 @@ def _stores(paths):
 def _analyse(fn, stores, law: str, nu_f: float, as_json: bool, nearest: bool):
     """``fn(stores, law, nu_f)`` with option-named errors; with ``--json`` print its summary and return
     None, else return the result for the command to print."""
+    from ..errors import InputError
+
     sources = _stores(stores)
     with _with_options(_NAMES):
-        result = fn(sources, law, nu_f, nearest=nearest)
+        try:
+            result = fn(sources, law, nu_f, nearest=nearest)
+        except InputError as exc:   # the analysis names the stores' model; the user typed their paths
+            if exc.argument != "store" or not str(exc.value).startswith("model "):
+                raise
+            raise InputError("store", ", ".join(stores), f"is a {exc.value} store: it {exc.problem}",
+                             exc.fix) from None
     if result.nu_f != nu_f:
         click.echo(f"bifurcation: note: --nu-f {nu_f!r} is not a label; took the nearest, {result.nu_f!r}",
                    err=True)

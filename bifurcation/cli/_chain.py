@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import click
 
 from ..errors import InputError
@@ -39,6 +41,10 @@ def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None)
                              "workflows' too: bifurcation.models.chain)", f"give a value in [{low}, {high}]")
 
 
+#: Seconds within one event (no event finished) before a line says it is still running, and between them.
+STILL_RUNNING_SECONDS = 30.0
+
+
 def _progress(started: float):
     """A line on stderr about every 10 s of a long run: events done, the chain's time, the elapsed time."""
     import time
@@ -47,12 +53,47 @@ def _progress(started: float):
 
     def report(done: int, events: int, t: float) -> None:
         now = time.perf_counter()
+        report.done, report.last_event = done, now
         if now - last[0] >= 10.0:
             last[0] = now
             click.echo(f"bifurcation: chain: {done} of {events} events, t = {t:.6g}, {now - started:.0f} s",
                        err=True)
 
+    report.done, report.last_event = 0, started
     return report
+
+
+@contextlib.contextmanager
+def _still_running(report, events: int, n: int, nu: float):
+    """While the run is inside one event (the progress above is said between events), a line every
+    STILL_RUNNING_SECONDS: an event ends only when every block is stuck, and when failures come faster than
+    events end (N·ν of order 1 and more: measured, carlson-langer ν_f = 0.3 from amplitude 0.1: N·ν = 1
+    ended 5 events, N·ν = 5 and 20 had an event still sliding after 3000 steps and 10-40 s, the chain
+    reloaded meanwhile) it may run to the engine's max_steps, which at thousands of blocks is hours."""
+    import threading
+    import time
+
+    stop = threading.Event()
+
+    def watch() -> None:
+        while not stop.wait(STILL_RUNNING_SECONDS / 3):
+            now = time.perf_counter()
+            if now - report.last_event >= STILL_RUNNING_SECONDS:
+                report.last_event = now
+                hint = (f"; at N·ν = {n * nu:.3g} blocks fail faster than events end and this one may not "
+                        "end (bounded by max_steps, hours at this N): interrupt and give a smaller --nu "
+                        "or --n (N·ν < 1)") if n * nu >= 1 else ""
+                click.echo(f"bifurcation: chain: event {report.done + 1} of {events} still sliding after "
+                           f"{now - report.started:.0f} s{hint}", err=True)
+
+    report.started = time.perf_counter()
+    thread = threading.Thread(target=watch, name="chain-still-running", daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        thread.join()
 
 
 def _u0(ctx, param, value):
@@ -153,9 +194,11 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
         raise InputError("--seed", None, "is missing (a random start from --amplitude needs it)",
                          "give --seed S, e.g. --seed 1 (the start is numpy.random.default_rng(S))")
 
-    r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
-              events=events, precision=precision, sigma=sigma, v_threshold=v_threshold, engine=engine,
-              verify=verify, progress=_progress(time.perf_counter()))
+    report = _progress(time.perf_counter())
+    with _still_running(report, events, n, float(nu)):
+        r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
+                  events=events, precision=precision, sigma=sigma, v_threshold=v_threshold, engine=engine,
+                  verify=verify, progress=report)
     if as_json:
         echo_json(r.to_json())
     else:

@@ -53,6 +53,18 @@ def _repeated_option(command: click.Command, args: list[str]) -> str | None:
     return None
 
 
+def _stdout_closed() -> bool:
+    """Whether standard output is a pipe whose reader has gone (poll reports POLLERR on it)."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(event & select.POLLERR for _, event in poller.poll(0))
+    except (OSError, ValueError, AttributeError):   # no real fd (a test runner's buffer)
+        return False
+
+
 class Group(click.Group):
     """A command group whose usage and input errors are one line and exit with status 2.
 
@@ -70,6 +82,20 @@ class Group(click.Group):
             if problem:
                 raise click.UsageError(problem)
         return name, command, rest
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except BrokenPipeError:
+            if not _stdout_closed():   # another pipe (a worker's): not the reader's choice; an error
+                raise
+            # the reader closed our stdout (`bifurcation laws | head -1`): stop quietly with the status of a
+            # Unix tool ended by SIGPIPE (128 + 13), no error line; the unwritten rest goes to /dev/null so
+            # the flush at exit cannot fail again
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            os.close(devnull)
+            sys.exit(141)
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         try:

@@ -96,10 +96,6 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
     from ..models import DEFAULT_MODEL, get_model
 
     model = get_model(DEFAULT_MODEL if suite == "engine" else suite)
-    missing = [m for m in model.hooks.bench_needs if importlib.util.find_spec(m) is None]
-    if missing:
-        raise click.UsageError(f"the {suite} benchmark's baselines need {', '.join(missing)}; install them with "
-                               "python -m pip install -e \".[bench]\"")
     run = model.hook("bench")
     options = {"points": points, "subset": subset, "pipeline_points": pipeline_points}
     accepted = inspect.signature(run).parameters
@@ -109,6 +105,11 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
         if name not in accepted and ctx.get_parameter_source(name) is not click.core.ParameterSource.DEFAULT:
             raise InputError(flag, options[name], f"does not apply to --suite {suite} (its cases are fixed)",
                              f"drop {flag}, or use --suite engine")
+    # after the arguments (an option that does not apply is the first thing to say)
+    missing = [m for m in model.hooks.bench_needs if importlib.util.find_spec(m) is None]
+    if missing:
+        raise click.UsageError(f"the {suite} benchmark's baselines need {', '.join(missing)}; install them with "
+                               "python -m pip install -e \".[bench]\"")
     report = run(echo=None if as_json else click.echo, **{k: v for k, v in options.items() if k in accepted})
     if as_json:
         echo_json(report)

@@ -38,6 +38,57 @@ def _check_steps(t_end, at) -> None:
                              "be applied", "give step times before the end time, or a later --t-end")
 
 
+#: The longest ``bifurcation rate-state`` run, in units of the slider's shortest time scale (``_time_scale``):
+#: measured 0.2 Taylor steps per Dc/V_lp on the README's aging example (20 759 steps to t = 1e5, 23 s here)
+#: and ~0.1 per inertial relaxation time; 1e5 of them stay well inside DEFAULT_MAX_STEPS (2e6) and a minute.
+MAX_TIME_SCALES = 1e5
+#: Shortest inertial relaxation time M/(a/V + η) the double Taylor steps take: their top-order (20)
+#: coefficients grow like τ^-20 and pass the blow-up guard's 1e300 at τ ~ 1e-15 (measured: M = 1e-18,
+#: τ = 2e-16 ran; M = 1e-20, τ = 2e-18 ended "unbounded" at step 0; M = 1e-300: "nonfinite" at t = nan).
+MIN_INERTIAL_TIME = 1e-14
+#: Seconds between progress lines on stderr of a long run.
+PROGRESS_SECONDS = 5.0
+
+
+def _time_scale(spec, velocities) -> tuple[float, str]:
+    """The slider's shortest time scale over the loading (steps scale with it) and the option that sets it:
+    Dc_i/V_lp (state evolution), and with --mass the inertial relaxation time M/(a/V_lp + η)."""
+    moving = [float(v) for v in velocities if float(v) > 0]
+    tau, option = min(float(d) for d in spec.dc) / max(moving), "--dc"
+    if spec.mass is not None:
+        inertial = float(spec.mass) / (float(spec.a) / min(moving) + float(spec.damping))
+        if inertial < tau:
+            tau, option = inertial, "--mass"
+    return tau, option
+
+
+def _check_mass(spec, velocities) -> None:
+    """--mass so small that its relaxation time overflows the Taylor steps: refused, not run to a NaN."""
+    from ..errors import InputError
+
+    if spec.mass is None or not any(float(v) > 0 for v in velocities):
+        return
+    tau, option = _time_scale(spec, velocities)
+    if option == "--mass" and tau < MIN_INERTIAL_TIME:
+        raise InputError("--mass", spec.mass, f"gives an inertial relaxation time M/(a/V_lp + η) = {tau:.3g}, "
+                         f"below {MIN_INERTIAL_TIME:g}, where the Taylor steps overflow",
+                         "give a larger --mass, or omit --mass for the quasi-static slider")
+
+
+def _check_length(spec, velocities, t_end) -> None:
+    """--t-end within MAX_TIME_SCALES of the shortest time scale: a run that ends within its bounds."""
+    from ..errors import InputError
+
+    tau, option = _time_scale(spec, velocities)
+    if t_end / tau > MAX_TIME_SCALES:
+        what = "Dc/V_lp" if option == "--dc" else "M/(a/V_lp + η)"
+        raise InputError("--t-end", t_end, f"spans {t_end / tau:.3g} times the slider's shortest time scale "
+                         f"{what} = {tau:.3g}; at most {MAX_TIME_SCALES:g} run within the step bound",
+                         f"give --t-end <= {MAX_TIME_SCALES * tau:.3g}, or --cycle for the attracting cycle"
+                         + (", or a larger --mass" if option == "--mass" else "")
+                         + "; longer runs: the Python API bifurcation.rate_state (max_steps bounds it)")
+
+
 def _floats(name: str, example: str):
     def convert(ctx, param, value):
         if value is None:
@@ -139,6 +190,7 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
     except InputError as exc:   # the step times are --at here
         raise InputError("--at" if exc.argument == "v_lp at" else exc.argument, exc.value, exc.problem,
                          exc.fix) from None
+    _check_mass(spec, history.velocities)
     if cycle:
         _cycle(spec, history, precision, as_json)
         return
@@ -149,9 +201,10 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
         raise InputError("--v-lp", ",".join(f"{v:g}" for v in history.velocities),
                          "starts with a hold (0): the slider starts sliding steadily at the first velocity",
                          "begin with a velocity > 0 and hold after it, e.g. --v-lp 1,0,1 --at 5,10")
+    _check_length(spec, history.velocities, t_end)
     t = np.linspace(history.times[0], t_end, outputs)
     r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, damping=damping,
-                   precision=precision)
+                   precision=precision, progress=_progress(t_end))
     record = {"status": r.status, "message": r.message, "steps": r.steps, "t": r.t.tolist(),
               "mu": [float(x) for x in r.mu], "v": r.v.tolist(), "theta": r.theta.tolist(),
               "slip": [float(x) for x in r.slip], "extrema": r.extrema.tolist()}
@@ -162,6 +215,21 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
     click.echo(f"{'t':>12s} {'mu':>20s} {'V':>24s}")
     for ti, mi, vi in zip(record["t"], record["mu"], record["v"]):
         click.echo(f"{ti:12.6g} {mi:20.16f} {vi:24.17g}")
+
+
+def _progress(t_end):
+    """``progress(t, steps)`` printing a line on stderr every PROGRESS_SECONDS of a long run."""
+    import time
+
+    last = [time.monotonic()]
+
+    def say(t: float, steps: int) -> None:
+        now = time.monotonic()
+        if now - last[0] >= PROGRESS_SECONDS:
+            last[0] = now
+            click.echo(f"bifurcation: rate-state: t = {t:.6g} of {t_end:g} ({100 * t / t_end:.0f} %), "
+                       f"{steps} Taylor steps", err=True)
+    return say
 
 
 def _cycle(spec, history, precision, as_json) -> None:

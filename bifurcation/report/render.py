@@ -187,6 +187,7 @@ def analyse(sources) -> ReportData:
 # -- the document ---------------------------------------------------------------------------------------
 def _make_figures(data: ReportData, out: Path) -> list[tuple[str, str]]:
     from ..analysis.extrapolate import PAPER_CL_HALF
+    from ..analysis.claims import ROUNDING
     from ..analysis.period_fit import DEFAULT_RELATIVE_ERROR
     from ..theory import delta0_piecewise_linear
 
@@ -199,7 +200,8 @@ def _make_figures(data: ReportData, out: Path) -> list[tuple[str, str]]:
     made.append(("fig2_piecewise_linear.png", fig,
                  "Fig. 2 reproduced: slip Δ vs ν_f for the piecewise-linear law at several ν (lines), the "
                  "paper's Eq. (18) (dashed, with the jump at ν_f = 1/2) and the engine's direct ν → 0 limit "
-                 f"(circles). Finite ν rounds the jump; the limit is Eq. (18) to {eq18_dev:.0e} (relative)."))
+                 f"(circles). Finite ν rounds the jump; the limit is Eq. (18) to "
+                 + (f"{eq18_dev:.0e}" if eq18_dev >= ROUNDING else f"rounding (< {ROUNDING:.0e})") + " (relative)."))
     cx, cd = data.limit_curves["carlson-langer"]
     ex_cl = data.extrapolations.get(("carlson-langer", 0.5))
     fig = F.figure_fig3(cl, cx, cd, ex_cl)
@@ -368,6 +370,7 @@ def fit_tables(extrapolations, period_fits, reruns) -> dict:
     """The extrapolation, ensemble and recurrence-time tables as ``{name: Table}``, each fitted
     number cut to its CPU-independent digits (``_stable``) using the perturbed ``reruns``."""
     from ._stable import spread, stable
+    from ..analysis.claims import ROUNDING
 
     def change(kind, key_or_index, name, model=None):
         others = []
@@ -381,11 +384,17 @@ def fit_tables(extrapolations, period_fits, reruns) -> dict:
     for key, ex in sorted(extrapolations.items()):
         law, nu_f = key
         c = change("ex", key, "delta0_extrapolated")
+        # rounding-level numbers (the stick-slip side, where the extrapolation is the direct limit) as the
+        # bound they are: their digits (0, 2e-16, 3e-16) are the host CPU's (analysis.claims.ROUNDING)
+        small = f"< {ROUNDING:.0e}"
         rows.append([law, f"{nu_f:g}", ex.regime, stable(ex.delta0_extrapolated, c, ".10f"),
+                     small if ex.uncertainty < ROUNDING else
                      stable(ex.uncertainty, change("ex", key, "uncertainty"), ".1e"),
-                     f"{ex.delta0_direct:.15f}", f"{ex.delta0_direct_error:.0e}",
+                     f"{ex.delta0_direct:.15f}",
+                     small if ex.delta0_direct_error < ROUNDING else f"{ex.delta0_direct_error:.0e}",
                      _fmt(ex.paper_value, ".6g") if ex.paper_value is not None else "—",
-                     stable(ex.deviation, c, "+.1e"), "yes" if ex.consistent else "NO"])
+                     small + " (rounding)" if abs(ex.deviation) < ROUNDING else stable(ex.deviation, c, "+.1e"),
+                     "yes" if ex.consistent else "NO"])
     tables = {"extrapolations": Table(["law", "ν_f", "regime", "extrapolated Δ0", "uncertainty", "direct Δ0",
                                        "direct error", "paper", "extrap. − direct", "consistent"], rows)}
     key = ("carlson-langer", 0.5)

@@ -154,6 +154,10 @@ class Workflow:
         if self.batch > _BATCH_MAX:
             raise InputError("engine.batch", self.batch, f"is more than {_BATCH_MAX} lanes",
                              "give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
+        if self.batch != 1 and spec.runner is not None:   # a runner (chain, rs-chain, rate-state) ignores it
+            raise InputError("engine.batch", self.batch, f"does not apply to model {spec.name!r}: its runner "
+                             "integrates one run at a time (one lane), and the batch would only change the "
+                             "store's fingerprint", "leave batch out (SIMD batches are the single block's)")
         grid = []
         for axis in spec.axes:
             if axis.name not in points and axis.default is not None:

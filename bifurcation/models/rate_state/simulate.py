@@ -79,7 +79,8 @@ def _times(t) -> np.ndarray:
 
 
 def rate_state(*, a, b, dc, state_law, k, v_lp, t, mass=None, damping=0.0, mu0=0.6, v_ref=1.0, v0=None,
-               theta0=None, thresholds=(), precision="double", max_steps=DEFAULT_MAX_STEPS) -> RateStateResult:
+               theta0=None, thresholds=(), precision="double", max_steps=DEFAULT_MAX_STEPS,
+               progress=None) -> RateStateResult:
     """Integrate the spring-slider with rate-and-state friction (docs/rate-state.md).
 
     μ = μ0 + a ln(V/V*) + Σ_i b_i ln(V* θ_i/(c_i Dc_i))  (c_i = 2 for PRZ, else 1);
@@ -97,17 +98,36 @@ def rate_state(*, a, b, dc, state_law, k, v_lp, t, mass=None, damping=0.0, mu0=0
     v0, theta0 : initial V and θ_i (default: V0 = the first load-point velocity, θ_i at steady state).
     thresholds : slip velocities V_j whose crossings are recorded (slip events).
     precision : ``"double"``, or ``"quad"`` (heyoka real128, tolerance 1.9e-34) for verification.
+    progress : optional ``progress(t, steps)``, called every 100 Taylor steps (the CLI's progress line).
     """
     spec = SliderSpec(a=a, b=b, dc=dc, state_law=state_law, k=k, mass=mass, mu0=mu0, v_ref=v_ref,
                       damping=damping)
     history = load_history(v_lp)
     return run_spec(spec, history, t, v0=v0, theta0=theta0, thresholds=thresholds,
-                    precision=precision, max_steps=max_steps)
+                    precision=precision, max_steps=max_steps, progress=progress)
+
+
+class _Progress:
+    """A step callback: ``guard``'s verdict, and ``progress(t, steps)`` every ``EVERY`` steps (the caller
+    decides how often to say it; a modulo per step costs nothing beside the guard's own Python call)."""
+
+    EVERY = 100
+
+    def __init__(self, guard, progress, t_start: float, steps: int) -> None:
+        self.guard, self.progress, self.t_start, self.steps = guard, progress, t_start, steps
+
+    def __call__(self, ta) -> bool:
+        self.steps += 1
+        if self.steps % self.EVERY == 0:
+            self.progress(float(ta.time) + self.t_start, self.steps)
+        return self.guard(ta)
 
 
 def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None, z0=0.0, thresholds=(),
-             precision="double", max_steps=DEFAULT_MAX_STEPS, ln_v0=None, ln_theta0=None) -> RateStateResult:
-    """``rate_state`` on validated specs; ``ln_v0``/``ln_theta0`` give the start in log variables exactly."""
+             precision="double", max_steps=DEFAULT_MAX_STEPS, ln_v0=None, ln_theta0=None,
+             progress=None) -> RateStateResult:
+    """``rate_state`` on validated specs; ``ln_v0``/``ln_theta0`` give the start in log variables exactly;
+    ``progress(t, steps)``, if given, is called every ``_Progress.EVERY`` steps (a long run's progress)."""
     if precision not in _PRECISIONS:
         raise InputError("precision", precision, "is not a precision", "use 'double' or 'quad'")
     times = _times(t)
@@ -172,7 +192,8 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
             grid = np.unique(np.concatenate([[t_start], inner, [stop]]))
             guard = blowup_guard(dtype)
             res = ta.propagate_grid((grid - t_start).astype(dtype), max_steps=max(max_steps - steps, 1),
-                                    callback=guard)
+                                    callback=guard if progress is None else _Progress(guard, progress, t_start,
+                                                                                      steps))
             outcome, steps_j, values = res[0], res[3], np.asarray(res[-1])
             steps += steps_j
             rows = {float(g): values[i] for i, g in enumerate(grid) if i < values.shape[0]}

@@ -1,0 +1,71 @@
+"""Long CLI runs say what they are doing, and a closed output pipe ends them quietly (review, issue 21)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+
+from click.testing import CliRunner
+
+from bifurcation.cli import cli
+
+RATE = ["rate-state", "--state-law", "aging", "--a", "0.005", "--b", "0.01", "--dc", "10", "--k", "1e-3",
+        "--v-lp", "1,10", "--at", "10"]
+
+
+def test_rate_state_long_run_prints_progress_on_stderr(monkeypatch):
+    from bifurcation.cli import _rate_state
+
+    monkeypatch.setattr(_rate_state, "PROGRESS_SECONDS", 0.0)   # every 100 steps, not every 5 s
+    result = CliRunner().invoke(cli, RATE + ["--t-end", "4000", "--outputs", "2"])   # ~900 steps, ~1 s
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.splitlines()
+    assert len(lines) >= 5 and all(l.startswith("bifurcation: rate-state: t = ") for l in lines), lines
+    assert result.stdout.startswith("status ok")
+
+
+def test_rate_state_beyond_the_bound_is_refused_before_work():
+    started = time.perf_counter()
+    result = CliRunner().invoke(cli, RATE + ["--t-end", "1e6"])   # ran > 120 s with no output before
+    assert time.perf_counter() - started < 10
+    assert result.exit_code == 2 and "--t-end=1000000.0" in result.stderr and "--cycle" in result.stderr
+
+
+def test_chain_event_that_runs_long_says_so(monkeypatch):
+    """A stand-in engine that takes 0.6 s inside its first event: the still-running line appears, naming
+    N·ν (2 here) and the fix (the real case, N = 25000 at ν = 1e-3, slides for hours)."""
+    import bifurcation.models.chain as chain_module
+    from bifurcation.cli import _chain
+
+    real = chain_module.chain
+
+    def slow(*args, **kwargs):
+        time.sleep(0.6)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(_chain, "STILL_RUNNING_SECONDS", 0.2)
+    monkeypatch.setattr(chain_module, "chain", slow)
+    result = CliRunner().invoke(cli, ["chain", "--law", "carlson-langer", "--n", "4", "--ell", "1", "--nu", "0.5",
+                                      "--nu-f", "0.3", "--amplitude", "0.1", "--seed", "1", "--events", "1"])
+    assert result.exit_code in (0, 1), result.output
+    lines = result.stderr.splitlines()
+    assert lines and lines[0].startswith("bifurcation: chain: event 1 of 1 still sliding after"), lines
+    assert "N·ν = 2" in lines[0] and "--nu" in lines[0]
+
+
+def test_closed_pipe_ends_quietly():
+    """`bifurcation query ... | head -3`: the reader closes the pipe; status 141 (SIGPIPE's, as a Unix tool),
+    nothing on stderr (it was click's silent exit 1 before). The committed store's query prints more than a
+    pipe's buffer (64 KiB), so the close is seen."""
+    from pathlib import Path
+
+    store = Path(__file__).resolve().parents[1] / "results" / "critical-point.zarr"
+    proc = subprocess.Popen([sys.executable, "-m", "bifurcation", "query", "--store", str(store)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    for _ in range(3):
+        proc.stdout.readline()
+    proc.stdout.close()
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 141, (proc.returncode, err)
+    assert err == b"", err
