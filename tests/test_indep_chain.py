@@ -39,6 +39,7 @@ import pytest
 import bifurcation as bf
 
 import _indep_chain as ref
+from _indep_sample import sample
 
 CASES = [
     dict(law="piecewise-linear", n=5, ends="free", ell=1.7, nu=3e-3, nu_f=0.23, sigma=0.008, seed=11),
@@ -46,7 +47,8 @@ CASES = [
     dict(law="exponential", n=3, ends="free", ell=2.4, nu=7e-3, nu_f=0.27, sigma=0.25, seed=13),
     dict(law="piecewise-linear", n=4, ends="periodic", ell=1.2, nu=1.5e-3, nu_f=0.19, sigma=0.21, seed=14),
 ]
-# the compiled engine refuses σ_f > 0.01 on a law with switches (docs/chain.md, "Engines")
+# case 3 (σ_f = 0.21 on the piecewise-linear law) ran only on the exact engines when written: the compiled
+# engine then refused σ_f > 0.01 on a law with switches (lifted since; tests/test_chain_compiled.py)
 COMPILED = [0, 1, 2]
 FIELDS = ("t_start", "potency", "duration", "max_velocity")
 _REF = {}
@@ -72,8 +74,8 @@ def _rel(r, j, e, f):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("engine,i", [("quad", i) for i in range(len(CASES))] + [("exact", i) for i in range(len(CASES))]
-                         + [("compiled", i) for i in COMPILED])
+@pytest.mark.parametrize("engine,i", sample([("quad", i) for i in range(len(CASES))] + [("exact", i) for i in range(len(CASES))]
+                                            + [("compiled", i) for i in COMPILED], 4))
 def test_chain_against_mpmath(engine, i):
     cs = CASES[i]
     u0, cat = _reference(i)

@@ -27,6 +27,7 @@ from mpmath import mp, mpf
 from bifurcation.cli import cli
 
 import _indep_rate_state as ref
+from _indep_sample import sample
 
 
 def _hopf_sets():
@@ -71,7 +72,7 @@ def test_hopf_closed_form_fast():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", HOPF[1:])
+@pytest.mark.parametrize("case", sample(HOPF[1:], 4))
 def test_hopf_closed_form(case):
     kc = _hopf_case(*case)
     with mp.workdps(40):                      # the closed form checked by the second method
@@ -115,7 +116,7 @@ CYCLES = _cycle_sets()
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", CYCLES)
+@pytest.mark.parametrize("case", sample(CYCLES, 3))
 def test_limit_cycle_against_mpmath_shooting(case):
     law, a, b, dc, v, eta, mass, k = case
     args = ["rate-state", "--state-law", law, "--a", repr(a), "--b", repr(b), "--dc", repr(dc), "--v-lp", repr(v),

@@ -20,6 +20,7 @@ import pytest
 from bifurcation.models.rs_chain import rs_chain
 
 import _indep_rs_chain as ref
+from _indep_sample import sample
 
 CASES = [
     dict(n=2, law="aging", a=0.011, b=0.017, dc=0.013, k=0.21, ell=0.4, v_lp=0.8, mass=0.0, eta=2e-3, v_th=6.0,
@@ -35,7 +36,7 @@ FIELDS = ("t_start", "potency", "duration", "max_velocity")
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", CASES)
+@pytest.mark.parametrize("case", sample(CASES, 3))
 def test_rs_chain_against_mpmath(case):
     cat = ref.rs_chain_catalog(**case, events=5)
     kw = dict(case)
