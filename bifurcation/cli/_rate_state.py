@@ -197,10 +197,11 @@ def _cycle(spec, history, precision, as_json) -> None:
 
 
 class _Progress:
-    """One line on stderr at most every ``PERIOD`` seconds, none in a run's first ``PERIOD`` (quick runs stay
-    silent; a long transient or event-split search says what it is doing)."""
+    """One line on stderr at most every ``PERIOD`` seconds, none in a run's first ``PERIOD`` (quick runs, and
+    a status reached quickly, stay one line; a long transient or event-split search — up to ~1 min, e.g. slip
+    law, M = 10, k = 0.1 — says what it is doing)."""
 
-    PERIOD = 2.0
+    PERIOD = 10.0
 
     def __init__(self, what: str) -> None:
         import time
