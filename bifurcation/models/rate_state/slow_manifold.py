@@ -95,6 +95,10 @@ PIECE = 1000
 TURN_FACTOR = 50
 #: ... and at least this many.
 TURN_FLOOR = 20_000
+#: Turns of the transient search (all within one ``max_steps``). Far below k_c with mass the perturbation
+#: grows by only 2π Re λ/|λ| per turn (aging, a 0.01, b 0.015, Dc 0.01, k 0.5, M 1: ~200 turns to the
+#: cycle, measured; M = 10: ~300): turns are cheap (~100 steps) until the cycle is deep.
+MAX_TURNS = 2000
 
 _CACHE: dict = {}
 
@@ -422,7 +426,7 @@ def _turn(spec, v_lp, phase, w, period_guess, ledger=None, **kw):
     return r.state[1:], r.t, r
 
 
-def deep_cycle(spec, v_lp: float, period0: float, *, max_turns: int = 200, max_steps: int = 5_000_000,
+def deep_cycle(spec, v_lp: float, period0: float, *, max_turns: int = MAX_TURNS, max_steps: int = 5_000_000,
                progress=None):
     """The attracting cycle of an inertial ``spec`` by the event-split integrator (module docstring):
     a ``cycle.CycleResult``, with status "limit-cycle" only where the split vouches for it. Started
@@ -435,7 +439,7 @@ def deep_cycle(spec, v_lp: float, period0: float, *, max_turns: int = 200, max_s
     return deep_cycle_point(spec, v_lp, period0, max_turns=max_turns, max_steps=max_steps, progress=progress)[0]
 
 
-def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = 200, max_steps: int = 5_000_000,
+def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = MAX_TURNS, max_steps: int = 5_000_000,
                      progress=None):
     """(``CycleResult``, section phase, section point w = (ln θ_i…[, z])) of ``deep_cycle``; w is None
     where there is no cycle."""
