@@ -151,6 +151,12 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float, pro
                 # overflow a double — not a blow-up
                 return Fate("unresolved", f"the integrator could not follow the slip spike (Taylor "
                             f"coefficients overflow at slip rates ~ e^x/Dc > 1e15): {where}", steps=steps)
+            if spec.inertial and outcome != hy.taylor_outcome.time_limit and x < x_star:
+                # stopped by the Taylor-coefficient guard with V small (an extremum of that last step may read
+                # as huge): the fast mode a/(M V) of a deep stick phase (aging, a 0.01, b 0.015, Dc 0.01, k 0.5,
+                # M 10: at ln V/V_lp = −39.2), not a blow-up
+                return Fate("unresolved", f"the Taylor coefficients of ln V overflow at small V (the fast mode "
+                            f"a/(M V) of a deep stick phase): {where}", steps=steps)
             return Fate("unbounded", f"V grows without bound: {where}", steps=steps)
         if outcome == hy.taylor_outcome.err_nf_state:
             if last_x[0] - x_star > 20 and not spec.damped:   # the step from V > 5e8 V_lp overflowed: V blows up in finite time

@@ -465,7 +465,7 @@ def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = MAX_
             return _none("not-resolved", f"ln V/V_lp passed {BLOWUP:g} (the event-split integrator vouches "
                                "for bounded cycles only)", steps=steps)
         if r.status != "section":
-            return _none("not-resolved", f"event-split integrator: {r.status} {r.message}".strip(), steps=steps)
+            return _none("not-resolved", r.message or f"status {r.status}", steps=steps)
         phase, u = r.phase, r.state.copy()
         w = u[1:]
         if last is not None and last[0] == phase:
