@@ -95,6 +95,9 @@ PIECE = 1000
 TURN_FACTOR = 50
 #: ... and at least this many.
 TURN_FLOOR = 20_000
+#: Stalls of the approach phase a run recovers from by going on in the plain inertial phase (each costs
+#: ``PIECE`` steps; beyond this the run ends "stalled").
+RESCUES = 10
 #: Turns of the transient search (all within one ``max_steps``). Far below k_c with mass the perturbation
 #: grows by only 2π Re λ/|λ| per turn (aging, a 0.01, b 0.015, Dc 0.01, k 0.5, M 1: ~200 turns to the
 #: cycle, measured; M = 10: ~300): turns are cheap (~100 steps) until the cycle is deep.
@@ -312,7 +315,7 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
     u = np.array(state, dtype=float)
     rec = pair.extrema
     rec.out = out.extrema
-    fresh = True
+    fresh, rescues = True, 0
     while True:
         ta = {"inertial": pair.inertial, "approach": pair.approach, "reduced": pair.reduced}[phase]
         fast = phase != "reduced"   # fast time s, the physical time a state variable (the clock)
@@ -342,6 +345,13 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
         t = math.fsum([*done, local])
         u = np.array(ta.state[:-1] if fast else ta.state, dtype=float)
         fresh = False
+        if outcome == "stalled" and phase == "approach" and rescues < RESCUES:
+            # the approach only watches for the switch down: go on with the plain inertial equations (the
+            # same ones, without its events) and give up on switching during this descent
+            rescues += 1
+            done.append(local)
+            fresh, phase = True, "inertial"
+            continue
         ev = -int(outcome) - 1 if outcome != "stalled" else -1   # a terminal event i stops with outcome −(i + 1)
         if outcome != "stalled" and (outcome == hy.taylor_outcome.time_limit
                                      or (fast and ev == {"inertial": 2, "approach": 8}[phase])):
