@@ -250,7 +250,7 @@ def _cycle(spec, history, precision, as_json) -> None:
 
     # a run that blows up (a status here) makes heyoka log a warning about the non-finite step
     heyoka.set_logger_level_error()
-    c = limit_cycle(spec, history.velocities[0])
+    c = limit_cycle(spec, history.velocities[0], progress=_Progress("--cycle"))
     record = c.to_record()
     if as_json:
         echo_json(record)
@@ -262,6 +262,26 @@ def _cycle(spec, history, precision, as_json) -> None:
                 click.echo(f"{key:16s} {value:.17g}")
             else:
                 click.echo(f"{key:16s} {value}")
+
+
+class _Progress:
+    """One line on stderr at most every ``PERIOD`` seconds, none in a run's first ``PERIOD`` (quick runs, and
+    a status reached quickly, stay one line; a long transient or event-split search — up to ~1 min, e.g. slip
+    law, M = 10, k = 0.1 — says what it is doing)."""
+
+    PERIOD = 10.0
+
+    def __init__(self, what: str) -> None:
+        import time
+
+        self.what, self.clock = what, time.monotonic
+        self.next = self.clock() + self.PERIOD
+
+    def __call__(self, text: str) -> None:
+        now = self.clock()
+        if now >= self.next:
+            self.next = now + self.PERIOD
+            click.echo(f"bifurcation: {self.what}: {text}", err=True)
 
 
 @click.command("continue", epilog=examples(

@@ -19,6 +19,12 @@ stretch of ``CHUNK_PERIODS`` linear periods 2π/ω_c:
   quasi-static slider below k_c: V → ∞ in finite time, the step size falls below the resolution of t);
 - **not resolved** when the step or time budget ends first (``max_steps`` per point; ``MAX_PERIODS``),
   the integrator stalls at small V, or Newton does not converge: no number is given.
+
+The time budget is ``MAX_PERIODS`` linear periods at the point's own k (``time_scale``), not only at
+the Hopf point: far below k_c with mass the oscillation is the block's inertial one, 2π√(M/k) (slip
+law, a = 0.01, b = 0.015, Dc = 0.01, k = 0.1, M = 1: 19.87 against 2π/ω_c = 0.089 at k_c = 5000.5),
+and the perturbation grows at Re λ ≈ 0.0025 there, so the transient to the cycle takes ~1800 time units
+— 20 000 Hopf periods but 95 periods at k.
 """
 
 from __future__ import annotations
@@ -29,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["BASIN_TOL", "BLOWUP", "CANDIDATE_TOL", "CHUNK_PERIODS", "Fate", "MAX_PERIODS", "MIN_AMPLITUDE", "PERTURBATION",
-           "STEADY_TOL", "fate"]
+           "STEADY_TOL", "fate", "time_scale"]
 
 #: ln V − ln V_lp at the start (θ_i at steady state at V_lp; no net force).
 PERTURBATION = 1e-2
@@ -46,6 +52,12 @@ BLOWUP = 80.0
 #: Integration stretch between checks, and the time budget, in linear periods 2π/ω_c.
 CHUNK_PERIODS = 4.0
 MAX_PERIODS = 4000.0
+#: With mass, the explicit run gives up (not resolved: the event-split integrator takes over) once it spends
+#: more than this many steps per linear period at k over ``STIFF_PERIODS`` of them: the fast mode a/(M V) of a
+#: deep stick phase (aging, a 0.01, b 0.015, Dc 0.01, k 0.5, M 1: 370 000 steps per period of 8.9 at
+#: ln V = −23, measured; a cycle the explicit run follows takes ~1 000–2 000).
+STIFF_STEPS = 100_000
+STIFF_PERIODS = 2.0
 
 
 @dataclass(frozen=True)
@@ -63,8 +75,26 @@ class Fate:
     w: tuple = ()       # a cycle's section coordinates (ln θ_i[, z]) at x = ln V_lp, ẋ > 0
 
 
-def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> Fate:
-    """Integrate the perturbed steady slide of ``spec`` at load-point velocity ``v_lp`` (module docstring)."""
+def time_scale(spec, v_lp: float, period0: float) -> float:
+    """The run's unit of time: the larger of ``period0`` (2π/ω_c at the Hopf point) and 2π/|λ| of the
+    leading eigenvalue λ of steady sliding at the spec's own k (module docstring)."""
+    import mpmath as mp
+
+    from .hopf import jacobian
+
+    try:
+        with mp.workdps(20):
+            ev = mp.eig(jacobian(spec, spec.k, v_lp), left=False, right=False)
+        lam = complex(max(ev, key=lambda z: mp.re(z)))
+    except (ValueError, ZeroDivisionError, ArithmeticError):   # mpmath's eigen-solver did not converge
+        return period0
+    size = abs(lam)
+    return max(period0, 2 * math.pi / size) if size > 0 and math.isfinite(size) else period0
+
+
+def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float, progress=None) -> Fate:
+    """Integrate the perturbed steady slide of ``spec`` at load-point velocity ``v_lp`` (module docstring).
+    ``progress(text)``, if given, is called after each stretch (the caller decides what to show)."""
     import heyoka as hy
 
     from ._system import TAYLOR_BLOWUP, compiled, parameters
@@ -86,11 +116,15 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
     rec = c.recorder
     rec.reset(0.0)
     rec.x0 = float(start[0])
-    t_end = min(MAX_PERIODS * period0, t_max)
+    # (the checks stay every CHUNK_PERIODS Hopf periods: results that resolved within the old budget are
+    # unchanged to the bit; only runs that ran out of it go on)
+    unit = time_scale(spec, v_lp, period0)
+    t_end = min(MAX_PERIODS * unit, t_max)
     chunk = CHUNK_PERIODS * period0
     steps, last_dist, tried, seen = 0, math.inf, math.inf, 0
 
     last_x = [float(start[0])]   # ln V after the last successful step
+    marks = [(0.0, 0)]            # (time, steps) at the chunks' ends within the last STIFF_PERIODS units
 
     def below_blowup(integrator) -> bool:
         last_x[0] = float(integrator.state[0])
@@ -105,6 +139,8 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
         steps += res[3]
         x = float(ta.state[0])
         where = f"t = {float(ta.time):.6g} (ln V/V_lp = {x - x_star:.4g}) after {steps} Taylor steps"
+        if progress is not None:
+            progress(f"transient run: {where} (budget t = {t_end:.6g}, {max_steps} steps)")
         top = max([e[1] for e in rec.extrema[seen:]] + [x])
         seen = len(rec.extrema)
         if top - x_star > BLOWUP or (outcome != hy.taylor_outcome.time_limit and x - x_star > 10
@@ -115,6 +151,12 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
                 # overflow a double — not a blow-up
                 return Fate("unresolved", f"the integrator could not follow the slip spike (Taylor "
                             f"coefficients overflow at slip rates ~ e^x/Dc > 1e15): {where}", steps=steps)
+            if spec.inertial and outcome != hy.taylor_outcome.time_limit and x < x_star:
+                # stopped by the Taylor-coefficient guard with V small (an extremum of that last step may read
+                # as huge): the fast mode a/(M V) of a deep stick phase (aging, a 0.01, b 0.015, Dc 0.01, k 0.5,
+                # M 10: at ln V/V_lp = −39.2), not a blow-up
+                return Fate("unresolved", f"the Taylor coefficients of ln V overflow at small V (the fast mode "
+                            f"a/(M V) of a deep stick phase): {where}", steps=steps)
             return Fate("unbounded", f"V grows without bound: {where}", steps=steps)
         if outcome == hy.taylor_outcome.err_nf_state:
             if last_x[0] - x_star > 20 and not spec.damped:   # the step from V > 5e8 V_lp overflowed: V blows up in finite time
@@ -126,6 +168,16 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
             why = "step budget spent" if steps >= max_steps else "step size fell below the resolution of t"
             # with inertia the fast mode a/(M V) limits explicit steps at small V (docs/rate-state.md)
             return Fate("unresolved", f"{why} at {where}", steps=steps)
+        if spec.inertial:
+            now = float(ta.time)
+            marks.append((now, steps))
+            while len(marks) > 1 and marks[1][0] <= now - STIFF_PERIODS * unit:
+                marks.pop(0)
+            t0, s0 = marks[0]
+            if now - t0 >= STIFF_PERIODS * unit and steps - s0 > STIFF_STEPS * STIFF_PERIODS:
+                return Fate("unresolved", f"stiff: {steps - s0} Taylor steps in the last {now - t0:.4g} (linear "
+                            f"periods {unit:.4g}) at {where}; the fast mode a/(M V) of a deep stick phase",
+                            steps=steps)
         dist = float(np.max(np.abs(np.asarray(ta.state, dtype=float) - u_star) / scale))
         if dist < STEADY_TOL and dist < last_dist:
             return Fate("steady", steps=steps)
@@ -147,7 +199,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float) -> 
                 # the return map has its own compiled integrator (section=True): the run resumes here
         if float(ta.time) >= t_end:
             return Fate("unresolved", f"neither steady sliding nor a cycle within {float(ta.time):.6g} "
-                        f"({float(ta.time) / period0:.0f} linear periods); last distance to steady sliding "
+                        f"({float(ta.time) / unit:.0f} linear periods); last distance to steady sliding "
                         f"{dist:.3g}", steps=steps)
 
 

@@ -67,6 +67,7 @@ class ReturnMap:
         self.x0 = math.log(self.v_lp)
         self.last_failure = ""
         self.split = False   # set once the explicit run failed with mass: the event-split turn from then on
+        self._split_steps = 0   # steps of the last event-split turn (bounds the next: ``_split_turn``)
 
     def __call__(self, w, k, v_lp=None):
         if v_lp is not None:   # a branch in V_lp: the section x = ln V_lp moves with it
@@ -108,14 +109,19 @@ class ReturnMap:
         at tiny V), section phase inertial; sticky, so a Jacobian never mixes the two integrators."""
         from dataclasses import replace
 
-        from .slow_manifold import _turn
+        from .slow_manifold import TURN_FACTOR, TURN_FLOOR, _turn
 
+        # bounded like deep_cycle's Newton: after one turn, each at most TURN_FACTOR times the last one's steps
+        last = self._split_steps
+        budget = min(self.max_steps, max(TURN_FACTOR * last, TURN_FLOOR)) if last else self.max_steps
+        ledger = [0, ""]
         got = _turn(replace(self.spec, k=float(k)), self.v_lp, "inertial", np.array(w, dtype=float),
-                    self.t_max / 50, max_steps=self.max_steps)
+                    self.t_max / 50, ledger, max_steps=budget)
         if got is None:
-            self.last_failure += "; event-split integrator: no return to the section in its phase"
+            self.last_failure += f"; event-split integrator: no return to the section in its phase ({ledger[1]})"
             return None
         w1, period, run = got
+        self._split_steps = run.steps
         ext = np.array([e[1] for e in run.extrema] + [self.x0])
         return np.array(w1), float(period), float(ext.max()), float(ext.min())
 

@@ -55,8 +55,12 @@ class CycleResult:
 _STATUS = {"steady": "steady-sliding", "unbounded": "unbounded-growth", "unresolved": "not-resolved"}
 
 
-def limit_cycle(spec, v_lp: float, *, max_steps: int = 2_000_000) -> CycleResult:
-    """The attracting cycle of ``spec`` (a ``SliderSpec``) at constant load-point velocity ``v_lp``."""
+def limit_cycle(spec, v_lp: float, *, max_steps: int = 2_000_000, progress=None) -> CycleResult:
+    """The attracting cycle of ``spec`` (a ``SliderSpec``) at constant load-point velocity ``v_lp``.
+
+    Bounded: the transient run by ``max_steps`` Taylor steps and ``attractor.MAX_PERIODS`` linear periods
+    (``attractor.time_scale``), the event-split search by ``max_steps`` more (``slow_manifold.deep_cycle``).
+    ``progress(text)``, if given, is called along the way (the CLI throttles it onto stderr)."""
     from ...errors import InputError
     from .attractor import fate
     from .hopf import hopf_point
@@ -68,13 +72,13 @@ def limit_cycle(spec, v_lp: float, *, max_steps: int = 2_000_000) -> CycleResult
         # stable at every k: a perturbation decays, there is no cycle born at a Hopf point
         return CycleResult("no-hopf-point", f"no limit cycle: {exc.problem}")
     period0 = 2 * math.pi / h.omega_c
-    f = fate(spec, v_lp, period0, max_steps=max_steps, t_max=math.inf)
+    f = fate(spec, v_lp, period0, max_steps=max_steps, t_max=math.inf, progress=progress)
     if f.kind == "unresolved" and spec.inertial:
         # with mass the explicit integrator stalls in a deep stick phase (fast mode a'/(M V)): the
         # event-split integrator (slow_manifold.py) takes over; where it cannot vouch either, say both
         from .slow_manifold import deep_cycle
 
-        deep = deep_cycle(spec, v_lp, period0, max_steps=max_steps)
+        deep = deep_cycle(spec, v_lp, period0, max_steps=max_steps, progress=progress)
         if deep.status == "limit-cycle":
             return deep
         return CycleResult("not-resolved", f"no limit cycle at k/k_c = {spec.k / h.k_c:.6g}: no cycle could be "

@@ -85,6 +85,24 @@ TRANSIENT = 1e-16
 #: floor ~ 1e-16·|x|/a' far above ``TRANSIENT``; measured 7e-14 at ln V = −55.6, a = 0.01).
 PROJECT = 1e-8
 
+#: Steps per ``propagate_until`` call of ``run_hybrid``. A piece that leaves the integrator's time where it
+#: was is a stall: measured on the slip law (a 0.01, b 0.015, Dc 0.01, k 0.1, M 1) in the approach phase
+#: with the switch at 1e-5, the manifold's ε sitting at −1.00001e-5 while the transient w = 0.8: steps of
+#: 3.7e-14 at s = 8e5 (below its ulp), 560 µs each, for ever (5e6 steps, > 5 min, before this bound).
+PIECE = 1000
+#: After the transient, each turn of Newton and of the error estimates may take this many times the steps
+#: of the turn that found the candidate (the deeper switch's turn costs up to ~10× more inertial steps).
+TURN_FACTOR = 50
+#: ... and at least this many.
+TURN_FLOOR = 20_000
+#: Stalls of the approach phase a run recovers from by going on in the plain inertial phase (each costs
+#: ``PIECE`` steps; beyond this the run ends "stalled").
+RESCUES = 10
+#: Turns of the transient search (all within one ``max_steps``). Far below k_c with mass the perturbation
+#: grows by only 2π Re λ/|λ| per turn (aging, a 0.01, b 0.015, Dc 0.01, k 0.5, M 1: ~200 turns to the
+#: cycle, measured; M = 10: ~300): turns are cheap (~100 steps) until the cycle is deep.
+MAX_TURNS = 2000
+
 _CACHE: dict = {}
 
 
@@ -271,7 +289,7 @@ def _transient(tail, u, p, n):
 class HybridRun:
     """One hybrid run: section crossings, velocity extrema, switches, and why it stopped."""
 
-    status: str                                  # "ok", "section", "step-budget", "failed"
+    status: str                                  # "ok", "section", "step-budget", "stalled", "failed"
     t: float = 0.0
     phase: str = "inertial"
     state: np.ndarray = field(default_factory=lambda: np.zeros(0))   # (x, y…[, z]) at the end
@@ -297,7 +315,7 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
     u = np.array(state, dtype=float)
     rec = pair.extrema
     rec.out = out.extrema
-    fresh = True
+    fresh, rescues = True, 0
     while True:
         ta = {"inertial": pair.inertial, "approach": pair.approach, "reduced": pair.reduced}[phase]
         fast = phase != "reduced"   # fast time s, the physical time a state variable (the clock)
@@ -308,20 +326,35 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
             ta.pars[:] = pars[:len(ta.pars)]
             ta.reset_cooldowns()
             rec.base = math.fsum(done)
-        if fast:   # bounded by the clock's terminal event and the step budget, not by s
-            res = ta.propagate_until(1e300, max_steps=max(max_steps - out.steps, 1))
-        else:
-            res = ta.propagate_until(t_end - rec.base, max_steps=max(max_steps - out.steps, 1))
-        outcome, steps = res[0], res[3]
-        out.steps += steps
-        if fast:
-            out.inertial_steps += steps
+        # bounded by the clock's terminal event (fast phases) or t_end, and the step budget, taken in pieces
+        # of PIECE steps: a piece that does not move the integrator's time is a stall (below)
+        limit = 1e300 if fast else t_end - rec.base
+        while True:
+            before = float(ta.time)
+            res = ta.propagate_until(limit, max_steps=max(min(PIECE, max_steps - out.steps), 1))
+            outcome, steps = res[0], res[3]
+            out.steps += steps
+            if fast:
+                out.inertial_steps += steps
+            if outcome != hy.taylor_outcome.step_limit or out.steps >= max_steps:
+                break
+            if not abs(float(ta.time) - before) > 1e-12 * abs(before):
+                outcome = "stalled"
+                break
         local = float(ta.state[-1]) if fast else float(ta.time)
         t = math.fsum([*done, local])
         u = np.array(ta.state[:-1] if fast else ta.state, dtype=float)
         fresh = False
-        ev = -int(outcome) - 1     # a terminal event i stops with outcome −(i + 1)
-        if outcome == hy.taylor_outcome.time_limit or (fast and ev == {"inertial": 2, "approach": 8}[phase]):
+        if outcome == "stalled" and phase == "approach" and rescues < RESCUES:
+            # the approach only watches for the switch down: go on with the plain inertial equations (the
+            # same ones, without its events) and give up on switching during this descent
+            rescues += 1
+            done.append(local)
+            fresh, phase = True, "inertial"
+            continue
+        ev = -int(outcome) - 1 if outcome != "stalled" else -1   # a terminal event i stops with outcome −(i + 1)
+        if outcome != "stalled" and (outcome == hy.taylor_outcome.time_limit
+                                     or (fast and ev == {"inertial": 2, "approach": 8}[phase])):
             out.status, out.t, out.phase, out.state = "ok", t, phase, u
             return out
         if 0 <= ev < 16:
@@ -359,9 +392,12 @@ def run_hybrid(spec, v_lp: float, phase: str, state, t_end: float, *, stop_at_se
                 out.switches.append((t, "up", x, 0.0, tail))
                 phase, u = "inertial", np.concatenate([u, [spec.mass * math.exp(x) * f]])
             continue
-        out.status, out.t, out.phase, out.state = ("step-budget" if out.steps >= max_steps else "failed"), t, phase, u
+        status = "stalled" if outcome == "stalled" else "step-budget" if out.steps >= max_steps else "failed"
+        out.status, out.t, out.phase, out.state = status, t, phase, u
         why = {hy.taylor_outcome.err_nf_state: "non-finite state (a step overflowed: e^±ln V out of range)",
-               hy.taylor_outcome.step_limit: "step budget spent"}.get(outcome, str(outcome))
+               hy.taylor_outcome.step_limit: "step budget spent",
+               "stalled": f"the integrator stalled ({PIECE} steps did not move its time: an event re-firing at one point)"
+               }.get(outcome, str(outcome))
         last_x = float(out.extrema[-1][1]) if out.extrema else float("nan")
         out.message = f"{why} at t = {t:.6g} in the {phase} phase (last ln V extremum {last_x:.4g})"
         return out
@@ -380,28 +416,41 @@ def _tail(pair, xy, pars):
 TRUST_TAIL = 1e-13
 
 
-def _turn(spec, v_lp, phase, w, period_guess, **kw):
-    """One turn of the return map from the section point (phase, w): (w', period, run) or None."""
+def _turn(spec, v_lp, phase, w, period_guess, ledger=None, **kw):
+    """One turn of the return map from the section point (phase, w): (w', period, run) or None.
+    ``ledger`` ([steps, why]), if given, gets the steps added and the reason of a failure."""
     x_lp = math.log(v_lp)
     start = np.concatenate([[x_lp], w])
     t_max = 50 * period_guess
     r = run_hybrid(spec, v_lp, phase, start, t_max, stop_at_sections=1, **kw)
+    if ledger is not None:
+        ledger[0] += r.steps
     if r.status == "section" and r.t < 1e-9 * period_guess:   # the start itself, seen as a crossing
         r = run_hybrid(spec, v_lp, phase, start, t_max, stop_at_sections=2, **kw)
+        if ledger is not None:
+            ledger[0] += r.steps
     if r.status != "section" or r.phase != phase:
+        if ledger is not None:
+            ledger[1:] = [r.message or f"status {r.status}"]
         return None
     return r.state[1:], r.t, r
 
 
-def deep_cycle(spec, v_lp: float, period0: float, *, max_turns: int = 200, max_steps: int = 5_000_000):
+def deep_cycle(spec, v_lp: float, period0: float, *, max_turns: int = MAX_TURNS, max_steps: int = 5_000_000,
+               progress=None):
     """The attracting cycle of an inertial ``spec`` by the event-split integrator (module docstring):
     a ``cycle.CycleResult``, with status "limit-cycle" only where the split vouches for it. Started
     from steady sliding with ln V raised by ``attractor.PERTURBATION``; ``period0`` (the linear period
-    2π/ω_c) bounds each turn (10⁴ of them) and scales the start-on-section test."""
-    return deep_cycle_point(spec, v_lp, period0, max_turns=max_turns, max_steps=max_steps)[0]
+    2π/ω_c) bounds each turn (10⁴ of them) and scales the start-on-section test.
+
+    Bounded: ``max_steps`` Taylor steps in all (transient, Newton and error turns), each turn after the
+    transient at most ``TURN_FACTOR`` times the candidate turn's steps (≥ ``TURN_FLOOR``), and a stalled
+    integrator stops its turn (``PIECE``). ``progress(text)``, if given, is called once per turn."""
+    return deep_cycle_point(spec, v_lp, period0, max_turns=max_turns, max_steps=max_steps, progress=progress)[0]
 
 
-def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = 200, max_steps: int = 5_000_000):
+def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = MAX_TURNS, max_steps: int = 5_000_000,
+                     progress=None):
     """(``CycleResult``, section phase, section point w = (ln θ_i…[, z])) of ``deep_cycle``; w is None
     where there is no cycle."""
     from .attractor import BLOWUP, CANDIDATE_TOL, MIN_AMPLITUDE, PERTURBATION
@@ -418,12 +467,15 @@ def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = 200,
         if r.status == "section" and r.t < 1e-9 * period0:   # the start itself, on the section
             r = run_hybrid(spec, v_lp, phase, u, 1e4 * period0, stop_at_sections=2, max_steps=budget)
         steps += r.steps
+        if progress is not None:
+            progress(f"event-split transient: turn {turn + 1}, {r.status} at t = {r.t:.6g} in the {r.phase} "
+                     f"phase, {steps} of {max_steps} steps")
         top = max([e[1] for e in r.extrema] + [float(r.state[0])])
         if top - x_lp > BLOWUP:
             return _none("not-resolved", f"ln V/V_lp passed {BLOWUP:g} (the event-split integrator vouches "
                                "for bounded cycles only)", steps=steps)
         if r.status != "section":
-            return _none("not-resolved", f"event-split integrator: {r.status} {r.message}".strip(), steps=steps)
+            return _none("not-resolved", r.message or f"status {r.status}", steps=steps)
         phase, u = r.phase, r.state.copy()
         w = u[1:]
         if last is not None and last[0] == phase:
@@ -439,9 +491,22 @@ def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = 200,
     if phase == "inertial":
         scale[-1] = max(abs(w[-1]), 1e-300)
     period = r.t
+    # each later turn: a multiple of what the candidate's turn took, and what is left of the whole budget
+    # (``steps`` stays the transient's, as the result reports it; the ledger counts them all)
+    per_turn = max(TURN_FACTOR * r.steps, TURN_FLOOR)
+    ledger = [steps, ""]
+
+    def budget():
+        left = max_steps - ledger[0]
+        if left <= 0:
+            ledger[1:] = [f"step budget of {max_steps} spent"]
+            raise _Lost
+        return min(per_turn, left)
 
     def G(v):
-        got = _turn(spec, v_lp, phase, v, period, max_steps=max_steps)
+        got = _turn(spec, v_lp, phase, v, period, ledger, max_steps=budget())
+        if progress is not None:
+            progress(f"event-split Newton: {ledger[0]} of {max_steps} steps")
         if got is None:
             raise _Lost
         return got[0] - v, got
@@ -462,12 +527,15 @@ def deep_cycle_point(spec, v_lp: float, period0: float, *, max_turns: int = 200,
         mult = float(np.max(np.abs(np.linalg.eigvals(J + np.eye(w.size)))))
         # error estimates: a second turn (independent rounding), and the method's own bias: one turn with
         # the switch 10× deeper and one more order of the series
-        second = _turn(spec, v_lp, phase, w1, period, max_steps=max_steps)
-        deeper = _turn(spec, v_lp, phase, w, period, switch=SWITCH / 10, order=ORDER + 1, max_steps=max_steps)
+        second = _turn(spec, v_lp, phase, w1, period, ledger, max_steps=budget())
+        deeper = _turn(spec, v_lp, phase, w, period, ledger, switch=SWITCH / 10, order=ORDER + 1,
+                       max_steps=budget()) if second is not None else None
     except (_Lost, np.linalg.LinAlgError):
-        return _none("not-resolved", "the event-split return map lost the cycle during Newton", steps=steps)
+        why = f" ({ledger[1]})" if ledger[1] else ""
+        return _none("not-resolved", f"the event-split return map lost the cycle during Newton{why}", steps=steps)
     if second is None or deeper is None:
-        return _none("not-resolved", "the cycle could not be re-run for its error estimate", steps=steps)
+        return _none("not-resolved", f"the cycle could not be re-run for its error estimate ({ledger[1]})",
+                     steps=steps)
 
     def extremes(rr):
         xs = [x_lp] + [e[1] for e in rr.extrema]
