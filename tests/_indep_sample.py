@@ -1,9 +1,9 @@
 """Which of the independent-reference cases (tests/test_indep_*.py) the suite runs.
 
-Each reference is computed at test time in mpmath (40–50 digits), 1–2 CPU minutes per case: the whole
-set (≈ 70 cases) would make README's test command take over an hour on 2 cores. By default the slow
-suite runs a spread sample (the first case of each list and every ``step``-th one after it); set
-``BIFURCATION_INDEP=all`` to run every case:
+Each reference is computed at test time in mpmath (40–50 digits), up to ~40 s per case: the sample the
+slow suite runs (23 cases: the first case of each list and every ``step``-th one after it) took 248 s on
+the 2-core development machine; the whole set (73) would add roughly three times that to README's test
+command. Set ``BIFURCATION_INDEP=all`` to run every case:
 
     BIFURCATION_INDEP=all python -m pytest -m slow tests/test_indep_*.py
 """
