@@ -143,7 +143,9 @@ def test_an_option_given_twice_is_refused_in_one_line():
     assert "--nu" in {p.opts[0] for p in cli.commands["query"].params if getattr(p, "multiple", False)}
 
 
-def test_ctrl_c_exits_130_and_says_how_to_resume(monkeypatch):
+def test_ctrl_c_exits_130_and_says_what_was_kept(monkeypatch):
+    """Ctrl-C: exit 130 and one line for the command at hand. `slip` writes nothing, so it says so (a
+    submit's "submit the same workflow again to resume" is tests/test_interrupt_messages.py's)."""
     from click.testing import CliRunner
 
     import bifurcation.engine
@@ -155,7 +157,8 @@ def test_ctrl_c_exits_130_and_says_how_to_resume(monkeypatch):
     monkeypatch.setattr(bifurcation.engine, "slip", interrupted)
     result = CliRunner().invoke(cli, ["slip", "--law", "carlson-langer", "--nu", "1e-9", "--nu-f", "0.4"])
     assert result.exit_code == 130
-    assert "submit the same workflow again to resume" in result.output
+    assert "interrupted. Nothing of this run was written." in result.output
+    assert "submit the same workflow again" not in result.output
 
 
 def test_text_output_prints_shortest_exact_numbers_and_no_none():

@@ -41,7 +41,7 @@ def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f,
     ``vth`` is V_th/ν. Returns (events done, outcome code)."""
     n, periodic = g.s.size, par[4] != 0.0
     nu, l2, t_max = fr[0], par[0], par[5]
-    acc = np.zeros(3)
+    acc = scal[3:6]      # [steps, Σ err, vmax] in the scalars: the engine compiles without numba's allocator (_nrt=False)
     nsub = 0
     sub_id = stamp[n]           # the last event's id (stamps of its member blocks)
     while nsub < k:
