@@ -99,3 +99,18 @@ def test_bad_arguments_are_named(kw, needle):
 def test_too_few_values_are_refused():
     with pytest.raises(bf.InputError, match="sizes"):
         clauset_fit([1.0, 2.0, 0.0, 3.0])
+
+
+def test_p_upper_clopper_pearson_closed_forms():
+    """The bound has closed forms at the ends: k = 0 gives 1 − 0.05^(1/B) (P(X = 0) = (1 − q)^B = 0.05),
+    k = B − 1 gives 0.95^(1/B) (P(X ≤ B − 1) = 1 − q^B = 0.05); the bisection runs 60 halvings (2^-60)."""
+    from bifurcation.models.chain.clauset import p_reading, p_upper
+
+    for b in (10, 100, 2500):
+        assert abs(p_upper(0.0, b) - (1 - 0.05 ** (1 / b))) < 1e-12
+        assert abs(p_upper((b - 1) / b, b) - 0.95 ** (1 / b)) < 1e-12
+    # 0 of 10 cannot rule a power law out at p ≤ 0.1 (bound 0.26); 0 of 100 can (0.030); 8 of 100 cannot
+    assert p_reading(0.0, 10) == "undecided"
+    assert p_reading(0.0, 100) == "ruled out"
+    assert p_reading(0.08, 100) == "undecided"
+    assert p_reading(0.5, 10) == "plausible"

@@ -42,8 +42,9 @@ def test_the_verdict_table_has_one_row_per_claim_and_prints_its_rules():
     rows = [" | ".join(r) for r in table.rows]
     # unread papers and models not run are "not tested", whatever the numbers beside them
     assert "**not tested**" in rows[2] and "**not tested**" in rows[3] and "**not tested** on its model" in rows[4]
-    # CL: p = 0 rules the power law out; 6 ≥ N/2 events, 6× the prediction: an excess by the printed rule
-    assert "power law ruled out" in rows[1] and "**excess**" in rows[1] and "not a test of the paper" in rows[1]
+    # CL: p = 0 of 10 bootstrap samples bounds p only by 0.26 (95 %): undecided, not ruled out (the rule's
+    # Clopper–Pearson bound); 6 ≥ N/2 events, 6× the prediction: an excess by the printed rule
+    assert "power law undecided" in rows[1] and "**excess**" in rows[1] and "not a test of the paper" in rows[1]
     # a tail of less than one decade above x_min is not read as a power law
     short = _run("carlson-langer-1991", 0.2, potency_range=[1e-3, 0.05])
     text = to_markdown(verdict_table({}, {"presets": [short]}, {}))

@@ -16,13 +16,15 @@ import time
 import numpy as np
 
 from ...report.document import Figure, Paragraph, Section, Table
+from .clauset import p_reading
 
 __all__ = ["PRESET_RULES", "preset_jobs", "preset_section", "verdict_table"]
 
 #: the rules of the verdict words, printed beside the table
 PRESET_RULES = (
-    "a power law is **ruled out** when the CSN bootstrap p ≤ 0.1 (resolution ±√(p(1 − p)/B), B the bootstrap "
-    "samples; p = 0 of B means p < 1/B); an alternative is **favoured** when its normalised likelihood ratio is "
+    "a power law is **ruled out** when the CSN bootstrap p ≤ 0.1 with its one-sided 95 % Clopper–Pearson upper "
+    "bound ≤ 0.1 (k of B bootstrap samples; 0 of 10 bounds p only by 0.26), **plausible** when p > 0.1, "
+    "**undecided** otherwise (resolution ±√(p(1 − p)/B)); an alternative is **favoured** when its normalised likelihood ratio is "
     "negative with p < 0.1; an **excess of large events** is ≥ 3× more events with n_blocks ≥ N/2 than the "
     "fitted power law predicts above their smallest potency (with ≥ 5 such events; undecided when x_min lies above "
     "that potency); a **characteristic peak**: ≥ 1 decade above the most populated 0.1-bin of m = log10 P, some "
@@ -154,7 +156,7 @@ def _fit_word(x) -> str:
         return "no fit"
     if _scaling_decades(x) < 1:
         return "no scaling range"
-    return "power law ruled out" if f["p"] <= 0.1 else "power law plausible"
+    return "power law " + p_reading(f["p"], f["bootstrap"])
 
 
 def _par(x) -> str:
@@ -188,8 +190,8 @@ def preset_section(data) -> list:
          "Clauset–Shalizi–Newman's through `powerlaw` (`clauset.clauset_fit`, x_min searched over "
          f"{data.get('presets_cfg', {}).get('resolution', 10)} data values per decade; "
          f"{data.get('presets_cfg', {}).get('bootstrap', 10)} bootstrap samples for p, chosen to fit the "
-         "CPU budget: each is an x_min search over ~10^6 events, so p is resolved to about ±0.1 and p = 0 means "
-         f"p < 0.1; moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
+         "CPU budget: each is an x_min search over ~10^6 events, so p is resolved to about ±0.1, and p = 0 of B "
+         f"samples bounds p only by 1 − 0.05^(1/B) at 95 % (0.26 for B = 10: not enough to rule a power law out); moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
          "resamples of blocks of ⌈n^(1/3)⌉ events). Where a preset's own number was changed, the row says why. "
          "Which numbers of each preset were read in a source: docs/chain.md \"Presets\" and presets.py. "
          "Event membership: all-stuck, so the chain presets are run here at a smaller ν than their own 0.01 (the "
@@ -236,7 +238,7 @@ def _pub_cell(x) -> str:
     lr = ", ".join(f"{k.replace('_', ' ')} R = {v[0]:+.1f} (p = {v[1]:.2g})" for k, v in f["ratios"].items())
     res = math.sqrt(max(f["p"] * (1 - f["p"]), 1 / f["bootstrap"]) / f["bootstrap"]) if f["bootstrap"] else math.nan
     dec = math.log10(f["largest"] / f["xmin"])
-    word = ("no scaling range" if dec < 1 else ("power law ruled out" if f["p"] <= 0.1 else "power law plausible"))
+    word = "no scaling range" if dec < 1 else "power law " + p_reading(f["p"], f["bootstrap"])
     slides = du["over_one_cycle"]
     ex = x["excess"]
     exw = ("excess undecided (x_min above the large events)" if ex["large"] and "expected" not in ex else

@@ -35,10 +35,40 @@ import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["ALTERNATIVES", "PowerLawFit", "clauset_fit"]
+__all__ = ["p_reading", "p_upper", "ALTERNATIVES", "PowerLawFit", "clauset_fit"]
 
 #: the alternatives of the likelihood-ratio tests (``powerlaw`` names)
 ALTERNATIVES = ("exponential", "lognormal", "truncated_power_law")
+
+
+def p_upper(p: float, bootstrap: int, confidence: float = 0.95) -> float:
+    """One-sided Clopper–Pearson upper bound on the bootstrap p-value: k = round(p·B) of B synthetic samples
+    were at least as far from their fit as the data. With k = 0 it is 1 − (1 − confidence)^(1/B): 0.26 for
+    B = 10, so "0 of 10" does not show p ≤ 0.1. Bisection on the regularised incomplete beta (mpmath)."""
+    import mpmath
+
+    b = int(bootstrap)
+    if b <= 0 or not math.isfinite(p):
+        return math.nan
+    k = int(round(p * b))
+    if k >= b:
+        return 1.0
+    lo, hi = 0.0, 1.0
+    for _ in range(60):     # P(X ≤ k | q) decreases in q: find q with P(X ≤ k) = 1 − confidence
+        q = 0.5 * (lo + hi)
+        tail = 1.0 - float(mpmath.betainc(k + 1, b - k, 0, q, regularized=True))   # P(X ≤ k), X ~ Bin(b, q)
+        lo, hi = (q, hi) if tail > 1.0 - confidence else (lo, q)
+    return hi
+
+
+def p_reading(p: float, bootstrap: int, p_min: float = 0.1) -> str:
+    """"ruled out" when even the 95 % upper bound on p is ≤ p_min; "plausible" when p > p_min; else
+    "undecided" (the bootstrap's B cannot tell p from p_min)."""
+    if not math.isfinite(p) or not bootstrap:
+        return "untested"
+    if p > p_min:
+        return "plausible"
+    return "ruled out" if p_upper(p, bootstrap) <= p_min else "undecided"
 
 
 @dataclass(frozen=True)
@@ -77,10 +107,14 @@ class PowerLawFit:
     def verdict(self, p_min: float = 0.1, lr_p: float = 0.1) -> str:
         """CSN's reading in words: rejected (p ≤ p_min), or plausible, and which alternative the
         likelihood ratios favour with significance (p < lr_p)."""
-        if not math.isfinite(self.p_value):
+        reading = p_reading(self.p_value, self.bootstrap, p_min)
+        if reading == "untested":
             head = "not tested (no bootstrap)"
-        elif self.p_value <= p_min:
-            head = f"power law ruled out (p = {self.p_value:.2f} ≤ {p_min})"
+        elif reading == "ruled out":
+            head = f"power law ruled out (p = {self.p_value:.2f}; ≤ {p_upper(self.p_value, self.bootstrap):.2g} at 95 %)"
+        elif reading == "undecided":
+            head = (f"power law undecided (p = {self.p_value:.2f} of {self.bootstrap} samples: ≤ "
+                    f"{p_upper(self.p_value, self.bootstrap):.2g} at 95 %, not shown ≤ {p_min})")
         else:
             head = f"power law plausible (p = {self.p_value:.2f})"
         better = [k for k, (r, p) in self.ratios.items() if r < 0 and p < lr_p]

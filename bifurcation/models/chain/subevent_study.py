@@ -116,7 +116,7 @@ def write_report(folder) -> Path:
              "of single events depend on the CPU; the statistics within their errors do not.", "",
              "Fits: Clauset–Shalizi–Newman through `powerlaw` (`clauset.clauset_fit`, x_min on a grid of 10 data "
              "values per decade). p from B parametric bootstrap samples (each with its own x_min search): "
-             "resolution ±√(p(1 − p)/B), p = 0 means p < 1/B; B = 100 resolves p to ±0.05 at p = 0.5 and decides "
+             "resolution ±√(p(1 − p)/B), p = 0 of B bounds p by 1 − 0.05^(1/B) at 95 % (0.030 for B = 100); B = 100 resolves p to ±0.05 at p = 0.5 and decides "
              "p ≤ 0.1 at 3σ only when p ≈ 0; Clauset's 2500 (±0.01) costs 25× the CPU of B = 100 over catalogs of "
              "this size and was not run. The error of α is a moving-block bootstrap (100 resamples of blocks of "
              "⌈n^(1/3)⌉ events, serial correlation); the goodness-of-fit bootstrap itself resamples independently. "
