@@ -38,14 +38,18 @@ def test_a_pure_power_law_is_recovered_and_not_rejected():
 
 
 @pytest.mark.slow   # ~8 CPU s
-def test_an_exponential_sample_is_ruled_out():
+def test_an_exponential_sample_fails_the_fit_and_the_exponential_is_favoured():
     rng = np.random.default_rng(3)
     x = rng.exponential(1.0, 1000) + 1.0
     f = clauset_fit(x, bootstrap=10, block_bootstrap=0, seed=2, alternatives=("exponential",))
     assert f.p_value <= 0.1
     r, p = f.ratios["exponential"]
     assert r < 0                       # the exponential is the better description
-    assert "ruled out" in f.verdict() and math.isnan(f.alpha_block_err)
+    assert "favoured: exponential" in f.verdict() and math.isnan(f.alpha_block_err)
+    # 1 of 10 bootstrap samples bounds p only by 0.39 (95 %, Clopper–Pearson): the verdict may not say
+    # "ruled out" on 10 samples (60 samples give p = 0.05, bound 0.12: still undecided; 3000 values with
+    # 60 samples give p = 0, bound 0.049: ruled out; 35 and 116 CPU s, measured, too slow for the suite)
+    assert "power law undecided" in f.verdict()
 
 
 def test_serial_correlation_widens_the_error_as_it_should():
