@@ -474,25 +474,8 @@ def _inside(i, win, tau, h, l2, nu, nu_fs, law, pc, dip):
 
 @_jit
 def _vmax_in(i, win, lim):
-    """Largest v of slot i on the dense output over θ ∈ [0, lim] (golden section)."""
-    g = 0.6180339887498949
-    a, b = 0.0, lim
-    c = b - g * (b - a)
-    d = a + g * (b - a)
-    fc = _dense(win.fv, win.v, i, c)
-    fd = _dense(win.fv, win.v, i, d)
-    for _ in range(80):
-        if b - a < 1e-12:
-            break
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = _dense(win.fv, win.v, i, c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = _dense(win.fv, win.v, i, d)
-    return max(fc, fd)
+    """Largest v of slot i on the dense output over θ ∈ [0, lim] (``_vmax_at``'s value)."""
+    return _vmax_at(i, win, lim)[0]
 
 
 @_jit
