@@ -1090,6 +1090,69 @@ def _lone_segment(m, win, lone, l2, tau_far, t_left, acc):
             win.lt[i] = th
     return code, slot, tau
 
+# -- an event's opening, failures, far block and close: shared by run_events and _subevents.run_subevents
+@_inline
+def _event_open(g, scal, n, nu):
+    """A new event: its id, the load folded into s when |L| > 1 (O(N), once per loading cycle), the
+    hypocentre (the most stressed block), its s and the event's start time. Returns (hyp, base, t_start)."""
+    g.evid[0] += 1
+    if abs(scal[1]) > 1.0:
+        for j in range(n):
+            g.s[j] += scal[1]
+            g.tv[j] = g.s[j]
+        tree_build(g.tv, g.ti, g.p)
+        scal[1] = 0.0
+    hyp = g.ti[1]
+    base = g.s[hyp]
+    jump = 1.0 - (base + scal[1])
+    return hyp, base, scal[0] + jump / nu
+
+
+@_inline
+def _start_failures(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu, again):
+    """Start the blocks of ``starts`` and every other block at σ ≥ 1 (simultaneous failures) until none is
+    left; ``again``: rebuild the window once even with no start. Returns (m, cnt, blocks new to the event)."""
+    new = 0
+    while ns > 0 or again:
+        again = False
+        cnt += 1
+        m, first = _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu)
+        new += first
+        ns = 0
+        for i in range(m):
+            if not win.slip[i] and win.sg[i] >= 1.0:
+                starts[ns] = win.blk[i]
+                ns += 1
+        top = g.ti[1]
+        if g.tv[top] > _NEG_INF and ((g.s[top] - base) + 1.0) + lam >= 1.0:
+            starts[ns] = top
+            ns += 1
+    return m, cnt, new
+
+
+@_inline
+def _far(g, base, lam, nu):
+    """The most stressed block outside the window and the time until it fails (inf: none outside)."""
+    top = g.ti[1]
+    tau_far = np.inf
+    if g.tv[top] > _NEG_INF:
+        tau_far = (1.0 - (((g.s[top] - base) + 1.0) + lam)) / nu
+    return top, tau_far
+
+
+@_inline
+def _event_close(m, win, g, scal, base, lam, t_end, h):
+    """Event over: every window block back to the tree (σ_j = s_j + L between events), the time and step."""
+    scal[1] = (1.0 - base) + lam
+    for i in range(m):
+        b = win.blk[i]
+        g.s[b] = win.sg[i] - scal[1]
+        tree_set(g.tv, g.ti, g.p, b, g.s[b])
+        g.slot[b] = -1
+    scal[0] = t_end
+    scal[2] = min(h, 1.0)
+
+
 @_jit
 def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
     """Up to k events. ``scal`` = [t, L, h]; out_f[:, e] = t_start, potency, duration, vmax (scaled),
@@ -1100,17 +1163,7 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
     nu, l2, t_max = fr[0], par[0], par[5]
     acc = scal[3:6]
     for e in range(k):
-        g.evid[0] += 1
-        if abs(scal[1]) > 1.0:       # fold the load into s (O(N), once per loading cycle)
-            for j in range(n):
-                g.s[j] += scal[1]
-                g.tv[j] = g.s[j]
-            tree_build(g.tv, g.ti, g.p)
-            scal[1] = 0.0
-        hyp = g.ti[1]
-        base = g.s[hyp]
-        jump = 1.0 - (base + scal[1])
-        t_start = scal[0] + jump / nu
+        hyp, base, t_start = _event_open(g, scal, n, nu)
         lam = 0.0
         dur = 0.0
         pot = 0.0
@@ -1126,25 +1179,11 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
         code = 0
         first_seg = par[6] != 0.0
         while True:
-            # start the blocks of ``starts`` and every other block at σ ≥ 1 (simultaneous failures)
-            while ns > 0:
-                cnt += 1
-                m, first = _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu)
-                nbl += first
-                ns = 0
-                for i in range(m):
-                    if not win.slip[i] and win.sg[i] >= 1.0:
-                        starts[ns] = win.blk[i]
-                        ns += 1
-                top = g.ti[1]
-                if g.tv[top] > _NEG_INF and ((g.s[top] - base) + 1.0) + lam >= 1.0:
-                    starts[ns] = top
-                    ns += 1
+            m, cnt, first = _start_failures(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu, False)
+            nbl += first
+            ns = 0
             widest = max(widest, m)
-            top = g.ti[1]
-            tau_far = np.inf
-            if g.tv[top] > _NEG_INF:
-                tau_far = (1.0 - (((g.s[top] - base) + 1.0) + lam)) / nu
+            top, tau_far = _far(g, base, lam, nu)
             code = -1
             if first_seg:
                 code, j, tau = _lone_segment(m, win, lone, l2, tau_far, t_max - dur, acc)
@@ -1167,15 +1206,7 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
         g.cnt[0] = cnt
         if code == 3 or code == 5:
             return e, code
-        # event over: every window block back to the tree; σ_j = s_j + L between events
-        scal[1] = (1.0 - base) + lam
-        for i in range(m):
-            b = win.blk[i]
-            g.s[b] = win.sg[i] - scal[1]
-            tree_set(g.tv, g.ti, g.p, b, g.s[b])
-            g.slot[b] = -1
-        scal[0] = t_start + dur
-        scal[2] = min(h, 1.0)
+        _event_close(m, win, g, scal, base, lam, t_start + dur, h)
         out_f[0, e] = t_start
         out_f[1, e] = pot
         out_f[2, e] = dur

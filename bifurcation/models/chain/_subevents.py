@@ -23,8 +23,8 @@ import math
 
 import numpy as np
 
-from ._compiled import (_NEG_INF, NO_STOP, NONFINITE, CompiledChain, _commit, _rebuild, _segment, _jit,
-                        tree_build, tree_set)
+from ._compiled import (NO_STOP, NONFINITE, CompiledChain, _commit, _event_close, _event_open, _far, _jit,
+                        _segment, _start_failures)
 
 __all__ = ["SubeventRun", "run_subevents"]
 
@@ -54,17 +54,7 @@ def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f,
             starts = win.starts
             acc[:] = 0.0
         else:
-            g.evid[0] += 1
-            if abs(scal[1]) > 1.0:
-                for j in range(n):
-                    g.s[j] += scal[1]
-                    g.tv[j] = g.s[j]
-                tree_build(g.tv, g.ti, g.p)
-                scal[1] = 0.0
-            hyp = g.ti[1]
-            base = g.s[hyp]
-            jump = 1.0 - (base + scal[1])
-            t_start = scal[0] + jump / nu
+            hyp, base, t_start = _event_open(g, scal, n, nu)
             if t_start >= t_stop:
                 return nsub, COMPLETE
             lam = 0.0
@@ -85,26 +75,13 @@ def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f,
             refresh = False
         code = 0
         while True:
-            while ns > 0 or refresh:
-                # (after a crossing, ``refresh`` with no starts: the segment constants d/ν from σ)
-                refresh = False
-                cnt += 1
-                m, _ = _rebuild(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu)
-                ns = 0
-                for i in range(m):
-                    if not win.slip[i] and win.sg[i] >= 1.0:
-                        starts[ns] = win.blk[i]
-                        ns += 1
-                top = g.ti[1]
-                if g.tv[top] > _NEG_INF and ((g.s[top] - base) + 1.0) + lam >= 1.0:
-                    starts[ns] = top
-                    ns += 1
+            # (after a crossing, ``refresh`` with no starts: the segment constants d/ν from σ)
+            m, cnt, _ = _start_failures(m, win, g, starts, ns, base, lam, n, periodic, cnt, nu, refresh)
+            ns = 0
+            refresh = False
             if m > tot[4]:
                 tot[4] = m
-            top = g.ti[1]
-            tau_far = np.inf
-            if g.tv[top] > _NEG_INF:
-                tau_far = (1.0 - (((g.s[top] - base) + 1.0) + lam)) / nu
+            top, tau_far = _far(g, base, lam, nu)
             for i in range(m):
                 win.lt[i] = -1.0
             code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc, vth, above)
@@ -177,14 +154,7 @@ def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f,
         if code == 3 or code == 5:
             return nsub, code
         tot[0] += 1.0
-        scal[1] = (1.0 - base) + lam
-        for i in range(m):
-            b = win.blk[i]
-            g.s[b] = win.sg[i] - scal[1]
-            tree_set(g.tv, g.ti, g.p, b, g.s[b])
-            g.slot[b] = -1
-        scal[0] = t_start + dur
-        scal[2] = min(h, 1.0)
+        _event_close(m, win, g, scal, base, lam, t_start + dur, h)
     return nsub, COMPLETE
 
 
