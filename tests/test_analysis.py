@@ -190,6 +190,7 @@ def test_claims_table_has_every_claim(grid, extrapolations, fits):
     verdicts = {c.key: c.verdict for c in claims}
     assert verdicts["cl_half_0.17"] == "refuted"
     assert verdicts["recurrence_time"] == "incomplete"
+    assert by_key_numbers(claims, "recurrence_time")["log_within_uncertainty"]
     assert verdicts["eq10"] == "confirmed (corrected form)"
     assert verdicts["eq15"] == "confirmed (corrected form)"
     for key in ("eq8", "eq9", "eq13", "eq16", "eq17", "eq18", "fig2", "transition"):
@@ -202,6 +203,26 @@ def test_claims_table_has_every_claim(grid, extrapolations, fits):
     # the grid has 4 ν_f at ν = 1e-9, too few for Fig. 2: that row says it computed its own
     assert "ν = 1e-09" in by_key["fig2"].fallback
     assert [c.key for c in claims if c.fallback] == ["fig2"]
+
+
+def by_key_numbers(claims, key):
+    return next(c.numbers for c in claims if c.key == key)
+
+
+def test_log_coefficient_check_says_within_only_inside_each_fits_uncertainty():
+    # the report's "α − ω within the fits' uncertainties (< bound relative)": the bound is the power of ten
+    # above twice the largest relative uncertainty (2 × 1.27e-5/0.5 = 5.1e-5 → 1e-4; the committed report's
+    # Carlson–Langer ν_f = 0.4 fit); a deviation beyond its own fit's uncertainty is not "within"
+    from types import SimpleNamespace as F
+
+    from bifurcation.analysis.claims import log_coefficient_check
+
+    fits = [F(log_coefficient=0.5 + 1.85e-6, log_coefficient_expected=0.5, log_coefficient_uncertainty=1.27e-5),
+            F(log_coefficient=0.2087 - 2e-7, log_coefficient_expected=0.2087, log_coefficient_uncertainty=4e-6)]
+    within, bound = log_coefficient_check(fits)
+    assert within and bound == pytest.approx(1e-4, rel=1e-12)
+    fits[1] = F(log_coefficient=0.2087 + 5e-6, log_coefficient_expected=0.2087, log_coefficient_uncertainty=4e-6)
+    assert log_coefficient_check(fits)[0] is False
 
 
 @pytest.mark.parametrize("module", ["bifurcation.analysis", "bifurcation.report"])

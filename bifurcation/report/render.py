@@ -277,10 +277,13 @@ def _findings(data: ReportData, ex_cl, ex_pl, errata) -> list[str]:
                    f"Δ(1e-15) = {_at(ex_cl, 1e-15):.4f}, "
                    f"and Δ(ν) comes down to {paper} only near ν ≈ {_fmt(ex_cl.nu_reaching_paper, '.0e')}.")
     if data.period_fits:
-        worst = max(abs(f.relative_deviation) for f in data.period_fits)
+        from ..analysis.claims import log_coefficient_check
+
+        within, bound = log_coefficient_check(data.period_fits)
+        agree = "within the fits' uncertainties" if within else "NOT within the fits' uncertainties"
         ks = min(f.K for f in data.period_fits), max(f.K for f in data.period_fits)
         out.append(f"T = Δ/ν + t1 is {verdict.get('recurrence_time', '?')}: the coefficient of ln(1/ν) in "
-                   f"T − Δ0/ν is α − ω (to {worst:.0e} relative, {len(data.period_fits)} fits), but a power "
+                   f"T − Δ0/ν is α − ω ({agree}, < {bound:.0e} relative, {len(data.period_fits)} fits), but a power "
                    f"K ν^−(α−ω)² (K = {ks[0]:.2f} … {ks[1]:.2f} > 0), absent from the paper, dominates it.")
     by_cause: dict = {}
     for e in errata:
