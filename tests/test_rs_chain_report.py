@@ -166,3 +166,22 @@ def test_a_short_catalog_is_not_fitted_and_says_why():
 
     s = size_fit(np.geomspace(0.01, 10.0, 40))
     assert s.fit is None and s.dropped == 4 and s.reason == f"36 events after the transient (< {MIN_FIT})"
+
+
+def test_a_tail_shorter_than_a_decade_gets_no_power_law_reading():
+    # results/rs-chain/REPORT.md's run: CSN's p = 0.53 on the largest 90 of 90000 potencies, x_min = 316.6,
+    # largest 1839.9: the tail spans log10(1839.9/316.6) = 0.76 decade (all of them 242-256-block events),
+    # too short for a scale-free reading whatever p says
+    from types import SimpleNamespace
+
+    from bifurcation.models.rs_chain.store_report import SizeFit, _fit_row
+
+    def fit(xmin):
+        return SimpleNamespace(verdict=lambda: "power law plausible (p = 0.53)", alpha=3.503, n_tail=90, xmin=xmin,
+                               alpha_error=0.263, alpha_err=0.264, b_potency=2.503, b_magnitude=3.755, ks=0.0632)
+
+    sizes = np.concatenate([np.full(89910, 10.0), np.linspace(316.6, 1839.9, 90)])
+    row = _fit_row("the run", SizeFit(10000, sizes, fit(316.6)))
+    assert row[8] == ("no power-law reading: the tail (90 of 90000 sizes) spans 0.76 decade (< 1); CSN's test: "
+                      "power law plausible (p = 0.53)")
+    assert _fit_row("the run", SizeFit(10000, sizes, fit(18.0)))[8] == "power law plausible (p = 0.53)"   # 2.0 decades

@@ -96,6 +96,12 @@ def _fit_row(label: str, s: SizeFit) -> list:
     verdict = f.verdict()
     if f.alpha >= 19.99:        # the top of clauset_fit's α range [1, 20]
         verdict = "α at the search bound 20: no power-law tail; " + verdict
+    # CSN's p tests the sizes above x_min only: a tail shorter than MIN_DECADES (e.g. the largest 0.1 %,
+    # all system-spanning) passes it without being a scale-free law, so no power-law reading is given
+    tail_span = math.log10(float(np.max(s.sizes)) / f.xmin) if f.xmin > 0 else math.nan
+    if not tail_span >= MIN_DECADES:
+        verdict = (f"no power-law reading: the tail ({f.n_tail} of {s.sizes.size} sizes) spans {tail_span:.2g} "
+                   f"decade (< {MIN_DECADES:g}); CSN's test: " + verdict)
     return [label, str(s.sizes.size), f"{f.n_tail}", f"{f.xmin:.4g}",
             f"{f.alpha:.3f} ± {f.alpha_error:.3f} (i.i.d. {f.alpha_err:.3f})",
             f"{f.b_potency:.3f}", f"{f.b_magnitude:.3f}", f"{f.ks:.4f}", verdict]
@@ -173,8 +179,9 @@ def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
             f"x_min searched over {FIT['resolution']} data values per decade; α's error from "
             f"{FIT['block_bootstrap']} moving-block resamples (the catalog's events are correlated; the i.i.d. "
             f"error (α − 1)/√n_tail beside it); b_P = α − 1 (N(≥ P) ∝ P^−b_P) and b_M = 1.5 b_P in moment "
-            f"magnitude; p from {FIT['bootstrap']} parametric-bootstrap samples (p ≤ 0.1 rules the power law "
-            f"out), the verdict with the likelihood ratios against the exponential, lognormal and truncated power "
+            f"magnitude; p from {FIT['bootstrap']} parametric-bootstrap samples (the power law is ruled out when "
+            f"the one-sided 95 % Clopper–Pearson bound on p is ≤ 0.1, undecided when p ≤ 0.1 without it), "
+            f"no power-law reading when the tail above x_min spans less than {MIN_DECADES:g} decade, the verdict with the likelihood ratios against the exponential, lognormal and truncated power "
             f"law (seed {FIT['seed']}). A run is fitted only with ≥ {MIN_FIT} sizes spanning ≥ {MIN_DECADES:g} decade."))
         body.append(Table(("run", "events kept", "n_tail", "x_min", "α ± error", "b_P", "b_M", "KS distance",
                            "verdict"), tuple(_fit_row(label, s) for label, s in fits)))
