@@ -61,3 +61,24 @@ def test_aging_spike_ends_where_the_slip_law_runs_away():
         assert outcome == "returns" and peak < (1.5 - k) / 0.01 * delta * 1e-4 / ((kappa - 1) * 0.005)
     lo, hi = critical_in_slip("slip", 1.1, 0.05, 5.0)
     assert hi - lo < 1e-3 * hi and abs(lo / 0.7606 - 1) < 2e-3
+
+
+def test_quasi_static_stall_below_k_c_is_read_as_a_blow_up_by_where_it_stopped():
+    # the study's quasi-static fate row (study._quasi_static_fates): PRZ at κ = 0.9 stalls after ~630 steps.
+    # Its largest *completed* maximum of ln V is ~2.3 (the report's old 'max ln V reached'), but the run
+    # stops on the next spike at ln V ≈ 22 (measured 22.26), where the step falls below the resolution of
+    # t: a blow-up by attractor.fate's rule (ln V > 10), which the report's verdict now requires
+    from bifurcation.models.rate_state.report import BLOWUP_LN_V, blew_up
+    from bifurcation.models.rate_state.simulate import rate_state
+
+    period = 2 * math.pi / (math.sqrt(0.5) * 100)
+    r = rate_state(a=0.01, b=0.015, dc=0.01, state_law="prz", k=0.9 * 0.5, v_lp=1.0, t=[0.0, 400 * period],
+                   v0=1.0, theta0=[2.0 * 0.01 * math.exp(0.01)])
+    assert r.status == "stalled"
+    assert max(r.extrema[:, 1]) < 3 < BLOWUP_LN_V < r.meta["ln_v_stop"]
+    assert f"at ln V = {r.meta['ln_v_stop']:.4g}" in r.message
+    row = {"status": r.status, "ln_v_stop": r.meta["ln_v_stop"]}
+    assert blew_up(row)
+    assert not blew_up({"status": "stalled", "ln_v_stop": -5.0})      # a stall at small V is not a blow-up
+    assert not blew_up({"status": "ok", "ln_v_stop": math.nan})
+    assert blew_up({"status": "unbounded", "ln_v_stop": 30.3})

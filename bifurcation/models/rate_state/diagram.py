@@ -169,7 +169,7 @@ def figure(path, results, bautin, curves, samples, fates, cascade=None) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .report import _stable
+    from .report import _stable, blew_up
 
     laws = ("aging", "slip", "prz")
     fig, axes = plt.subplots(2, 3, figsize=(15, 10.5))
@@ -195,7 +195,7 @@ def figure(path, results, bautin, curves, samples, fates, cascade=None) -> None:
                 ax.plot([s_.eta], [s_.kappa - 1], mark, mfc="none", mec="0.1", ms=7)
                 if s_.region == "bistable" and math.isfinite(s_.cycle_multiplier):
                     ax.plot([s_.eta], [s_.kappa - 1], "s", mfc="none", mec="0.1", ms=11)
-        if any(f["state_law"] == law and f["status"] != "ok" for f in fates):
+        if any(f["state_law"] == law and blew_up(f) for f in fates):
             ax.plot([0, 0], [-0.2, 0.0], color="C1", lw=6, solid_capstyle="butt",
                     label="η = 0 (quasi-static): V blows up below k_c")
         ax.set_xlim(0, eta_max)

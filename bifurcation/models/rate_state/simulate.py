@@ -37,7 +37,8 @@ class RateStateResult:
     finite time, e.g. quasi-static below k_c: the Taylor coefficients of ln V are about to overflow,
     ``_system.TAYLOR_BLOWUP``), ``stalled`` (the time step fell below the resolution of t first) or
     ``nonfinite``; on anything but
-    ``ok`` the series hold NaN from the first time the run could not reach.
+    ``ok`` the series hold NaN from the first time the run could not reach; ``meta["ln_v_stop"]`` is ln V
+    where such a run stopped.
     """
 
     spec: SliderSpec
@@ -170,6 +171,7 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
 
     out = np.full((times.size, ta.state.size), np.nan, dtype=dtype)
     status, message, steps = "ok", "", 0
+    meta = {}
     bounds = list(history.times[1:]) + [math.inf]
     t_last = times[-1]
     for j, (v_seg, t_end) in enumerate(zip(history.velocities, bounds)):
@@ -209,10 +211,13 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
                 else:
                     status = "max-steps"
                 reached = float(ta.time) + t_start
+                meta["ln_v_stop"] = float(ta.state[0])     # ln V where the run ended early
                 message = (f"{status} at t = {reached:.17g} after {steps} steps "
                            f"(segment {j}, V_lp = {v_seg:g})")
                 if status == "unbounded":
                     message += f": V blows up in finite time (ln V = {float(ta.state[0]):.4g} and rising)"
+                elif status == "stalled":   # where: a stall at large V is a blow-up the guard missed, at small V not
+                    message += f" at ln V = {meta['ln_v_stop']:.4g}"
                 for i in np.flatnonzero(sel):
                     if times[i] < reached and float(times[i]) in rows:
                         out[i] = rows[float(times[i])]
@@ -222,10 +227,10 @@ def run_spec(spec: SliderSpec, history: LoadHistory, t, *, v0=None, theta0=None,
         else:
             out[sel] = ta.state
     # An output time at a step lands on the next segment's start: equal by continuity of the state.
-    return _result(spec, history, times, out, c, thresholds, status, message, steps, precision)
+    return _result(spec, history, times, out, c, thresholds, status, message, steps, precision, meta)
 
 
-def _result(spec, history, times, out, c, thresholds, status, message, steps, precision) -> RateStateResult:
+def _result(spec, history, times, out, c, thresholds, status, message, steps, precision, meta=None) -> RateStateResult:
     n = spec.n_states
     ln_v = out[:, 0]
     ln_theta = out[:, 1:1 + n].T.copy()
@@ -243,7 +248,8 @@ def _result(spec, history, times, out, c, thresholds, status, message, steps, pr
     ext = np.array(c.recorder.extrema, dtype=float).reshape(-1, 3)
     cro = np.array(c.recorder.crossings, dtype=float).reshape(-1, 3)
     return RateStateResult(spec, history, times, ln_v, ln_theta, z, mu, slip,
-                           ext, cro, tuple(c.recorder.crossing_states), thresholds, status, message, steps, precision)
+                           ext, cro, tuple(c.recorder.crossing_states), thresholds, status, message, steps, precision,
+                           dict(meta or {}))
 
 
 def _log_for(dtype):

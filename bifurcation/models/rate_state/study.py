@@ -302,5 +302,5 @@ def _quasi_static_fates(spec: StudySpec) -> list:
                            t=[0.0, 400 * period], v0=1.0, theta0=[c * 0.01 * math.exp(0.01)])
             top = max(r.extrema[:, 1]) if len(r.extrema) else math.nan
             rows.append({"state_law": law, "kappa": kappa, "status": r.status, "ln_v_max": float(top),
-                         "message": r.message})
+                         "ln_v_stop": float(r.meta.get("ln_v_stop", math.nan)), "message": r.message})
     return rows
