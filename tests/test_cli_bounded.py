@@ -102,6 +102,13 @@ def test_chain_work_bound_is_kept_by_the_exact_engine():
 
     r = bf.chain("carlson-langer", n=64, ell=1.0, nu=0.05, nu_f=0.3, amplitude=0.1, seed=1, events=50,
                  max_work=20_000)
-    assert r.status == ChainStatus.NO_STOP and "20000 block-steps" in r.message.replace("2e+04", "20000"), r.message
+    assert r.status == ChainStatus.NO_STOP and "did not end within 2e+04 block-steps" in r.message, r.message
     free = bf.chain("carlson-langer", n=64, ell=1.0, nu=0.05, nu_f=0.3, amplitude=0.1, seed=1, events=r.events)
     assert np.array_equal(free.potency, r.potency)   # the events before the bound are the same
+    # the run's bound: events that each end, summed (N = 64 at ν = 1e-4: ~10^3 block-steps an event)
+    whole = bf.chain("carlson-langer", n=64, ell=1.0, nu=1e-4, nu_f=0.3, amplitude=0.1, seed=1, events=200)
+    run = bf.chain("carlson-langer", n=64, ell=1.0, nu=1e-4, nu_f=0.3, amplitude=0.1, seed=1, events=200,
+                   max_run_work=20_000)
+    assert whole.status == ChainStatus.COMPLETE and run.status == ChainStatus.NO_STOP, run.message
+    assert "the run's bound of 2e+04 block-steps ran out" in run.message and 0 < run.events < 200
+    assert np.array_equal(whole.potency[:run.events], run.potency)

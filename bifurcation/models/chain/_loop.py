@@ -81,7 +81,8 @@ class ChainLoop:
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
                  t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
                  compact_above: int = COMPACT_ABOVE, timing: bool = False, drop: float = 0.0,
-                 v_threshold: float = 0.0, exact: dict | None = None, max_work: int | None = None) -> None:
+                 v_threshold: float = 0.0, exact: dict | None = None, max_work: int | None = None,
+                 max_run_work: int | None = None) -> None:
         from ...engine._exact import at_precision
         from ...engine._integrator import fp_info
 
@@ -97,6 +98,8 @@ class ChainLoop:
         #: a bound on one event's block-steps (Σ Taylor steps × window width, the cost of its steps), or
         #: None: the CLI's bound on a run whose event may never end (N·ν ≥ 1 at large N; cli/_chain.py)
         self.max_work = max_work
+        #: the same bound on all the events of this loop together (the CLI's bound on a run), or None
+        self.max_run_work, self.run_work = max_run_work, 0
         #: the friction drop σ (docs/chain.md, "Friction drop"): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)). σ = 0 takes
         #: the unmodified integrator and code path (bit-identical catalogs); σ > 0 its own integrator
         self.drop = float(drop)
@@ -420,14 +423,16 @@ class ChainLoop:
         seg = _Segment(wi, idx, at, sg, d, p, pieces, bond, selfc, nu, l2, nu_f)
         while True:
             allowed = max(self.max_steps - steps, 1)
-            if self.max_work is not None:   # the steps this window's width leaves of the work bound
-                allowed = min(allowed, (self.max_work - self.ev["block_steps"]) // m)
+            left = self._work_left()
+            if left is not None:   # the steps this window's width leaves of the work bounds
+                allowed = min(allowed, left // m)
                 if allowed < 1:
                     self.ev["steps"] = steps
                     return self._over_work(steps, k)
             outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=allowed)
             steps += nsteps
             self.ev["block_steps"] += nsteps * m
+            self.run_work += nsteps * m
             index = -int(outcome) - 1
             if not 0 <= index < n_events:
                 self.ev["steps"] = steps
@@ -439,7 +444,7 @@ class ChainLoop:
                 if outcome == _TIME_LIMIT and tau_far <= t_left:
                     self._commit(seg)
                     return self._back_slip(idx) or ("far", far)
-                if self.max_work is not None and self.ev["block_steps"] + m > self.max_work:
+                if left is not None and left // m <= nsteps:
                     return self._over_work(steps, k)
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
                         f"or max_steps = {self.max_steps} (steps = {steps})")
@@ -464,9 +469,19 @@ class ChainLoop:
                     seg.switch(j, pc)
                 self._switches(seg, j)
 
+    def _work_left(self) -> int | None:
+        """Block-steps left before a work bound (max_work of the event, max_run_work of the run), or None."""
+        left = [b - done for b, done in ((self.max_work, self.ev["block_steps"]), (self.max_run_work, self.run_work))
+                if b is not None]
+        return min(left) if left else None
+
     def _over_work(self, steps: int, k: int) -> str:
-        return (f"event at t = {float(self.t):.17g} did not end within {self.max_work:.3g} block-steps "
-                f"(Taylor steps × window width; {steps} steps, the window at {k} blocks)")
+        if self.max_run_work is not None and self.run_work >= self.max_run_work - k:
+            bound = f"the run's bound of {self.max_run_work:.3g} block-steps ran out"
+        else:
+            bound = f"did not end within {self.max_work:.3g} block-steps"
+        return (f"event at t = {float(self.t):.17g} {bound} (Taylor steps × window width; {steps} steps, "
+                f"the window at {k} blocks)")
 
     def _stops(self, seg: _Segment, j: int) -> int:
         """Stop block j (its stop event fired) and every other slipping block of the window whose

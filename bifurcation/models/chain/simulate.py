@@ -19,7 +19,7 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
           precision: str = "double", energy: bool = False, t_max: float = 1e5, max_steps: int = 1_000_000,
           sigma: float | None = None, v_threshold=None, preset: str | None = None,
           progress=None, engine: str = "exact", tol: float | None = None, verify: float = 0.0,
-          max_work: int | None = None) -> ChainResult:
+          max_work: int | None = None, max_run_work: int | None = None) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -60,6 +60,7 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         the compiled engine, which does not count widths, takes max_steps ≤ max_work // n instead):
         beyond it the run stops with status ``no-stop``, as at max_steps. The CLI's bound
         (``cli/_chain.py``, ``MAX_WORK``) on an event that may never end (N·ν ≥ 1 at large N).
+        ``max_run_work`` bounds the block-steps of all the events together (exact engine only).
     sigma : float
         Friction drop 0 ≤ σ < 1 (docs/chain.md, "Friction drop"); 0 (default) is the seed's model,
         computed by exactly the code of before σ existed.
@@ -115,10 +116,9 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
     sigma = check_sigma(sigma)
     v_threshold = check_v_threshold(v_threshold, nu)
     check_work(t_max, max_steps)   # one event's bounds: refused (not a no-stop run) when not > 0 or NaN
-    if max_work is not None:
-        if isinstance(max_work, bool) or not isinstance(max_work, (int, np.integer)) or max_work < 1:
-            raise InputError("max_work", max_work, "is not an integer >= 1", "give a number of block-steps, or None")
-        max_work = int(max_work)
+    for name, value in (("max_work", max_work), ("max_run_work", max_run_work)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1):
+            raise InputError(name, value, "is not an integer >= 1", "give a number of block-steps, or None")
     u = check_initial(n, ell, ends, u0, amplitude, seed)
     engine, sigma, tol = check_engine(engine, sigma, tol, precision, energy)
     verify = check_verify(verify, engine, sigma)
@@ -134,7 +134,8 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
                      t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_threshold or 0.0,
-                     exact=given if precision == "quad" else None, max_work=max_work)
+                     exact=given if precision == "quad" else None, max_work=max_work,
+                     max_run_work=max_run_work)
     out = loop.run(events) if progress is None else _run_reporting(loop, events, progress)
     cat = out["catalog"]
     f = lambda k: np.array([float(x) for x in cat[k]], dtype=float)  # noqa: E731
