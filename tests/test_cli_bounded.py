@@ -6,6 +6,8 @@ import subprocess
 import sys
 import time
 
+import numpy as np
+
 from click.testing import CliRunner
 
 from bifurcation.cli import cli
@@ -71,3 +73,42 @@ def test_closed_pipe_ends_quietly():
     assert proc.returncode == 141, (proc.returncode, err)
     # a catalog query writes its run's description to stderr first; the closed pipe must add nothing
     assert b"Traceback" not in err and b"error" not in err.lower() and b"Broken pipe" not in err, err
+
+
+def test_chain_event_that_never_ends_stops_at_the_work_bound(monkeypatch):
+    """N·ν ≥ 1: blocks fail faster than events end (N = 25000, ν = 1e-3 slid for hours before the bound).
+    With the bound made small the same kind of run (N = 64, ν = 0.05: N·ν = 3.2) stops at it with status
+    no-stop, a line that names the bound and the fix, and exit 1; the engine counts the work it did."""
+    from bifurcation.cli import _chain
+
+    monkeypatch.setattr(_chain, "MAX_WORK", {k: 20_000 for k in _chain.MAX_WORK})
+    args = ["chain", "--law", "carlson-langer", "--n", "64", "--ell", "1", "--nu", "0.05", "--nu-f", "0.3",
+            "--amplitude", "0.1", "--seed", "1", "--events", "50"]
+    for engine in ("exact", "compiled"):
+        started = time.perf_counter()
+        result = CliRunner().invoke(cli, args + ["--engine", engine])
+        assert time.perf_counter() - started < 30
+        assert result.exit_code == 1, result.output
+        status = [l for l in result.stdout.splitlines() if l.startswith("status ")]
+        assert status and status[0].startswith("status no-stop"), result.stdout
+        assert "block-steps" in status[0] and "N·ν = 3.2" in status[0] and "--nu" in status[0], status[0]
+
+
+def test_chain_work_bound_is_kept_by_the_exact_engine():
+    """An event's block-steps (Taylor steps × window width) never pass max_work: the catalog stops at the
+    first event that would (before, max_steps overran by blocks starting every step: 5396 steps for 2000)."""
+    import bifurcation as bf
+    from bifurcation.models.chain import ChainStatus
+
+    r = bf.chain("carlson-langer", n=64, ell=1.0, nu=0.05, nu_f=0.3, amplitude=0.1, seed=1, events=50,
+                 max_work=20_000)
+    assert r.status == ChainStatus.NO_STOP and "did not end within 2e+04 block-steps" in r.message, r.message
+    free = bf.chain("carlson-langer", n=64, ell=1.0, nu=0.05, nu_f=0.3, amplitude=0.1, seed=1, events=r.events)
+    assert np.array_equal(free.potency, r.potency)   # the events before the bound are the same
+    # the run's bound: events that each end, summed (N = 64 at ν = 1e-4: ~10^3 block-steps an event)
+    whole = bf.chain("carlson-langer", n=64, ell=1.0, nu=1e-4, nu_f=0.3, amplitude=0.1, seed=1, events=200)
+    run = bf.chain("carlson-langer", n=64, ell=1.0, nu=1e-4, nu_f=0.3, amplitude=0.1, seed=1, events=200,
+                   max_run_work=20_000)
+    assert whole.status == ChainStatus.COMPLETE and run.status == ChainStatus.NO_STOP, run.message
+    assert "the run's bound of 2e+04 block-steps ran out" in run.message and 0 < run.events < 200
+    assert np.array_equal(whole.potency[:run.events], run.potency)

@@ -29,6 +29,10 @@ def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None)
     if events is not None and events > MAX_EVENTS:
         raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
                          "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
+    if events is not None and n is not None and 1 <= n <= (1 << 20) and n * events > MAX_N_EVENTS:
+        raise InputError("--events", events, f"with --n {n} is N × events = {n * events:.3g} > {MAX_N_EVENTS:.0e}, "
+                         "the most one `bifurcation chain` run computes (each event costs O(N))",
+                         f"give --events <= {MAX_N_EVENTS // n} at this N; {_STUDY}")
     given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events, "sigma": sigma,
              "v_threshold": v_threshold}
     for name, value in given.items():
@@ -40,6 +44,21 @@ def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None)
             raise InputError(option, value, f"is outside [{low}, {high}], the bounds of the chain model (its "
                              "workflows' too: bifurcation.models.chain)", f"give a value in [{low}, {high}]")
 
+
+#: The most work one event of a ``bifurcation chain`` run may take, in block-steps (Taylor steps × the width
+#: of the window integrated; the compiled engine: DOP853 steps × N), per engine and precision: about 4 min
+#: of CPU each on the development machine (measured: 2.5 µs a block-step exact in double, 110 µs in quad, at
+#: N = 2000 and 25000; compiled 1.4 ms a step at N = 25000). An event ends only when every block is stuck;
+#: at N·ν ≥ 1 blocks fail faster than events end and one may never end (N = 25000, ν = 1e-3 slid for hours
+#: before this bound). Beyond it the run stops with status no-stop, keeping the events before. A legitimate
+#: event spanning N = 1024 blocks took 1.7e7 (compiled); longer events are studies (the workflow's max_steps).
+MAX_WORK = {("exact", "double"): 10**8, ("exact", "quad"): 2 * 10**6, ("compiled", "double"): 10**9}
+#: The same for all the events of one run together (exact engine; ~20 min of CPU here): many events that end,
+#: each near MAX_WORK (N = 2^20 at a published ν = 0.01), would otherwise add up to hours.
+MAX_RUN_WORK = {("exact", "double"): 5 * 10**8, ("exact", "quad"): 10**7}
+#: The most N × events of one run: each event also costs O(N) outside its window (the next hypocentre, the
+#: quiescent load): measured 66 events/s at N = 2^20 (ν = 1e-9), so 1e10 is about 2.5 min of it.
+MAX_N_EVENTS = 10**10
 
 #: Seconds within one event (no event finished) before a line says it is still running, and between them.
 STILL_RUNNING_SECONDS = 30.0
@@ -64,7 +83,8 @@ def _progress(started: float):
 
 
 @contextlib.contextmanager
-def _still_running(report, events: int, n: int, nu: float):
+def _still_running(report, events: int, n: int, nu: float, work: float = MAX_WORK["exact", "double"],
+                   counted: bool = True):
     """While the run is inside one event (the progress above is said between events), a line every
     STILL_RUNNING_SECONDS: an event ends only when every block is stuck, and when failures come faster than
     events end (N·ν of order 1 and more: measured, carlson-langer ν_f = 0.3 from amplitude 0.1: N·ν = 1
@@ -81,10 +101,14 @@ def _still_running(report, events: int, n: int, nu: float):
             if now - report.last_event >= STILL_RUNNING_SECONDS:
                 report.last_event = now
                 hint = (f"; at N·ν = {n * nu:.3g} blocks fail faster than events end and this one may not "
-                        "end (bounded by max_steps, hours at this N): interrupt and give a smaller --nu "
-                        "or --n (N·ν < 1)") if n * nu >= 1 else ""
-                click.echo(f"bifurcation: chain: event {report.done + 1} of {events} still sliding after "
-                           f"{now - report.started:.0f} s{hint}", err=True)
+                        f"end (it stops at {work:.3g} block-steps, minutes at this N): interrupt and give a "
+                        "smaller --nu or --n (N·ν < 1)") if n * nu >= 1 else ""
+                if not counted:   # the compiled engine with --verify reports nothing until the end
+                    click.echo(f"bifurcation: chain: still running after {now - report.started:.0f} s (with "
+                               f"--verify no progress is reported until the end){hint}", err=True)
+                else:
+                    click.echo(f"bifurcation: chain: event {report.done + 1} of {events} still sliding after "
+                               f"{now - report.started:.0f} s{hint}", err=True)
 
     report.started = time.perf_counter()
     thread = threading.Thread(target=watch, name="chain-still-running", daemon=True)
@@ -94,6 +118,20 @@ def _still_running(report, events: int, n: int, nu: float):
     finally:
         stop.set()
         thread.join()
+
+
+def _over_bound(r, work: float, n: int, nu: float, engine: str) -> str:
+    """What a run stopped by the CLI's work bound (MAX_WORK) means and what to do."""
+    from ..models.chain import ChainStatus
+
+    by_work = "block-steps" in r.message or (engine == "compiled" and "max_steps" in r.message and work // n < 10**6)
+    if r.status != ChainStatus.NO_STOP or not by_work:
+        return ""
+    why = (f"at N·ν = {n * nu:.3g} ≥ 1 blocks fail faster than events end: give a smaller --nu or --n (N·ν < 1); "
+           if n * nu >= 1 else "")
+    what = (f"one run: {MAX_RUN_WORK[engine, r.precision]:.3g}"
+            if "the run's bound" in r.message else f"one event: {work:.3g}")
+    return f" (the bound of {what} block-steps of a `bifurcation chain` run, minutes of CPU; {why}{_STUDY})"
 
 
 def _u0(ctx, param, value):
@@ -188,6 +226,10 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
                          "give --engine compiled with --verify")
     # σ and V_th within the bounds of the model's axes too (after their own checks: a value, in range)
     _check_bounds(None, None, None, None, None, sigma, v_threshold if v_threshold != "default" else None)
+    for name, value in (("--amplitude", amplitude), ("--seed", seed)):   # named as typed (was --u0='given')
+        if u0 is not None and value is not None:
+            raise InputError(name, value, "is given with --u0, which sets the start itself",
+                             f"drop {name} (a start from --u0), or drop --u0 (a random start from --amplitude and --seed)")
     if u0 is None and amplitude is None:
         raise InputError("--amplitude", None, "is missing", "give --u0 a,b,c or --amplitude A --seed S")
     if u0 is None and seed is None:   # a random start names its seed: no silent seed 0
@@ -195,10 +237,11 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
                          "give --seed S, e.g. --seed 1 (the start is numpy.random.default_rng(S))")
 
     report = _progress(time.perf_counter())
-    with _still_running(report, events, n, float(nu)):
+    work = MAX_WORK[engine, precision]
+    with _still_running(report, events, n, float(nu), work, counted=not (engine == "compiled" and verify > 0)):
         r = chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, ends=ends, u0=u0, amplitude=amplitude, seed=seed,
                   events=events, precision=precision, sigma=sigma, v_threshold=v_threshold, engine=engine,
-                  verify=verify, progress=report)
+                  verify=verify, progress=report, max_work=work, max_run_work=MAX_RUN_WORK.get((engine, precision)))
     if as_json:
         echo_json(r.to_json())
     else:
@@ -208,7 +251,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
                      for k in CATALOG_FIELDS]
             click.echo(f"{i:6d} " + " ".join(cells))
         click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; membership {r.membership}" if r.v_threshold else "")
-                   + (f"; {r.message}" if r.message else ""))
+                   + (f"; {r.message}" if r.message else "") + _over_bound(r, work, n, float(nu), engine))
         click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
         if r.verification is not None:
             v = r.verification

@@ -113,6 +113,8 @@ def _syntax_tree(text: str) -> tuple[ast.expr, str]:
     if not stripped:
         raise _refuse(text, "is empty")
     source = stripped.replace("\u2212", "-").replace("^", "**")
+    if "#" in source:   # Python's comment: the rest was ignored yet kept in the law's name (issue 21 walk)
+        raise _refuse(text, "holds '#', which is not part of a formula", _FIX)
     try:
         tree = ast.parse(source, mode="eval")
     except SyntaxError as exc:

@@ -41,6 +41,7 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
         return ("address", str(address), "DASK_SCHEDULER_ADDRESS") if address else None
     text = str(scheduler).strip()
     if "://" in text:
+        _check_port(text)
         return ("address", text, "--scheduler")
     path = Path(text)
     if path.is_file():
@@ -48,9 +49,18 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
         return ("file", str(path), "--scheduler")
     host, _, port = text.rpartition(":")
     if host and port.isdigit():
+        _check_port(text)
         return ("address", f"tcp://{text}", "--scheduler")
     raise InputError("--scheduler", text, "is neither a scheduler address nor an existing scheduler file",
                      "give tcp://HOST:PORT or the path written by `dask scheduler --scheduler-file`")
+
+
+def _check_port(address: str) -> None:
+    """A port in an address is 1-65535 (tcp://host:99999 waited 10 s to fail connecting, issue 21 walk)."""
+    port = address.rpartition(":")[2].rstrip("/")
+    if port.isdigit() and not 1 <= int(port) <= 65535:
+        raise InputError("--scheduler", address, f"has port {port}, outside 1-65535",
+                         "give tcp://HOST:PORT with the scheduler's port (8786 by default)")
 
 
 def _check_scheduler_file(path: Path) -> None:

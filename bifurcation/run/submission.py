@@ -193,6 +193,9 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     target = check_scheduler(scheduler)
     workers = check_workers(workers, embedded=target is None)
     workers_timeout = check_workers_timeout(workers_timeout)
+    if workers_timeout is not None and target is None:   # silently ignored before (issue 21 walk)
+        raise InputError("--workers-timeout", workers_timeout, "applies to an existing scheduler's workers; the "
+                         "embedded cluster starts its own", "drop --workers-timeout, or pass --scheduler ADDRESS")
     if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
         raise InputError("retries", retries, "is not a number of retries", "give an integer >= 0 such as 3")
     if writer not in WRITERS:
@@ -211,6 +214,9 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
                          "choose another --store path (it is never overwritten)")
     command = command if command is not None else command_line()
     existed = path.exists()
+    # the parents the lock's directory will create: removed with it when the first submit fails (a
+    # refused --scheduler left --store's new parent directory behind, issue 21 walk)
+    made = [p for p in [path.absolute(), *path.absolute().parents] if not p.exists()]
     if existed and not new_store:
         from .detach import wait_for_detached
 
@@ -222,7 +228,8 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     finally:
         lock.release()   # a no-op once a detached run holds it
         if not existed:
-            _remove_if_empty(path)
+            for directory in made:   # the store's directory first, then its new parents
+                _remove_if_empty(directory)
 
 
 def _remove_if_empty(path: Path) -> None:

@@ -81,7 +81,8 @@ class ChainLoop:
                  u0: np.ndarray, *, precision: str = "double", energy: bool = False,
                  t_max: float = 1e5, max_steps: int = 1_000_000, full_window: bool = False,
                  compact_above: int = COMPACT_ABOVE, timing: bool = False, drop: float = 0.0,
-                 v_threshold: float = 0.0, exact: dict | None = None) -> None:
+                 v_threshold: float = 0.0, exact: dict | None = None, max_work: int | None = None,
+                 max_run_work: int | None = None) -> None:
         from ...engine._exact import at_precision
         from ...engine._integrator import fp_info
 
@@ -94,6 +95,11 @@ class ChainLoop:
         self.nu, self.nu_f, self.l2 = at_precision(given["nu"], dtype), at_precision(given["nu_f"], dtype), ell_p * ell_p
         self.periodic = ends == "periodic"
         self.t_max, self.max_steps = t_max, max_steps
+        #: a bound on one event's block-steps (Σ Taylor steps × window width, the cost of its steps), or
+        #: None: the CLI's bound on a run whose event may never end (N·ν ≥ 1 at large N; cli/_chain.py)
+        self.max_work = max_work
+        #: the same bound on all the events of this loop together (the CLI's bound on a run), or None
+        self.max_run_work, self.run_work = max_run_work, 0
         #: the friction drop σ (docs/chain.md, "Friction drop"): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)). σ = 0 takes
         #: the unmodified integrator and code path (bit-identical catalogs); σ > 0 its own integrator
         self.drop = float(drop)
@@ -270,7 +276,7 @@ class ChainLoop:
         self._due = None     # after the quiescent jump: scan every block for simultaneous failures
         self._hot = self._scalars()
         self.ev = dict(potency=dtype(0), duration=dtype(0), vmax=dtype(0), steps=0,
-                       work=dtype(0), diss=dtype(0), elastic=dtype(0))
+                       work=dtype(0), diss=dtype(0), elastic=dtype(0), block_steps=0)
         ok, message = self._segments()
         ev = self.ev
         cat["t_start"].append(t_start)
@@ -416,8 +422,17 @@ class ChainLoop:
         steps = self.ev["steps"]
         seg = _Segment(wi, idx, at, sg, d, p, pieces, bond, selfc, nu, l2, nu_f)
         while True:
-            outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=max(self.max_steps - steps, 1))
+            allowed = max(self.max_steps - steps, 1)
+            left = self._work_left()
+            if left is not None:   # the steps this window's width leaves of the work bounds
+                allowed = min(allowed, left // m)
+                if allowed < 1:
+                    self.ev["steps"] = steps
+                    return self._over_work(steps, k)
+            outcome, _, _, nsteps, *_ = ta.propagate_until(t_end, max_steps=allowed)
             steps += nsteps
+            self.ev["block_steps"] += nsteps * m
+            self.run_work += nsteps * m
             index = -int(outcome) - 1
             if not 0 <= index < n_events:
                 self.ev["steps"] = steps
@@ -429,6 +444,8 @@ class ChainLoop:
                 if outcome == _TIME_LIMIT and tau_far <= t_left:
                     self._commit(seg)
                     return self._back_slip(idx) or ("far", far)
+                if left is not None and left // m <= nsteps:
+                    return self._over_work(steps, k)
                 return (f"event at t = {float(self.t):.17g} did not end before t_max = {self.t_max:g} "
                         f"or max_steps = {self.max_steps} (steps = {steps})")
             j = blocks[index]
@@ -451,6 +468,20 @@ class ChainLoop:
                 if pc != pieces[j]:
                     seg.switch(j, pc)
                 self._switches(seg, j)
+
+    def _work_left(self) -> int | None:
+        """Block-steps left before a work bound (max_work of the event, max_run_work of the run), or None."""
+        left = [b - done for b, done in ((self.max_work, self.ev["block_steps"]), (self.max_run_work, self.run_work))
+                if b is not None]
+        return min(left) if left else None
+
+    def _over_work(self, steps: int, k: int) -> str:
+        if self.max_run_work is not None and self.run_work >= self.max_run_work - k:
+            bound = f"the run's bound of {self.max_run_work:.3g} block-steps ran out"
+        else:
+            bound = f"did not end within {self.max_work:.3g} block-steps"
+        return (f"event at t = {float(self.t):.17g} {bound} (Taylor steps × window width; {steps} steps, "
+                f"the window at {k} blocks)")
 
     def _stops(self, seg: _Segment, j: int) -> int:
         """Stop block j (its stop event fired) and every other slipping block of the window whose

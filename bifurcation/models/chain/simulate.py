@@ -18,7 +18,8 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
           nu_f: float | None = None, ends: str | None = None, u0=None, amplitude=None, seed=None, events: int,
           precision: str = "double", energy: bool = False, t_max: float = 1e5, max_steps: int = 1_000_000,
           sigma: float | None = None, v_threshold=None, preset: str | None = None,
-          progress=None, engine: str = "exact", tol: float | None = None, verify: float = 0.0) -> ChainResult:
+          progress=None, engine: str = "exact", tol: float | None = None, verify: float = 0.0,
+          max_work: int | None = None, max_run_work: int | None = None) -> ChainResult:
     r"""The first ``events`` events of a chain of ``n`` blocks (docs/chain.md).
 
     Stress on block j (dimensionless as in Vasconcelos, PRL 76, 4865 (1996)):
@@ -54,6 +55,12 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
     t_max, max_steps : float, int
         Bounds on the duration and the Taylor steps of one event; beyond them the run stops with
         status ``no-stop`` and the catalog holds the completed events.
+    max_work : int, optional
+        A bound on the work of one event, in block-steps (steps × the width of the window integrated;
+        the compiled engine, which does not count widths, takes max_steps ≤ max_work // n instead):
+        beyond it the run stops with status ``no-stop``, as at max_steps. The CLI's bound
+        (``cli/_chain.py``, ``MAX_WORK``) on an event that may never end (N·ν ≥ 1 at large N).
+        ``max_run_work`` bounds the block-steps of all the events together (exact engine only).
     sigma : float
         Friction drop 0 ≤ σ < 1 (docs/chain.md, "Friction drop"); 0 (default) is the seed's model,
         computed by exactly the code of before σ existed.
@@ -109,6 +116,9 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
     sigma = check_sigma(sigma)
     v_threshold = check_v_threshold(v_threshold, nu)
     check_work(t_max, max_steps)   # one event's bounds: refused (not a no-stop run) when not > 0 or NaN
+    for name, value in (("max_work", max_work), ("max_run_work", max_run_work)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1):
+            raise InputError(name, value, "is not an integer >= 1", "give a number of block-steps, or None")
     u = check_initial(n, ell, ends, u0, amplitude, seed)
     engine, sigma, tol = check_engine(engine, sigma, tol, precision, energy)
     verify = check_verify(verify, engine, sigma)
@@ -117,12 +127,15 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         if v_threshold:
             raise InputError("v_threshold", v_threshold, "is not available in the compiled engine",
                              "use engine='exact' for membership by a slip-velocity threshold")
+        if max_work is not None:   # (its steps are not counted by width: every block, conservatively)
+            max_steps = max(1, min(max_steps, max_work // n))
         return _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps, verify, progress)
     from ._loop import ChainLoop
 
     loop = ChainLoop(law, n, ell, nu, nu_f, ends, u, precision=precision, energy=energy,
                      t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_threshold or 0.0,
-                     exact=given if precision == "quad" else None)
+                     exact=given if precision == "quad" else None, max_work=max_work,
+                     max_run_work=max_run_work)
     out = loop.run(events) if progress is None else _run_reporting(loop, events, progress)
     cat = out["catalog"]
     f = lambda k: np.array([float(x) for x in cat[k]], dtype=float)  # noqa: E731

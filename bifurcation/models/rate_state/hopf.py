@@ -149,7 +149,8 @@ def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, damping=0.0, dps: int = 
         try:
             k_c = mp.findroot(lambda kk: mp.re(_max_real(spec, kk, v_lp)), (grid[i], grid[i + 1]),
                               solver="anderson", tol=mp.mpf(10) ** (-dps + 8))
-        except ValueError:   # mpmath's "could not find root": parameters far outside any physical scale
+        except (ValueError, ZeroDivisionError):   # mpmath's "could not find root", or a zero secant (a = 1e-300,
+            # b = 1e300: a traceback before, issue 21 walk): parameters far outside any physical scale
             raise InputError("a, b, dc, v_lp", (spec.a, spec.b, spec.dc, v_lp),
                              f"give no Hopf point to {dps - 8} digits: the root of Re λ(k) did not converge",
                              "give values of physical size (e.g. a = 0.01, b = 0.015, dc = 0.01, v_lp = 1; "

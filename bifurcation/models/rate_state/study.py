@@ -80,6 +80,11 @@ WORKFLOW = WorkflowKind("continue", ("slider", "branch", "hopf"),
 MAX_POINTS = 1000
 MAX_BRANCHES = 100
 MAX_HOPF_VALUES = 100
+#: ... and of a study in all (issue 21 walk: 100 branches of 1000 points, or three [hopf] lists of 100 values,
+#: were each accepted, days of work): branch points summed (the shipped study has 204: 91 s of CPU), and the
+#: closed-form check's combinations (3 laws × each; 32 ms a Hopf point at 30 digits, so 1000 are ~100 s)
+MAX_TOTAL_POINTS = 2000
+MAX_HOPF_CASES = 1000
 MAX_ETA = 1e3
 _ETA_FIX = "give eta >= 0, e.g. 0.1, or 0 for the quasi-static slider (η = M V_lp²/(a Dc))"
 _DAMPING_FIX = ("give damping >= 0, e.g. 0.002, or 0 for no radiation damping (friction per unit slip rate; "
@@ -133,13 +138,25 @@ def load_study(path) -> StudySpec:
             kappa_max=br.number("kappa_max", 20.0, above=1),
             **_v_lp_keys(br, at("v_lp").number("v_lp"))))
         check_damping(out[-1], out[-1].damping, br.path("damping"))
+    total = sum(b.points for b in out)
+    if total > MAX_TOTAL_POINTS:
+        raise InputError("branch", f"{len(out)} branches", f"hold {total} points in all, more than {MAX_TOTAL_POINTS} "
+                         "(a branch point is a periodic orbit: seconds each)",
+                         f"give at most {MAX_TOTAL_POINTS} points summed over the branches, or run several workflows")
     hopf = root.table("hopf", _HOPF_KEYS, required=False) or Table({}, "hopf", _HOPF_KEYS)
     fix = "give a list of at most 100 numbers (the closed-form check takes every combination)"
-    return StudySpec(name, description, tuple(out),
+    spec = StudySpec(name, description, tuple(out),
                      hopf.numbers("b_over_a", [1.1, 2.0, 10.0], above=1, high=1e3, most=MAX_HOPF_VALUES, fix=fix),
                      hopf.numbers("v_lp", [1e-3, 1.0, 1e3], above=0, high=1e6, most=MAX_HOPF_VALUES, fix=fix),
                      hopf.numbers("eta", [0.0, 1.0], low=0, high=MAX_ETA, most=MAX_HOPF_VALUES, fix=_ETA_FIX),
                      text, hopf.boolean("bautin", True))
+    cases = len(spec.hopf_b_over_a) * len(spec.hopf_v_lp) * len(spec.hopf_eta)
+    if cases > MAX_HOPF_CASES:
+        raise InputError("hopf", f"{len(spec.hopf_b_over_a)} b_over_a × {len(spec.hopf_v_lp)} v_lp × "
+                         f"{len(spec.hopf_eta)} eta", f"makes {cases} combinations for the closed-form check, more "
+                         f"than {MAX_HOPF_CASES} (3 state laws each, ~30 ms a Hopf point)",
+                         f"give lists whose lengths multiply to at most {MAX_HOPF_CASES}")
+    return spec
 
 
 def check_damping(branch: BranchSpec, damping: float, argument: str) -> None:
