@@ -12,11 +12,21 @@ BAD = [("run", "nosuch", "--out", "{tmp}"), ("run", "mori-kawamura-2006", "--eve
        ("run", "mori-kawamura-2006", "--out", "{tmp}/missing"), ("report", "{tmp}/missing")]
 
 
-@pytest.mark.parametrize("args", BAD)
-def test_bad_input_is_one_line_and_exit_2(tmp_path, args):
+def test_bad_input_through_python_m_is_one_line_and_exit_2(tmp_path):
+    # one case through a real `python -m` (the exit status crosses the process boundary); the rest in process
     r = subprocess.run([sys.executable, "-m", "bifurcation.models.chain.subevent_study",
-                        *[a.format(tmp=tmp_path) for a in args]], capture_output=True, text=True, timeout=120)
+                        *[a.format(tmp=tmp_path) for a in BAD[0]]], capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr, r.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("args", BAD)
+def test_bad_input_is_one_line_and_exit_2(tmp_path, args, capsys):
+    from bifurcation.models.chain.subevent_study import main
+
+    code = main([a.format(tmp=tmp_path) for a in args])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err, err
     assert list(tmp_path.iterdir()) == []
 
 

@@ -79,7 +79,7 @@ def test_reference_file_covers_the_issue():
 # -- the engine against the reference ---------------------------------------------------------------------
 #: Laws whose real128 run stays in the fast suite: a fading law of each kind (e^{−x}, its faster-fading
 #: e^{−x−x²}, a piecewise law with a fading piece) and an algebraic one; the other quad runs (1.5–3.5 s
-#: each) are marked slow; every law keeps its double run fast.
+#: each for a cycle, 0.1-1 s for a limit) are marked slow; every law keeps its double runs fast.
 _FAST_QUAD = {"exp(-x)", "exp(-x - x^2)", "piecewise(1 - x, 0.5, 0.5*exp(1 - 2*x))", "1/(1 + x)"}
 
 
@@ -99,8 +99,10 @@ def test_slip_matches_reference(law, precision):
     assert np.isin(r.status, [int(Status.STICK_SLIP), int(Status.CREEP), int(Status.NO_STICK)]).all()
 
 
-@pytest.mark.parametrize("precision", ["double", "quad"])
-@pytest.mark.parametrize("law", sorted(_groups("limit")))
+@pytest.mark.parametrize("law, precision", [   # the same split as above (these quad runs: 0.7-1 s each)
+    pytest.param(law, precision, marks=pytest.mark.slow) if precision == "quad" and law not in _FAST_QUAD
+    else (law, precision)
+    for law in sorted(_groups("limit")) for precision in ("double", "quad")])
 def test_limit_matches_reference(law, precision):
     points = _groups("limit")[law]
     r = bf.limit(_engine_law(law), nu_f=[p["nu_f"] for p in points], precision=precision)
