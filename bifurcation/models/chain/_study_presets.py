@@ -262,7 +262,7 @@ def _pub_cell(x) -> str:
             f"{x['sigma']:g}, {x['ends']}; an event lasts while some block is faster than V_th = {x['v_threshold']:g}): "
             f"{x['kept']} events kept "
             f"({x['status']}; {x['loading_cycles']:.0f} loading cycles, {x['cpu_per_event'] * 1e3:.3g} CPU ms per "
-            f"event); n_blocks mean {nb['mean']:.2f}, {nb['large']} ≥ N/2; {slides} events last ≥ 1 loading cycle"
+            f"event: 10^6 events would take {x['cpu_per_event'] * 1e6 / 3600:.0f} CPU h); n_blocks mean {nb['mean']:.2f}, {nb['large']} ≥ N/2; {slides} events last ≥ 1 loading cycle"
             f"{' (**slides of ≥ 1 loading cycle**)' if slides else ''}; {word}: α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} "
             f"above x_min = {f['xmin']:.3g} ({f['n_tail']} events, {dec:.2f} decades), b_P = {f['b_P']:.3f}, "
             f"b_M = {f['b_M']:.3f}, p = {f['p']:.2f} ± {res:.2f} ({k} of B = {f['bootstrap']}, ≤ "

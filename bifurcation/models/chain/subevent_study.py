@@ -154,7 +154,11 @@ def write_report(folder) -> Path:
              "n_blocks the blocks above V_th in it. Slip while no block exceeds V_th is counted apart (column 'slip "
              "below V_th'). Random start of amplitude 0.1 (seed 1); events of the first loading cycle dropped. Chaotic "
              "sequences: digits of single events, and the number of events a CPU budget reaches, depend on the CPU "
-             "and its load; the statistics within their errors do not.", "",
+             "and its load; the statistics within their errors do not."
+             + (" Records without the workflow's `run_cfg` (" + ", ".join(f"`{_label(r)}`" for r in rows if "run_cfg" not in r)
+                + ") were written by `python -m bifurcation.models.chain.subevent_study run PRESET [--nu-f X] --cpu 100 "
+                "--v-threshold 0.1 --bootstrap 100` before the workflow table existed: the same function and arguments "
+                "as the table's." if any("run_cfg" not in r for r in rows) else ""), "",
              "Fits: Clauset–Shalizi–Newman through `powerlaw` (`clauset.clauset_fit`, x_min on a grid of 10 data "
              "values per decade). p from B parametric bootstrap samples (each with its own x_min search): "
              "resolution ±√(p(1 − p)/B); k of B samples at least as far from their fit as the data bound p by the "
@@ -165,7 +169,7 @@ def write_report(folder) -> Path:
              "blocks of ⌈n^(1/3)⌉ events, serial correlation); the goodness-of-fit bootstrap itself resamples "
              "independently. b_P = α − 1 (potency), b_M = 1.5 (α − 1) (moment magnitude).", "",
              "| preset (ν_f, α = 1/(2ν_f)) | N, ℓ, ν, σ, ends | V_th | events (kept), status | loading cycles | CPU s per "
-             "event (run + stats) | all-stuck stretches ended | slip below V_th / in events | n_blocks mean / max, ≥ N/2 "
+             "event (run + stats; 10^6 events at that rate) | all-stuck stretches ended | slip below V_th / in events | n_blocks mean / max, ≥ N/2 "
              "| duration mean / max (events over 1 cycle) | CSN fit | reading | excess ≥ N/2 |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
@@ -177,7 +181,8 @@ def write_report(folder) -> Path:
         lines.append(
             f"| `{r['preset']}` ({r['nu_f']:g}, {0.5 / r['nu_f']:g}) | {r['n']}, {r['ell']:g}, {r['nu']:g}, {r['sigma']:g}, "
             f"{r['ends']} | {r['v_threshold']:g} | {r['events']} ({r['kept']}), {r['status']} | {r['loading_cycles']:.1f} | "
-            f"{r['cpu_per_event'] * 1e3:.3g} ms ({r['cpu_run']:.0f} + {r['cpu_stats']:.0f} s) | {r['stretches_ended']} | "
+            f"{r['cpu_per_event'] * 1e3:.3g} ms ({r['cpu_run']:.0f} + {r['cpu_stats']:.0f} s; 10^6 events: "
+            f"{r['cpu_per_event'] * 1e6 / 3600:.0f} CPU h) | {r['stretches_ended']} | "
             f"{r['slip_below']:.3g} / {r['slip_in_events']:.4g} | {r['n_blocks']['mean']:.2f} / {r['n_blocks']['max']}, "
             f"{r['n_blocks']['large']} | {r['duration']['mean']:.3g} / {r['duration']['max']:.3g} "
             f"({r['duration']['over_one_cycle']}) | α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} above x_min = "
