@@ -72,7 +72,7 @@ def near_half_section(cfg, nh) -> list:
           Paragraph("Finite-size fits over N (analysis.finite_size_fit, power law y = A N^a with a = −θ, weighted on "
           "ln y; spanning fraction over the sizes with at least one spanning event) and the reading "
           "(scaling.mfd_reading: *critical-like* = the cutoff grows with N, every N has a CSN power-law stretch "
-          "(≥ 1 decade, the power law plausible or the truncated power law favoured over it), the tapered b is > 0 "
+          "(the power law plausible over ≥ 1 decade), the tapered b is > 0 "
           "and the same at every N, and no N has a spanning excess; *characteristic-size* = an exponential law (b ≈ 0) "
           "at the largest N, or spanning events in excess of the power law with a spanning fraction that "
           "does not decrease with N):"),
@@ -268,7 +268,7 @@ def verdict_notes(cfg, data) -> dict:
         ok = [r for r in rows if _power_stretch(r) and r["tapered"]["b"] > 2 * r["tapered"]["b_sigma"]]
         exc = [r for r in rows if math.isfinite(r["spanning"]["excess"]) and r["spanning"]["excess"] > 3]
         out["cl"] = (f"Near ν_f = 1/2{', by connected slip patches' if by_patch else ''}: a CSN power-law stretch "
-                     f"(≥ 1 decade, plausible or truncated) with tapered b > 2σ in {len(ok)} of {len(rows)} catalogs"
+                     f"(plausible over ≥ 1 decade) with tapered b > 2σ in {len(ok)} of {len(rows)} catalogs"
                      + (" (" + ", ".join(f"ν = {r['nu']:g}, ν_f = {r['nu_f']:g}, N = {r['n']}: b = "
                                         f"{_pm(r['tapered']['b'], r['tapered']['b_sigma'])}" for r in ok) + ")" if ok else "")
                      + f"; spanning events above 3× the power law's extrapolation in {len(exc)}"

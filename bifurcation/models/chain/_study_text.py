@@ -66,8 +66,10 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
             "the verdict table were added by `--presets-only` (same workflow, its `[presets]` section)."
             if data.get("presets_wall_seconds") else "")
          + (" The verdict table's column \"at the preset's own ν\" is read from the `subevents_*.json` of this "
-            "directory, written by `python -m bifurcation.models.chain.subevent_study run` (its catalogs and fits: "
-            "[PUBLISHED_NU.md](PUBLISHED_NU.md))." if data.get("published_nu") else ""))]
+            "directory, written by `--published-nu-only` (same workflow, its `[published_nu]` section; catalogs and "
+            "fits: [PUBLISHED_NU.md](PUBLISHED_NU.md)). The CSN fits of the report's own catalogs are kept in "
+            "csn.json, keyed by the data they fit (recomputed from catalogs.npz and near_half.npz by "
+            "tests/test_chain_report_csn.py)." if data.get("published_nu") else ""))]
     B += _threshold_section(data, c)
     B += _order_section(cfg, data, sw, star)
     from ._study_mfd_text import near_half_section, small_nu_section

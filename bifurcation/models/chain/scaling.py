@@ -156,15 +156,17 @@ _NO_STRETCH = "no CSN power-law stretch at some N"
 
 
 def _power_stretch(r) -> bool:
-    """A power law (or one with a cutoff) over ≥ 1 decade by CSN; without ``csn``, the tapered law's KS."""
+    """A power law plausible over ≥ 1 decade by CSN; without ``csn``, the tapered law's KS."""
     if "csn" not in r:
         return r["tapered"]["ks"] <= r["tapered"]["ks_crit"]
     f = r["csn"]
     if not f:
         return False         # fewer than 20 sizes: nothing to test
-    from ._study_csn import csn_word, favoured
+    from ._study_csn import csn_word
 
-    return csn_word(f) in ("plausible",) or (csn_word(f) != "no scaling range" and "truncated_power_law" in favoured(f))
+    # (a truncated power law favoured by the likelihood ratio is only better than the pure one, not shown to fit:
+    # the CSN bootstrap tests the pure law alone, so only "plausible" counts)
+    return csn_word(f) == "plausible"
 
 
 def mfd_reading(rows: list, cutoff_fss: dict, spanning_fss: dict) -> tuple[str, str]:
@@ -178,9 +180,8 @@ def mfd_reading(rows: list, cutoff_fss: dict, spanning_fss: dict) -> tuple[str, 
 
     * **critical-like**: the cutoff grows with N (θ < −2σ), at every N the sizes have a power-law
       stretch by Clauset–Shalizi–Newman (a row's ``csn``, ``_study_csn``: ≥ 1 decade above x_min and the
-      power law plausible by its bootstrap p, or the truncated power law favoured over it by the
-      likelihood ratio: a power law with a cutoff; rows without ``csn`` fall back on the tapered law's
-      KS distance against 1.36/√n, which ignores that the parameters were fitted),
+      power law plausible by its bootstrap p; rows without ``csn`` fall back on the tapered law's KS
+      distance against 1.36/√n, which ignores that the parameters were fitted),
       its b is > 2σ above 0 at every N and the b of the largest N is within 2σ of the smallest N's,
       and no N has a spanning excess above 3;
     * **characteristic-size** (first-order-like): at the largest N, b is within 2σ of 0 (an
