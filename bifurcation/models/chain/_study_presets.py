@@ -278,14 +278,15 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
 
     rows = []
     vas = find("vasconcelos-1996")
-    v_ev = (f"`vasconcelos-1996` (N = 1, ν = 1e-9, ν_f = 1/2): {vas[0]['kept']} events of one potency "
+    v_ev = (f"`vasconcelos-1996` (N = 1, σ = 0, ν = 1e-9, ν_f = 1/2; {vas[0]['kept']} of {vas[0]['events']} events kept, "
+            f"an event lasts until the block sticks again): {vas[0]['kept']} events of one potency "
             f"{vas[0]['potency_range'][1]:.10g} (spread {vas[0]['relative_spread']:.1e}): the single block repeats "
             "one event (its Δ at ν = 1e-9, which approaches the ν → 0 value 0.1507 only logarithmically at "
             "ν_f = 1/2, docs/physics.md \"Asymptotics at small ν\"); chains are discussed, not run, in the paper. "
             if vas else "")
     rows.append(("Vasconcelos, PRL 76, 4865 (1996): single block first order at ν_f = 1/2; chains not critical",
-                 v_ev + "The σ = 0 chains of this report (its friction, ℓ = 1, ν = 1e-3, 1e-4) are read in the "
-                 "next section: " + old_rows.get("vas", "–"),
+                 v_ev + "The σ = 0 chains of this report (its Carlson–Langer friction, ℓ = 1, free ends, N = 1–256 at "
+                 "ν = 1e-3 and N ≤ 16 at 1e-4, events until all blocks are stuck) are read in the next section: " + old_rows.get("vas", "–"),
                  "single block: **confirmed** (docs/physics.md: Δ0 falls from 0.1507 to 0 at ν_f = 1/2 as ν → 0; "
                  "the catalog adds only that every event is the same); chains: "
                  + old_rows.get("vas_word", "**undecided**") + " (ℓ and ν of chains are not in the paper)"))
