@@ -117,6 +117,11 @@ def test_the_published_nu_column_reads_each_catalog_by_its_rule():
     assert "N = 800, ℓ = 3, ν = 0.01, σ = 0.01, periodic; an event lasts while some block is faster than V_th = 0.1" in two
     assert "0 of B = 100, ≤ 0.03 at 95 %" in two
     assert table.rows[1][2] == "not run"    # no carlson-langer-1991 record
+    # the sizes paragraph: computed from the records (2 ms per event: 10^6 events ~0.56 CPU h, printed "1")
+    text = to_markdown(verdict_table({}, data, {}))
+    assert "Catalog sizes at the presets' own ν: 5000–5000 events per catalog" in text
+    assert "is 2–2 CPU ms" in text and "would take 1–1 CPU hours each" in text
+    assert "(0 of 2 fits with **no scaling range**)" in text
 
 
 def test_published_nu_md_is_rendered_from_the_committed_catalog_records(tmp_path):
