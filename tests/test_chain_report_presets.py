@@ -51,7 +51,12 @@ def test_the_verdict_table_has_one_row_per_claim_and_prints_its_rules():
     assert "no scaling range" in text and "power law ruled out" not in text
     assert "Rules: " + PRESET_RULES in text
     # MK reports both α, the larger ν_f (α = 1) first
-    assert rows[3].index("α = 1:") < rows[3].index("α = 2:")
+    assert rows[3].index("α = 1 (") < rows[3].index("α = 2 (")
+    # each run says what it holds: its events and their definition, and σ and the ends of the MK chain
+    assert "900 of 1000 events kept after 1 loading cycle(s); an event lasts until every block is stuck" in rows[1]
+    assert "σ = 0.01, periodic" in rows[3]
+    # p with its count and 95 % bound: 0 of 10 samples bounds p by 0.26, so the word stays undecided
+    assert "0 of 10, ≤ 0.26 at 95 %" in rows[3] and "power law undecided" in rows[3]
 
 
 def test_a_repeated_single_event_is_not_fitted():
@@ -88,6 +93,7 @@ def test_presets_only_needs_the_full_run_data(tmp_path):
 
 def _pub(nu_f, slides, large, observed, expected, p=0.0, largest=1e3):
     return {"preset": "mori-kawamura-2006", "nu_f": nu_f, "nu": 0.01, "v_threshold": 0.1, "kept": 5000,
+            "n": 800, "ell": 3.0, "sigma": 0.01, "ends": "periodic",
             "status": "complete", "loading_cycles": 400.0, "cpu_per_event": 2e-3,
             "n_blocks": {"mean": 3.0, "large": large}, "duration": {"over_one_cycle": slides},
             "excess": ({"large": large, "p_large": 50.0, "observed": observed, "expected": expected} if large else
@@ -103,8 +109,61 @@ def test_the_published_nu_column_reads_each_catalog_by_its_rule():
     (table,) = [b for b in flatten(verdict_table({}, data, {})) if isinstance(b, Table)]
     cell = table.rows[3][2]
     # α = 1 (ν_f = 0.5) first: 1.7 decades above x_min is a scaling range only from 1 decade on: 5/0.1 = 50
-    assert cell.index("α = 1,") < cell.index("α = 2,")
-    one, two = cell.split("; α = 2,")
+    assert cell.index("α = 1 (") < cell.index("α = 2 (")
+    one, two = cell.split("; α = 2 (")
     assert "power law plausible" in one and "B = 100" in one and "slides of ≥ 1 loading cycle" not in one
     assert "**slides of ≥ 1 loading cycle**" in two and "power law ruled out" in two and "**excess**" in two
+    # what was run, and the event definition, in the cell itself; 0 of 100 bounds p by 0.03: ruled out
+    assert "N = 800, ℓ = 3, ν = 0.01, σ = 0.01, periodic; an event lasts while some block is faster than V_th = 0.1" in two
+    assert "0 of B = 100, ≤ 0.03 at 95 %" in two
     assert table.rows[1][2] == "not run"    # no carlson-langer-1991 record
+    # the sizes paragraph: computed from the records (2 ms per event: 10^6 events ~0.56 CPU h, printed "1")
+    text = to_markdown(verdict_table({}, data, {}))
+    assert "Catalog sizes at the presets' own ν: 5000–5000 events per catalog" in text
+    assert "is 2–2 CPU ms" in text and "would take 1–1 CPU hours each" in text
+    assert "(0 of 2 fits with **no scaling range**)" in text
+
+
+def test_published_nu_md_is_rendered_from_the_committed_catalog_records(tmp_path):
+    """results/chain/PUBLISHED_NU.md is write_report's page of the committed subevents_*.json (every number
+    on it recomputed from those records; regenerate with `python -m bifurcation.models.chain.subevent_study
+    report results/chain`)."""
+    import shutil
+
+    from bifurcation.models.chain.subevent_study import write_report
+
+    out = Path(__file__).resolve().parents[1] / "results" / "chain"
+    for q in out.glob("subevents_*.json"):
+        shutil.copy(q, tmp_path / q.name)
+    page = write_report(tmp_path).read_text().replace(str(tmp_path), "results/chain")
+    assert page == (out / "PUBLISHED_NU.md").read_text()
+
+
+@pytest.mark.parametrize("line,message", [
+    ('cpu = 0', "published_nu.cpu"),
+    ('v_threshold = -1', "published_nu.v_threshold"),
+    ('bootstrap = 1.5', "published_nu.bootstrap"),
+    ('nu_f_typo = 1', "nu_f_typo")])
+def test_the_published_nu_table_is_checked_before_anything_runs(tmp_path, line, message):
+    from bifurcation.errors import InputError
+    from bifurcation.models.chain.study_workflow import load_report_workflow
+
+    wf = (Path(__file__).resolve().parents[1] / "workflows" / "chain-report.toml").read_text()
+    head, tail = wf.split("[published_nu]", 1)
+    bad = tmp_path / "w.toml"
+    bad.write_text(head + "[published_nu]\n" + line + "\n" + "\n".join(
+        x for x in tail.split("\n") if not x.startswith(line.split(" = ")[0] + " ")))
+    with pytest.raises(InputError, match=message):
+        load_report_workflow(bad)
+
+
+def test_published_nu_jobs_carry_the_shared_settings_and_the_run():
+    from bifurcation.models.chain.study_workflow import load_report_workflow
+    from bifurcation.models.chain.subevent_study import _published_job, published_nu_jobs
+
+    cfg = load_report_workflow(Path(__file__).resolve().parents[1] / "workflows" / "chain-report.toml")
+    jobs = published_nu_jobs(cfg)
+    assert [j[0] for j in jobs] == [_published_job] * len(cfg["published_nu"]["run"])
+    shared, run = jobs[1][1]
+    assert run == {"preset": "mori-kawamura-2006", "nu_f": 0.5} and shared["v_threshold"] == 0.1
+    assert jobs[1][2] == cfg["published_nu"]["cpu"]

@@ -33,9 +33,17 @@ _MAX_DATA_BYTES = 256 << 20
 @click.option("--presets-only", "presets_only", is_flag=True,
               help="Run only the workflow's [presets] catalogs (~15 CPU minutes for workflows/chain-report.toml) and "
                    "take every other section from DIR/data.json (refused without it).")
+@click.option("--catalogs-only", "catalogs_only", is_flag=True,
+              help="Run only the workflow's [catalog] runs again (~1 CPU minute), keep their raw catalogs in "
+                   "DIR/catalogs.npz and re-render the report from DIR/data.json (refused without it).")
+@click.option("--published-nu-only", "published_nu_only", is_flag=True,
+              help="Run only the workflow's [published_nu] catalogs (the presets at their own ν, events split by a "
+                   "velocity threshold; its `cpu` per catalog) into DIR/subevents_*.json and re-render the report "
+                   "from DIR/data.json (refused without it).")
 @click.option("--force", is_flag=True, help="Run again into a DIR that holds a study (its data.json is replaced); "
                                             "default: refuse.")
-def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, force: bool) -> None:
+def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, force: bool,
+                    published_nu_only: bool = False, catalogs_only: bool = False) -> None:
     """The chain study of WORKFLOW: lone-block threshold, order parameter and hysteresis with finite-size
     scaling, magnitude–frequency statistics, a verdict table (≤ 10 minutes on 2 cores for
     workflows/chain-report.toml)."""
@@ -51,6 +59,18 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
     if from_data and presets_only:
         raise InputError("--presets-only", "with --from-data", "runs the preset catalogs, which --from-data never does",
                          "give one of --from-data and --presets-only")
+    if sum((from_data, presets_only, published_nu_only, catalogs_only)) > 1:
+        raise InputError("--published-nu-only", "with --from-data, --presets-only or --catalogs-only", "is a run of "
+                         "its own", "give one of --from-data, --presets-only, --catalogs-only and --published-nu-only")
+    if catalogs_only and not data.is_file():
+        raise InputError("--catalogs-only", str(data), "does not exist: the report is re-rendered from it",
+                         "run the whole study once, or give --out results/chain")
+    if published_nu_only and not cfg.get("published_nu"):
+        raise InputError("--published-nu-only", str(workflow), "has no [published_nu] table",
+                         "add one (workflows/chain-report.toml has it) or drop --published-nu-only")
+    if published_nu_only and not data.is_file():
+        raise InputError("--published-nu-only", str(data), "does not exist: the report is re-rendered from it",
+                         "run the whole study once, or give --out results/chain")
     if presets_only and not data.is_file():
         raise InputError("--presets-only", str(data), "does not exist: the other sections are read from it",
                          "run the whole study once (without --presets-only), or give --out results/chain")
@@ -68,6 +88,8 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
             raise InputError("--from-data", str(data), f"cannot be read as a study's data ({exc})",
                              "run the study again without --from-data (with --force) to rewrite it") from None
         _check_saved(saved, cfg, data)
+    elif published_nu_only or catalogs_only:
+        pass      # writes subevents_*.json beside data.json and re-renders: no study replaced
     elif not force and any((out / mark).exists() for mark in _MARKS):
         raise InputError("--out", str(out), "already holds a chain study (REPORT.md or data.json), which a run "
                          "replaces", "give --force to run it again, --from-data to re-render it, or another --out")
@@ -78,7 +100,8 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
     from ..models.chain.study import main
 
     main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else []),
-          *(["--presets-only"] if presets_only else [])])
+          *(["--presets-only"] if presets_only else []), *(["--published-nu-only"] if published_nu_only else []),
+          *(["--catalogs-only"] if catalogs_only else [])])
     if from_data:   # (a run says where it wrote, and in how long, itself)
         click.echo(f"wrote {out / 'REPORT.md'} and its figures from {data}")
 

@@ -79,8 +79,9 @@ def near_half_jobs(cfg) -> list:
     return jobs
 
 
-def _row(r) -> dict:
-    """Statistics of one budgeted catalog (docs/chain.md, "Cutoff and finite-size scaling")."""
+def _row(r, csn=None) -> dict:
+    """Statistics of one budgeted catalog (docs/chain.md, "Cutoff and finite-size scaling"); ``csn``: a
+    ``_study_csn.CsnCache`` for the Clauset–Shalizi–Newman fit of the multi-block sizes (None: not fitted)."""
     from .study import _catalog_stats
 
     n, p, nb = r["n"], np.array(r["potency"]), np.array(r["n_blocks"], dtype=int)
@@ -98,7 +99,7 @@ def _row(r) -> dict:
     elapsed = t[-1] + dur[-1] - t[0]
     big = int(np.argmax(p))
     out.update(fit=base["fit"], spanning=base["spanning"], mfd=base["mfd"],
-               tapered=tapered_gr(p[multi], p_min), moments=moment_cutoff(p), moments_multi=moment_cutoff(p[multi]),
+               tapered=tapered_gr(p[multi], p_min), csn=csn.fit(p[multi]) if csn is not None else None, moments=moment_cutoff(p), moments_multi=moment_cutoff(p[multi]),
                largest={"potency": float(p[big]), "n_blocks": int(nb[big]),
                         "duration_cycles": r["nu"] * float(np.max(r["duration"]))},
                span_count=k, span_fraction=k / p.size, span_fraction_sigma=math.sqrt(max(k, 1)) / p.size,
@@ -130,18 +131,19 @@ def _groups(rows, merged_rule: bool) -> list:
             use = [r for r in rs if key != "span" or r["span_count"] > 0]
             fss[key] = finite_size_fit([r["n"] for r in use], [val(r) for r in use], [sig(r) for r in use])
         reading = mfd_reading([{"n": r["n"], "tapered": r["tapered"], "spanning_excess": r["spanning"]["excess"],
+                                "csn": r.get("csn"),
                                 **({"slip_fraction": r["slip_fraction"]} if merged_rule else {})} for r in rs],
                               fss["cutoff"], fss["span"])
         groups.append({"nu": nu, "nu_f": nf, "sizes": [r["n"] for r in rs], "fss": fss, "reading": list(reading)})
     return groups
 
 
-def near_half_stats(results, cfg) -> dict:
+def near_half_stats(results, cfg, csn=None) -> dict:
     """Rows per catalog and, per (ν, ν_f), finite-size fits over N of the cutoff ⟨P²⟩/⟨P⟩, the mean
-    potency and the spanning fraction, and the reading (scaling.mfd_reading)."""
+    potency and the spanning fraction, and the reading (scaling.mfd_reading); ``csn`` as ``_row``."""
     key = lambda d: (-d["nu"], d["nu_f"], d["n"])  # noqa: E731
-    rows = sorted((_row(r) for r in results), key=key)
-    patches = sorted((_row(_patches(r)) for r in results if "c_event" in r), key=key)
+    rows = sorted((_row(r, csn) for r in results), key=key)
+    patches = sorted((_row(_patches(r), csn) for r in results if "c_event" in r), key=key)
     return {"rows": rows, "groups": _groups(rows, True), "patch_rows": patches, "patch_groups": _groups(patches, False)}
 
 

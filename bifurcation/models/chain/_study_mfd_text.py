@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from ...report.document import Figure, Paragraph, Section, Table
+from ._study_csn import CSN_RULES, csn_cell, csn_word
 from .scaling import MERGED
 
 __all__ = ["near_half_section", "small_nu_section", "verdict_notes"]
@@ -44,7 +45,7 @@ def near_half_section(cfg, nh) -> list:
          "b: Page's estimator as in the catalog table above (multi-block events, from the most populated bin "
          "to below the smallest spanning event). Tapered law: maximum-likelihood b and corner potency of "
          "N(≥P) ∝ P^-b e^-P/P_corner over the multi-block events above the same m_min, spanning events included "
-         "(scaling.tapered_gr; KS against 1.36/√n). Cutoff: P_c = ⟨P²⟩/⟨P⟩ over all events, σ by 10 batch "
+         "(scaling.tapered_gr). Power law tested by " + CSN_RULES + ". Cutoff: P_c = ⟨P²⟩/⟨P⟩ over all events, σ by 10 batch "
          "means (scaling.moment_cutoff; docs/chain.md \"Cutoff and finite-size scaling\"). Spanning: "
          "n_blocks = N, σ = √k/events. Slipping fraction: Σ duration / elapsed time; an event ends only when "
          "the whole chain is stuck, so where this is near 1 one catalogued event holds many separate slips "
@@ -59,19 +60,20 @@ def near_half_section(cfg, nh) -> list:
             continue
         f, t, m, lg = r["fit"], r["tapered"], r["moments"], r["largest"]
         rows.append([*head, f"{_pm(f['b'], f['sigma'])} [{f['m_min']:.1f}, {f['m_max']:.1f}]", _pm(t["b"], t["b_sigma"]),
-                     _g(t["corner"], t["corner_sigma"]), f"{t['ks']:.3f} / {t['ks_crit']:.3f}",
+                     _g(t["corner"], t["corner_sigma"]), csn_cell(r.get("csn")),
                      f"{lg['potency']:.3g} ({lg['n_blocks']}, {lg['duration_cycles']:.2f})", _g(m["mean"], m["mean_sigma"]),
                      _g(m["cutoff"], m["cutoff_sigma"]), f"{r['span_count']}, {r['span_fraction']:.2g} "
                      f"({r['span_per_cycle']:.2g})", f"{r['spanning']['excess']:.3g}", f"{r['slip_fraction']:.2f} "
                      f"({r['events_per_block_cycle']:.3g})", f"{r['cpu']:.0f}"])
     B += [Table(["ν", "ν_f", "N", "cycles (asked)", "events", "cut", "b (Page) [m range]", "tapered b", "P_corner",
-                 "tapered KS / crit", "largest P (n_blocks, cycles)", "⟨P⟩", "P_c = ⟨P²⟩/⟨P⟩",
+                 "CSN (multi-block events)", "largest P (n_blocks, cycles)", "⟨P⟩", "P_c = ⟨P²⟩/⟨P⟩",
                  "spanning: count, fraction (per cycle)", "excess over GR",
                  "slipping fraction (events per block and cycle)", "CPU s"], rows),
           Paragraph("Finite-size fits over N (analysis.finite_size_fit, power law y = A N^a with a = −θ, weighted on "
           "ln y; spanning fraction over the sizes with at least one spanning event) and the reading "
-          "(scaling.mfd_reading: *critical-like* = the cutoff grows with N and one tapered power law with the "
-          "same b > 0 fits every N without a spanning excess; *characteristic-size* = an exponential law (b ≈ 0) "
+          "(scaling.mfd_reading: *critical-like* = the cutoff grows with N, every N has a CSN power-law stretch "
+          "(the power law plausible over ≥ 1 decade), the tapered b is > 0 "
+          "and the same at every N, and no N has a spanning excess; *characteristic-size* = an exponential law (b ≈ 0) "
           "at the largest N, or spanning events in excess of the power law with a spanning fraction that "
           "does not decrease with N):"),
           Table(["ν", "ν_f", "cutoff P_c", "mean ⟨P⟩", "spanning fraction", "reading"], _group_rows(nh["groups"]))]
@@ -97,18 +99,17 @@ def _patch_section(nh) -> list:
          "block count of its run; a patch of N blocks spans the chain. Slips at the same place at different "
          "times of one event still add up in one patch. The same statistics, fits and rules as above, "
          "without the merged-events rule:"),
-         Table(["ν", "ν_f", "N", "events → patches", "b (Page)", "tapered b", "P_corner", "tapered KS / crit",
+         Table(["ν", "ν_f", "N", "events → patches", "b (Page)", "tapered b", "P_corner", "CSN (multi-block patches)",
                 "largest patch P (blocks)", "P_c = ⟨P²⟩/⟨P⟩", "spanning patches per cycle", "excess over GR"],
                [[f"{r['nu']:g}", f"{r['nu_f']:g}", f"{r['n']}", f"{events[(r['nu'], r['nu_f'], r['n'])]} → {r['events']}",
                  _pm(r["fit"]["b"], r["fit"]["sigma"]), _pm(r["tapered"]["b"], r["tapered"]["b_sigma"]),
                  _g(r["tapered"]["corner"], r["tapered"]["corner_sigma"]),
-                 f"{r['tapered']['ks']:.3f} / {r['tapered']['ks_crit']:.3f}",
+                 csn_cell(r.get("csn")),
                  f"{r['largest']['potency']:.3g} ({r['largest']['n_blocks']})",
                  _g(r["moments"]["cutoff"], r["moments"]["cutoff_sigma"]), f"{r['span_per_cycle']:.2g}",
                  f"{r['spanning']['excess']:.3g}"] for r in rows]),
          Paragraph("In words, per N over the (ν, ν_f) near 1/2: " + "; ".join(
-        f"N = {n}: tapered b {_span([r['tapered']['b'] for r in rs])}, KS rejects it in "
-        f"{sum(r['tapered']['ks'] > r['tapered']['ks_crit'] for r in rs)} of {len(rs)}, P_c = "
+        f"N = {n}: tapered b {_span([r['tapered']['b'] for r in rs])}, CSN: {_words(rs)}, P_c = "
         f"{_span([r['moments']['cutoff'] for r in rs], '{:.3g}')}, largest patch "
         f"{_span([r['largest']['potency'] for r in rs], '{:.3g}')} ({_span([r['largest']['n_blocks'] for r in rs], '{:.0f}')} "
         f"blocks), spanning patches {_span([r['span_per_cycle'] for r in rs])} per cycle"
@@ -116,6 +117,13 @@ def _patch_section(nh) -> list:
          Table(["ν", "ν_f", "patch cutoff P_c", "mean patch ⟨P⟩", "spanning fraction", "reading"],
                _group_rows(nh["patch_groups"]))]
     return [Section("By connected slip patches", B, level=3)]
+
+
+def _words(rows) -> str:
+    """How many of ``rows`` the CSN test reads each way (csn_word), e.g. '3 ruled out, 1 no scaling range of 4'."""
+    words = [csn_word(r.get("csn")) for r in rows]
+    return ", ".join(f"{words.count(w)} {w}" for w in ("ruled out", "undecided", "plausible", "no scaling range",
+                                                        "no fit") if words.count(w)) + f" of {len(words)}"
 
 
 def _span(xs, fmt="{:.2g}") -> str:
@@ -135,11 +143,9 @@ def _summary(nh) -> list:
     L = ["**In words.**"]
     for n in sizes:
         rs = [r for r in rows if r["n"] == n]
-        ks_fail = sum(r["tapered"]["ks"] > r["tapered"]["ks_crit"] for r in rs)
         L.append(f"N = {n} ({len(rs)} catalogs): slipping fraction {_span([r['slip_fraction'] for r in rs])}, "
                  f"{_span([r['events_per_block_cycle'] for r in rs], '{:.3g}')} events per block and loading cycle; "
-                 f"tapered b {_span([r['tapered']['b'] for r in rs])}, KS rejects the tapered power law in {ks_fail} of "
-                 f"{len(rs)}; P_c = {_span([r['moments']['cutoff'] for r in rs], '{:.3g}')} "
+                 f"tapered b {_span([r['tapered']['b'] for r in rs])}; CSN: {_words(rs)}; P_c = {_span([r['moments']['cutoff'] for r in rs], '{:.3g}')} "
                  f"(P_c/N = {_span([r['moments']['cutoff'] / n for r in rs])}); largest event "
                  f"{_span([r['largest']['potency'] for r in rs], '{:.3g}')} "
                  f"({_span([r['largest']['n_blocks'] for r in rs], '{:.0f}')} blocks); spanning events "
@@ -257,10 +263,12 @@ def verdict_notes(cfg, data) -> dict:
                         + (f" (slipping fraction above {MERGED:g} at N = {', '.join(map(str, busy))}: events merge "
                            "separate slips)" if busy else "") if by_patch else "") + ".", mk)
         rows = [r for r in nh["patch_rows" if by_patch else "rows"] if r.get("fit")]
-        ok = [r for r in rows if r["tapered"]["ks"] <= r["tapered"]["ks_crit"] and r["tapered"]["b"] > 2 * r["tapered"]["b_sigma"]]
+        from .scaling import _power_stretch
+
+        ok = [r for r in rows if _power_stretch(r) and r["tapered"]["b"] > 2 * r["tapered"]["b_sigma"]]
         exc = [r for r in rows if math.isfinite(r["spanning"]["excess"]) and r["spanning"]["excess"] > 3]
-        out["cl"] = (f"Near ν_f = 1/2{', by connected slip patches' if by_patch else ''}: the tapered power law "
-                     f"passes KS with b > 2σ in {len(ok)} of {len(rows)} catalogs"
+        out["cl"] = (f"Near ν_f = 1/2{', by connected slip patches' if by_patch else ''}: a CSN power-law stretch "
+                     f"(plausible over ≥ 1 decade) with tapered b > 2σ in {len(ok)} of {len(rows)} catalogs"
                      + (" (" + ", ".join(f"ν = {r['nu']:g}, ν_f = {r['nu_f']:g}, N = {r['n']}: b = "
                                         f"{_pm(r['tapered']['b'], r['tapered']['b_sigma'])}" for r in ok) + ")" if ok else "")
                      + f"; spanning events above 3× the power law's extrapolation in {len(exc)}"

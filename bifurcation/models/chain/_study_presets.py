@@ -16,14 +16,15 @@ import time
 import numpy as np
 
 from ...report.document import Figure, Paragraph, Section, Table
-from .clauset import p_reading
+from .clauset import p_reading, p_upper
 
 __all__ = ["PRESET_RULES", "preset_jobs", "preset_section", "verdict_table"]
 
 #: the rules of the verdict words, printed beside the table
 PRESET_RULES = (
     "a power law is **ruled out** when the CSN bootstrap p ≤ 0.1 with its one-sided 95 % Clopper–Pearson upper "
-    "bound ≤ 0.1 (k of B bootstrap samples; 0 of 10 bounds p only by 0.26), **plausible** when p > 0.1, "
+    "bound ≤ 0.1 (k of B bootstrap samples; 0 of B bounds p by 1 − 0.05^(1/B): 0.26 for B = 10, 0.095 for B = 30, "
+    "0.030 for B = 100, so B < 29 cannot rule a power law out), **plausible** when p > 0.1, "
     "**undecided** otherwise (resolution ±√(p(1 − p)/B)); an alternative is **favoured** when its normalised likelihood ratio is "
     "negative with p < 0.1; an **excess of large events** is ≥ 3× more events with n_blocks ≥ N/2 than the "
     "fitted power law predicts above their smallest potency (with ≥ 5 such events; undecided when x_min lies above "
@@ -84,7 +85,7 @@ def _preset_catalog(args):
     if distinct.size < 20 or out["relative_spread"] < 1e-6:
         out["fit"] = None
     else:
-        f = clauset_fit(pot, bootstrap=int(p.get("bootstrap", 10)), block_bootstrap=int(p.get("block_bootstrap", 100)),
+        f = clauset_fit(pot, bootstrap=int(run.get("bootstrap", p.get("bootstrap", 10))), block_bootstrap=int(p.get("block_bootstrap", 100)),
                         seed=1, resolution=int(p.get("resolution", 10)))
         out["fit"] = {"n": f.n, "n_tail": f.n_tail, "xmin": f.xmin, "alpha": f.alpha, "alpha_err": f.alpha_err,
                       "alpha_block_err": f.alpha_block_err, "block": f.block, "ks": f.ks, "p": f.p_value,
@@ -177,21 +178,32 @@ def _fit_cell(x) -> str:
             + f"α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} (block bootstrap, blocks of {f['block']}; i.i.d. "
             f"{f['alpha_err']:.3f}) above x_min = {f['xmin']:.3g} ({f['n_tail']} of {f['n']} events); b_P = "
             f"{f['b_P']:.3f}, b_M = {f['b_M']:.3f}; KS {f['ks']:.4f}; p = {f['p']:.2f} ± {res:.2f} "
-            f"({f['bootstrap']} samples); LR: {lr}")
+            f"({round(f['p'] * f['bootstrap'])} of {f['bootstrap']} samples, ≤ {p_upper(f['p'], f['bootstrap']):.2g} at "
+            f"95 %); LR: {lr}")
+
+
+def _events(x) -> str:
+    """What a catalog of the ν-lowered runs holds: its events and their definition."""
+    return (f"{x['kept']} of {x['events']} events kept after {x['transient_cycles']:g} loading cycle(s); an event "
+            "lasts until every block is stuck again")
 
 
 def preset_section(data) -> list:
     runs = data.get("presets") or []
     if not runs:
         return []
+    B = int(data.get("presets_cfg", {}).get("bootstrap", 10))
     intro = ("One catalog per row, compiled engine (`bifurcation.chain(preset=..., engine=\"compiled\")`, "
          "docs/chain.md \"Engines\") from the seeded random start (amplitude 0.1, seed 1); events of the first "
          f"{runs[0]['transient_cycles']:g} loading cycle(s) dropped. Sizes are potencies P; the fits are "
          "Clauset–Shalizi–Newman's through `powerlaw` (`clauset.clauset_fit`, x_min searched over "
          f"{data.get('presets_cfg', {}).get('resolution', 10)} data values per decade; "
-         f"{data.get('presets_cfg', {}).get('bootstrap', 10)} bootstrap samples for p, chosen to fit the "
-         "CPU budget: each is an x_min search over ~10^6 events, so p is resolved to about ±0.1, and p = 0 of B "
-         f"samples bounds p only by 1 − 0.05^(1/B) at 95 % (0.26 for B = 10: not enough to rule a power law out); moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
+         f"B = {B} bootstrap samples for p, chosen to fit the CPU budget (each is an x_min search over ~10^6 "
+         f"events, 3–10 CPU s here): p is resolved to about ±{math.sqrt(0.25 / B):.2f} at p = 0.5, and 0 of {B} "
+         f"samples bounds p by 1 − 0.05^(1/B) = {p_upper(0.0, B):.3f} at 95 % (Clopper–Pearson), "
+         + ("enough to rule a power law out when no sample is as far from its fit as the data; "
+            if p_upper(0.0, B) <= 0.1 else "not enough to rule a power law out; ")
+         + f"moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
          "resamples of blocks of ⌈n^(1/3)⌉ events). Where a preset's own number was changed, the row says why. "
          "Which numbers of each preset were read in a source: docs/chain.md \"Presets\" and presets.py. "
          "Event membership: all-stuck, so the chain presets are run here at a smaller ν than their own 0.01 (the "
@@ -245,12 +257,16 @@ def _pub_cell(x) -> str:
            "no event ≥ N/2" if not ex["large"] else
            ("**excess**" if ex["large"] >= 5 and ex["observed"] >= 3 * ex["expected"] else "no excess")
            + f" ({ex['observed']} with P ≥ {ex['p_large']:.3g} against {ex['expected']:.3g})")
-    return (f"α = {0.5 / x['nu_f']:g}, ν = {x['nu']:g}, V_th = {x['v_threshold']:g}: {x['kept']} events "
+    k = round(f["p"] * f["bootstrap"])
+    return (f"α = {0.5 / x['nu_f']:g} (`{x['preset']}`, N = {x['n']}, ℓ = {x['ell']:g}, ν = {x['nu']:g}, σ = "
+            f"{x['sigma']:g}, {x['ends']}; an event lasts while some block is faster than V_th = {x['v_threshold']:g}): "
+            f"{x['kept']} events kept "
             f"({x['status']}; {x['loading_cycles']:.0f} loading cycles, {x['cpu_per_event'] * 1e3:.3g} CPU ms per "
-            f"event); n_blocks mean {nb['mean']:.2f}, {nb['large']} ≥ N/2; {slides} events last ≥ 1 loading cycle"
+            f"event: 10^6 events would take {x['cpu_per_event'] * 1e6 / 3600:.0f} CPU h); n_blocks mean {nb['mean']:.2f}, {nb['large']} ≥ N/2; {slides} events last ≥ 1 loading cycle"
             f"{' (**slides of ≥ 1 loading cycle**)' if slides else ''}; {word}: α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} "
             f"above x_min = {f['xmin']:.3g} ({f['n_tail']} events, {dec:.2f} decades), b_P = {f['b_P']:.3f}, "
-            f"b_M = {f['b_M']:.3f}, p = {f['p']:.2f} ± {res:.2f} (B = {f['bootstrap']}); LR: {lr}; {exw}")
+            f"b_M = {f['b_M']:.3f}, p = {f['p']:.2f} ± {res:.2f} ({k} of B = {f['bootstrap']}, ≤ "
+            f"{p_upper(f['p'], f['bootstrap']):.2g} at 95 %); LR: {lr}; {exw}")
 
 
 def verdict_table(cfg, data, old_rows: dict) -> list:
@@ -262,14 +278,15 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
 
     rows = []
     vas = find("vasconcelos-1996")
-    v_ev = (f"`vasconcelos-1996` (N = 1, ν = 1e-9, ν_f = 1/2): {vas[0]['kept']} events of one potency "
+    v_ev = (f"`vasconcelos-1996` (N = 1, σ = 0, ν = 1e-9, ν_f = 1/2; {vas[0]['kept']} of {vas[0]['events']} events kept, "
+            f"an event lasts until the block sticks again): {vas[0]['kept']} events of one potency "
             f"{vas[0]['potency_range'][1]:.10g} (spread {vas[0]['relative_spread']:.1e}): the single block repeats "
             "one event (its Δ at ν = 1e-9, which approaches the ν → 0 value 0.1507 only logarithmically at "
             "ν_f = 1/2, docs/physics.md \"Asymptotics at small ν\"); chains are discussed, not run, in the paper. "
             if vas else "")
     rows.append(("Vasconcelos, PRL 76, 4865 (1996): single block first order at ν_f = 1/2; chains not critical",
-                 v_ev + "The σ = 0 chains of this report (its friction, ℓ = 1, ν = 1e-3, 1e-4) are read in the "
-                 "next section: " + old_rows.get("vas", "–"),
+                 v_ev + "The σ = 0 chains of this report (its Carlson–Langer friction, ℓ = 1, free ends, N = 1–256 at "
+                 "ν = 1e-3 and N ≤ 16 at 1e-4, events until all blocks are stuck) are read in the next section: " + old_rows.get("vas", "–"),
                  "single block: **confirmed** (docs/physics.md: Δ0 falls from 0.1507 to 0 at ν_f = 1/2 as ν → 0; "
                  "the catalog adds only that every event is the same); chains: "
                  + old_rows.get("vas_word", "**undecided**") + " (ℓ and ν of chains are not in the paper)"))
@@ -284,7 +301,7 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
                 + "; large events: " + _excess_word(ex) + ("; characteristic peak" if pk else ""))
         rows.append(("Carlson & Langer (PRL 62, 2632; PRA 40, 6470 (1989)) / CLST (PRA 44, 884 (1991)): power-law "
                      "small events plus an excess of large ones",
-                     f"`carlson-langer-1991` ({_par(x)}): {_fit_cell(x)}; {exc}",
+                     f"`carlson-langer-1991` ({_par(x)}; {_events(x)}): {_fit_cell(x)}; {exc}",
                      f"{word} — on the preset, which reproduces J. Xia's reimplementation (ℓ, α, ν) with σ, N, "
                      "ends NOT READ and ν lowered to approach CLST's ν → 0 limit: **not a test of the paper** until "
                      "those are read"))
@@ -298,15 +315,18 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
         for x in mk:
             f, ex = x.get("fit"), x.get("excess") or {}
             pk = _peak(x["mfd"]["edges"], x["mfd"]["counts"]) if f else None
-            cells.append(f"α = {0.5 / x['parameters']['nu_f']:g}: " + (
+            cells.append(f"α = {0.5 / x['parameters']['nu_f']:g} ({_events(x)}): " + (
                 f"{_fit_word(x)}, b_P = {f['b_P']:.3f} ± {f['alpha_block_err']:.3f} (b_M = {f['b_M']:.2f}) above "
-                f"x_min = {f['xmin']:.3g}, p = {f['p']:.2f}; "
+                f"x_min = {f['xmin']:.3g} ({f['n_tail']} events, {_scaling_decades(x):.2f} decades), p = {f['p']:.2f} "
+                f"({round(f['p'] * f['bootstrap'])} of {f['bootstrap']}, ≤ {p_upper(f['p'], f['bootstrap']):.2g} at 95 %); "
                 + (f"**characteristic peak** at m = {pk['m']:.1f} ({pk['count']} against {pk['low']} at "
                    f"m = {pk['m_low']:.1f})" if pk else "no characteristic peak")
                 + f"; {_excess_word(ex)}" if f else "no fit"))
         rows.append(("Mori & Kawamura, PRL 94, 058501 (2005); JGR 111, B07302 (2006): GR-like at α = 1, "
                      "characteristic peak at α ≥ 2",
-                     f"`mori-kawamura-2006` ({_par(mk[0]).split(', ν_f')[0]}): " + "; ".join(cells),
+                     f"`mori-kawamura-2006` (N = {mk[0]['parameters']['n']}, ℓ = {mk[0]['parameters']['ell']:g}, "
+                     f"ν = {mk[0]['parameters']['nu']:g}, σ = {mk[0]['parameters']['sigma']:g}, "
+                     f"{mk[0]['parameters']['ends']}): " + "; ".join(cells),
                      "**not tested**: every number of the preset is the issue's summary, none read in MK; the "
                      "numbers beside reproduce that summary (words by the rules below) only"))
     else:
@@ -324,9 +344,25 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
     keys = ["vasconcelos-1996", "carlson-langer-1991", None, "mori-kawamura-2006", None]
     rows = [(r[0], r[1], (pub_cells(k) if k and k != "vasconcelos-1996" else
                           "– (N = 1: its own ν, above)" if k else "not run"), r[2]) for r, k in zip(rows, keys)]
+    size = []
+    if pub:
+        cost = [x["cpu_per_event"] for x in pub]
+        size = [Paragraph(
+            f"Catalog sizes at the presets' own ν: {min(x['kept'] for x in pub)}–{max(x['kept'] for x in pub)} events "
+            f"per catalog, each cut by its CPU budget ({', '.join(sorted({x['status'] for x in pub}))}). The compiled "
+            "engine runs these chains with σ > 0 (`bifurcation.chain(..., engine=\"compiled\")`, all-stuck events) "
+            "and splits events by V_th in its own loop (`_subevents.py`, through `subevent_study.py`; "
+            "`bifurcation.chain` takes `v_threshold` with the exact engine only). Its measured cost per event at the "
+            f"presets' N and ν = 0.01 is {min(cost) * 1e3:.3g}–{max(cost) * 1e3:.3g} CPU ms (a chain-wide slide "
+            "of hundreds of blocks is one event), so 10^6 events per catalog would take "
+            f"{min(cost) * 1e6 / 3600:.0f}–{max(cost) * 1e6 / 3600:.0f} CPU hours each, and even 10^4 events "
+            f"{min(cost) * 1e4 / 3600:.1f}–{max(cost) * 1e4 / 3600:.1f} CPU hours: the readings at the presets' own ν "
+            f"rest on {min(x['kept'] for x in pub)}–{max(x['kept'] for x in pub)} events "
+            f"({sum(math.log10(x['fit']['largest'] / x['fit']['xmin']) < 1 for x in pub)} of {len(pub)} fits with "
+            "**no scaling range**).")]
     return [Section("Verdict table (issue 17): one row per claim, each on its own model", [
         Table(["claim", "run and numbers (ν lowered, all-stuck events)",
-               "at the preset's own ν (events split by V_th; PUBLISHED_NU.md)", "verdict"], rows),
+               "at the preset's own ν (events split by V_th; PUBLISHED_NU.md)", "verdict"], rows), *size,
         Paragraph("Rules: " + PRESET_RULES + "; " + PUBLISHED_NU_RULE + ". Published numbers beside ours: none could be read for these claims "
           "(CL 1989's abstract: sizes \"consistent with the Gutenberg-Richter law\", no b; MK's and CLST's texts "
           "were not found; Sakaguchi–Morita arXiv:1309.4583 give b ≈ 2/3 for another, heterogeneous, model), so "

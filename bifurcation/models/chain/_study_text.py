@@ -66,8 +66,10 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
             "the verdict table were added by `--presets-only` (same workflow, its `[presets]` section)."
             if data.get("presets_wall_seconds") else "")
          + (" The verdict table's column \"at the preset's own ν\" is read from the `subevents_*.json` of this "
-            "directory, written by `python -m bifurcation.models.chain.subevent_study run` (its catalogs and fits: "
-            "[PUBLISHED_NU.md](PUBLISHED_NU.md))." if data.get("published_nu") else ""))]
+            "directory, written by `--published-nu-only` (same workflow, its `[published_nu]` section; catalogs and "
+            "fits: [PUBLISHED_NU.md](PUBLISHED_NU.md)). The CSN fits of the report's own catalogs are kept in "
+            "csn.json, keyed by the data they fit (recomputed from catalogs.npz and near_half.npz by "
+            "tests/test_chain_report_csn.py)." if data.get("published_nu") else ""))]
     B += _threshold_section(data, c)
     B += _order_section(cfg, data, sw, star)
     from ._study_mfd_text import near_half_section, small_nu_section
@@ -193,25 +195,28 @@ def _order_section(cfg, data, sw, star) -> list:
 
 
 def _mfd_section(data) -> list:
+    from ._study_csn import CSN_RULES, csn_cell
+
     rows = []
     for s in data["catalogs"]:
         f, sp, rl, rs = s["fit"], s["spanning"], s["recurrence_large"], s["recurrence_spanning"]
         rows.append([f"{s['n']}", f"{s['nu_f']}", f"{s['events']}", _pm(f["b"], f["sigma"], 2),
-                     f"[{f['m_min']:.2f}, {f['m_max']:.2f}] ({f['n']})", f"{f['ks']:.3f} / {f['ks_crit']:.3f}",
+                     f"[{f['m_min']:.2f}, {f['m_max']:.2f}] ({f['n']})", csn_cell(s.get("csn")),
                      f"{sp['spanning']} ({sp['expected']:.2g}, {sp['excess']:.3g})", f"{100 * s['large_fraction']:.1f} %",
                      f"{rl['mean']:.4g}, {rl['cv']:.2f}", f"{rs['mean']:.4g}, {rs['cv']:.2f}"])
     return [Section("Magnitude–frequency", [
-        Paragraph("m = log10 P. b by maximum likelihood for a Gutenberg–Richter law truncated to the fit range "
+        Paragraph("m = log10 P. b (Page): maximum likelihood for a Gutenberg–Richter law truncated to a fixed range "
                   "(Page's estimator, analysis.b_value; σ from the Fisher information), over the multi-block events "
                   "(the 1-block events form an atom at the closed-form potency above) from the most populated "
                   "0.1-bin of m (maximum curvature) to just below the smallest system-spanning event (or the "
-                  "largest event). KS: distance between the fitted law and the magnitudes in the range, against the "
-                  "5 % critical value 1.36/√n; KS > critical means the range is not a power law. Spanning excess: "
-                  "observed system-spanning events over the fit's extrapolation N(≥ m_span). Large events: "
-                  "n_blocks ≥ N/2."),
+                  "largest event): a slope over that range, not a test that the range is a power law. Whether it is: "
+                  + CSN_RULES + ". Spanning excess: observed system-spanning events over the Page fit's extrapolation "
+                  "N(≥ m_span). Large events: n_blocks ≥ N/2. The raw catalogs are in catalogs.npz (the CSN fits in "
+                  "csn.json, recomputed from them by tests/test_chain_report_csn.py)."),
         Figure("fig_mfd.png", alt="mfd"),
-        Table(["N", "ν_f", "events", "b", "fit range m (n)", "KS / crit", "spanning (expected, excess)",
-               "large events", "recurrence of large: mean, CV", "of spanning: mean, CV"], rows)])]
+        Table(["N", "ν_f", "events", "b (Page)", "fit range m (n)", "CSN (multi-block events)",
+               "spanning (expected, excess)", "large events", "recurrence of large: mean, CV",
+               "of spanning: mean, CV"], rows)])]
 
 
 def _verdict(cfg, data, sw, star) -> list:
@@ -242,15 +247,21 @@ def _verdict(cfg, data, sw, star) -> list:
              f"{_pm(psi['up'][ib], psi['se_up'][ib])} at {b:g}, where the longest event lasts "
              f"{big['longest_event_up'][ib]:.2f} loading cycles (up) and {big['longest_event_down'][ib]:.2f} (down); "
              f"Ψ loop width {_pm(psi['width'], psi['width_sigma'])} at ν_f = {psi['width_at']:g}")
-    gr = [s for s in cats if math.isfinite(s["fit"]["b"])]
-    wide = [s for s in gr if s["fit"]["ks"] <= s["fit"]["ks_crit"] and s["fit"]["m_max"] - s["fit"]["m_min"] >= 1.0]
+    from ._study_csn import csn_word, favoured
+
+    words = [csn_word(s.get("csn")) for s in cats]
+    wide = [s for s, w in zip(cats, words) if w == "plausible"]
+    spans = sum(s["spanning"]["spanning"] for s in cats)
     cl = ("supported" if any(s["spanning"]["spanning"] and s["spanning"]["excess"] > 3 for s in wide)
-          else "partly: a power-law stretch of ≥ 1 decade, no excess of spanning events" if wide
-          else "not supported at these parameters: no magnitude range of ≥ 1 decade passes the KS test of an "
-               "exponential, and no system-spanning event occurs")
-    mfd_cells = "; ".join(f"N = {s['n']}, ν_f = {s['nu_f']}: b = {_pm(s['fit']['b'], s['fit']['sigma'], 2)} over "
-                          f"{s['fit']['m_max'] - s['fit']['m_min']:.2f} decades, KS {s['fit']['ks']:.3f} vs "
-                          f"{s['fit']['ks_crit']:.3f}, {s['spanning']['spanning']} spanning events" for s in cats)
+          else "partly: a power law plausible over ≥ 1 decade (CSN), no excess of spanning events" if wide
+          else "not supported at these parameters: the CSN test finds no plausible power law of ≥ 1 decade ("
+               + ", ".join(f"{words.count(w)} {w}" for w in dict.fromkeys(words)) + f" of {len(words)})"
+               + (", and no system-spanning event occurs" if not spans else ""))
+    mfd_cells = "; ".join(f"N = {s['n']}, ν_f = {s['nu_f']}: " + (
+        f"CSN α = {s['csn']['alpha']:.2f} ± {s['csn']['alpha_block_err']:.2f} over {s['csn']['decades']:.2f} decades, "
+        f"p = {s['csn']['p']:.2f} (B = {s['csn']['bootstrap']}): {w}"
+        + (f" (favoured: {', '.join(favoured(s['csn']))})" if favoured(s["csn"]) else "") if s.get("csn") else "no CSN fit")
+        + f", {s['spanning']['spanning']} spanning events" for s, w in zip(cats, words))
     bs = "; ".join(f"N = {n}: " + " → ".join(f"{_pm(s['fit']['b'], s['fit']['sigma'], 2)} (ν_f = {s['nu_f']})"
                                             for s in cats if s["n"] == n) for n in sorted({s["n"] for s in cats}))
     row1 = next(r for r in table if r["n"] == 1)
@@ -286,8 +297,8 @@ def _verdict(cfg, data, sw, star) -> list:
          + "; the `carlson-langer-1991` preset, after J. Xia's reimplementation, has ℓ = 10 and ν = 0.01, and CLST's "
          "drop model is the ν → 0 limit there: presets.py)"),
          ("Mori & Kawamura (2005–08): near-critical behaviour at weak weakening (ν_f ≈ 1/2)", "b from "
-         f"ν_f = 0.2 to 0.35: {bs} (the distribution broadens towards weak weakening, but KS rejects an exponential "
-         f"in every case, see the table). {slide}. {notes['mk'][0]}",
+         f"ν_f = 0.2 to 0.35: {bs} (Page's slope over a fixed range; the CSN readings of these catalogs: "
+         + ", ".join(f"N = {s['n']}, ν_f = {s['nu_f']}: {w}" for s, w in zip(cats, words)) + f", see the table). {slide}. {notes['mk'][0]}",
          (f"**{notes['mk'][1]}** near ν_f = 1/2 (rules: scaling.mfd_reading)" if notes["mk"][1] else
             "**undecided**: broader distributions towards ν_f = 1/2, then, for the longest chain, a switch to "
             "sliding of the whole chain, not a scale-free state; the MFD at ν_f near 1/2 and its finite-size "

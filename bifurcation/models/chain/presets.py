@@ -44,7 +44,8 @@ MK_PRL = "Mori & Kawamura, PRL 94, 058501 (2005), arXiv cond-mat/0408396 (openin
 #: (sciencedocbox): title only; MK 2D, arXiv:0706.1871 (ar5iv): abstract and introduction only; Weatherley &
 #: Abe, NPG 11, 553 (2004) (123dok), "a reproduction of the Block-Slider model of Carlson et al. (1991)":
 #: title page and abstract only; CLST 1991, de Sousa Vieira-Vasconcelos-Nagel 1993: not found. So every
-#: NOT READ below stays so.
+#: NOT READ below stays so. Searched once more on 2026-11-26 (pages corpus: de Sousa Vieira-Vasconcelos-Nagel
+#: 1993; MK 2005 parameters; CLST 1991): no new text found (hits were other BK/train-model papers).
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 threshold, order parameter and hysteresis with finite-size scaling, magnitude–frequency statistics, a
 verdict table.
 
-    bifurcation study chain workflows/chain-report.toml [--out DIR] [--from-data | --presets-only]
+    bifurcation study chain workflows/chain-report.toml [--out DIR] [--from-data | --presets-only | --published-nu-only]
 
 Runs the workflow's ν_f sweeps (several seeds per N), catalogs and lone-block checks on two
 processes and writes ``REPORT.md`` and ``report.html`` (one document of ``report.document``'s typed blocks, by
@@ -132,6 +132,11 @@ def main(argv=None) -> None:
     if "--from-data" in argv[1:] and not (out / "data.json").is_file():
         sys.exit(f"bifurcation: error: --from-data: {out / 'data.json'} does not exist; run the report once "
                  "(without --from-data), or give --out results/chain (the committed data)")
+    if "--catalogs-only" in argv[1:] and not (out / "data.json").is_file():
+        sys.exit(f"bifurcation: error: --catalogs-only: {out / 'data.json'} does not exist")
+    if "--published-nu-only" in argv[1:] and not (out / "data.json").is_file():
+        sys.exit(f"bifurcation: error: --published-nu-only: {out / 'data.json'} does not exist; run the whole report "
+                 "once, or give --out results/chain (the committed data)")
     if "--presets-only" in argv[1:] and not (out / "data.json").is_file():
         sys.exit(f"bifurcation: error: --presets-only: {out / 'data.json'} does not exist; run the whole report once "
                  "(without --presets-only), or give --out results/chain (the committed data)")
@@ -161,6 +166,31 @@ def main(argv=None) -> None:
         data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
         _extra_stats(out, cfg, data, None)
         _render(out, cfg, path, data)
+        return
+    if "--catalogs-only" in argv[1:]:   # the [catalog] runs again, their raw catalogs kept; the rest from data.json
+        data = json.loads((out / "data.json").read_text())
+        c, cat = cfg["chain"], cfg["catalog"]
+        args = [(c, cat, n, nf, events) for n, events in zip(cat["sizes"], cat["events"]) for nf in cat["nu_f"]]
+        with _pool(cfg["study"].get("workers", 2)) as pool:
+            cats = list(pool.map(_catalog, args))
+        _save_catalogs(out, cats)
+        (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+        _render(out, cfg, path, saved_data(out, cfg))
+        return
+    if "--published-nu-only" in argv[1:]:   # the [published_nu] catalogs into subevents_*.json, then re-render
+        from .subevent_study import published_nu_jobs, write_json
+
+        t0 = time.perf_counter()
+        with _pool(cfg["study"].get("workers", 2)) as pool:
+            futures = [pool.submit(f, a) for f, a, _ in published_nu_jobs(cfg)]
+            for fut in futures:
+                r = fut.result()
+                print(f"{time.perf_counter() - t0:6.0f} s  {write_json(r, out)}: {r['events']} events, "
+                      f"{r['cpu_run'] + r['cpu_stats']:.0f} cpu s", file=sys.stderr, flush=True)
+        from .subevent_study import write_report
+
+        write_report(out)
+        _render(out, cfg, path, saved_data(out, cfg))
         return
     if "--from-data" in argv[1:]:     # re-render REPORT.md and figures from data.json, no runs
         _render(out, cfg, path, saved_data(out, cfg))
@@ -247,8 +277,14 @@ _RAW = ("t_start", "potency", "n_blocks", "hypocentre", "duration", "c_size", "c
 def _extra_stats(out: Path, cfg, data, results) -> None:
     """The ``[near_half]`` catalogs and the ``[sweep_small_nu]`` sweeps into ``data``. Their raw
     catalogs are kept in ``near_half.npz`` (``--from-data`` recomputes the statistics from it)."""
+    from ._study_csn import CsnCache
     from ._study_mfd import near_half_stats
 
+    csn = CsnCache(out)
+    if results is not None and results.get("_catalog"):
+        _save_catalogs(out, results["_catalog"])
+    if (out / "catalogs.npz").exists():   # the [catalog] section's statistics from its raw catalogs, with CSN fits
+        data["catalogs"] = _catalogs_from_raw(out, data.get("catalogs", []), csn)
     raw = out / "near_half.npz"
     if results is not None:
         if results["_budgeted_catalog"]:
@@ -261,11 +297,34 @@ def _extra_stats(out: Path, cfg, data, results) -> None:
         z = np.load(raw)
         cats = [dict(m, **{k: z[f"{k}_{i}"].tolist() for k in _RAW if f"{k}_{i}" in z})
                 for i, m in enumerate(json.loads(str(z["meta"])))]
-        data["near_half"] = near_half_stats(cats, cfg)
+        data["near_half"] = near_half_stats(cats, cfg, csn)
+    csn.save()
     s = cfg.get("sweep_small_nu")
     if s and data.get("sweeps_small_nu", {}).get("runs"):
         small = dict(cfg, sweep=dict(cfg["sweep"], **s))
         data["sweeps_small_nu"].update(_sweep_stats(data["sweeps_small_nu"]["runs"], small))
+
+
+_CAT_RAW = ("potency", "n_blocks", "hypocentre", "t_start")
+
+
+def _save_catalogs(out: Path, cats) -> None:
+    """The ``[catalog]`` runs' raw catalogs (after the skipped events) in ``catalogs.npz``, so that their
+    statistics (and CSN fits) can be recomputed by ``--from-data``."""
+    meta = [{k: v for k, v in c.items() if k not in _CAT_RAW} for c in cats]
+    np.savez_compressed(out / "catalogs.npz", meta=json.dumps(meta, default=float),
+                        **{f"{k}_{i}": np.array(c[k]) for i, c in enumerate(cats) for k in _CAT_RAW})
+
+
+def _catalogs_from_raw(out: Path, old: list, csn) -> list:
+    z = np.load(out / "catalogs.npz")
+    cats = [dict(m, **{k: z[f"{k}_{i}"] for k in _CAT_RAW}) for i, m in enumerate(json.loads(str(z["meta"])))]
+    rows = []
+    for c in cats:
+        st = _catalog_stats(c, csn)
+        st["cpu"] = c["cpu"]
+        rows.append(st)
+    return sorted(rows, key=lambda d: (d["n"], d["nu_f"]))
 
 
 def _section(text: str, head: str) -> str:
@@ -350,7 +409,7 @@ def _sweep_stats(runs, cfg) -> dict:
     return {"table": table, "fss": fss, "longest_event_limit": limit}
 
 
-def _catalog_stats(c) -> dict:
+def _catalog_stats(c, csn=None) -> dict:
     """b-value above the magnitude of completeness of the multi-block events (the lone-block events
     sit in an atom fixed by the closed form) and below the system-spanning events, spanning excess,
     recurrence of large events, log-binned counts and potency."""
@@ -369,7 +428,7 @@ def _catalog_stats(c) -> dict:
     fit = b_value(p[multi], m_min=m_min, m_max=m_max)
     fit.update(_ks(m[multi], fit))
     return {"n": n, "nu_f": c["nu_f"], "events": int(p.size), "seconds": c["seconds"], "status": c["status"],
-            "fit": fit, "spanning": spanning_excess(p, nb, n, fit),
+            "fit": fit, "csn": csn.fit(p[multi]) if csn is not None else None, "spanning": spanning_excess(p, nb, n, fit),
             "recurrence_spanning": recurrence(c["t_start"], span), "recurrence_large": recurrence(c["t_start"], large),
             "large_fraction": float(large.mean()), "one_block": c["one_block"],
             "mfd": {k: v.tolist() for k, v in magnitude_frequency(p).items()}}

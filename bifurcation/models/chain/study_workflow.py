@@ -15,7 +15,8 @@ from .model import CHAIN, REPORT_WORKFLOW
 
 __all__ = ["load_report_workflow"]
 
-_TABLES = ("study", "chain", "sweep", "catalog", "threshold", "near_half", "sweep_small_nu", "presets")
+_TABLES = ("study", "chain", "sweep", "catalog", "threshold", "near_half", "sweep_small_nu", "presets",
+           "published_nu")
 _SWEEP = ("sizes", "seeds", "nu_f", "nu_f_max", "cycles_per_step", "transient_cycles", "max_events_per_step",
           "longest_event")
 #: Runs per N, steps, events: a typo such as 1e9 is refused here rather than run for days.
@@ -137,7 +138,27 @@ def load_report_workflow(path) -> dict:
                                      "run"), required=False)
     if presets is not None:   # published parameter sets by the compiled engine (_study_presets.py)
         _presets(presets)
+    published = root.table("published_nu", ("v_threshold", "events", "cpu", "bootstrap", "transient_cycles", "run"),
+                           required=False)
+    if published is not None:   # the presets at their own nu, events split by V_th (subevent_study.py)
+        _published_nu(published)
     return doc
+
+
+def _published_nu(table: Table) -> None:
+    from .presets import preset_names
+
+    table.number("v_threshold", 0.1, above=0)
+    table.integer("events", 10**6, **_axis("events"))
+    table.number("cpu", 600.0, above=0, high=86400)     # CPU s per catalog: a day at most, a typo refused
+    table.integer("bootstrap", 100, low=0, high=10_000)
+    table.number("transient_cycles", 1.0, low=0)
+    for run in table.tables("run", ("preset", "nu_f"), most=_MOST_LIST):
+        if run.string("preset") not in preset_names():
+            raise InputError(run.path("preset"), run.raw("preset"), "is not a preset",
+                             f"use one of {', '.join(preset_names())}")
+        if run.has("nu_f"):
+            run.number("nu_f", **_axis("nu_f"))
 
 
 def _presets(table: Table) -> None:
@@ -149,7 +170,7 @@ def _presets(table: Table) -> None:
     table.integer("resolution", 10, low=1, high=1000)
     table.number("verify", 0.0, low=0, high=1)
     for run in table.tables("run", ("preset", "events", "nu", "nu_f", "ell", "n", "sigma", "ends", "amplitude",
-                                    "seed", "t_max", "why", "claim"), most=_MOST_LIST):
+                                    "seed", "t_max", "why", "claim", "bootstrap"), most=_MOST_LIST):
         if run.string("preset") not in preset_names():
             raise InputError(run.path("preset"), run.raw("preset"), "is not a preset",
                              f"use one of {', '.join(preset_names())}")
@@ -165,6 +186,8 @@ def _presets(table: Table) -> None:
             raise InputError(run.path("ends"), run.raw("ends"), "is not a kind of ends", f"use one of {', '.join(ENDS)}")
         if run.has("t_max"):
             run.number("t_max", above=0)
+        if run.has("bootstrap"):     # this run's CSN samples in place of the shared [presets] bootstrap
+            run.integer("bootstrap", low=1, high=10_000)
         for name in ("why", "claim"):
             if run.has(name):
                 run.string(name)

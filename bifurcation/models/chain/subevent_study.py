@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULT_V_THRESHOLD", "main", "run_preset", "write_report"]
+__all__ = ["DEFAULT_V_THRESHOLD", "main", "published_nu_jobs", "run_preset", "write_report"]
 
 #: V_th of these runs: J. Xia's velocity cutoff v_0 = 1e-4 (physics.clarku.edu/~jcxia/EQProject/BK1D.html,
 #: the "cutoff v_0" table, 1e-4 and 1e-5, in a model driven at ν = 0 during events). It is below a lone
@@ -96,35 +96,82 @@ def run_preset(name, *, nu_f=None, events=10**6, cpu=1500.0, v_threshold=DEFAULT
     return res
 
 
+def published_nu_jobs(cfg) -> list:
+    """The workflow's ``[published_nu]`` runs as (function, argument, cost) jobs of the study's pool
+    (``study.py --published-nu-only``); each job returns run_preset's dict with its ``run_cfg``."""
+    p = cfg.get("published_nu")
+    if not p:
+        return []
+    shared = {k: v for k, v in p.items() if k != "run"}
+    return [(_published_job, (shared, dict(run)), float(p.get("cpu", 600.0))) for run in p["run"]]
+
+
+def _published_job(args) -> dict:
+    shared, run = args
+    res = run_preset(run["preset"], nu_f=run.get("nu_f"), events=int(shared.get("events", 10**6)),
+                     cpu=float(shared.get("cpu", 600.0)), v_threshold=float(shared.get("v_threshold", 0.1)),
+                     transient_cycles=float(shared.get("transient_cycles", 1.0)),
+                     bootstrap=int(shared.get("bootstrap", 100)))
+    res["run_cfg"] = dict(shared, **run)
+    return res
+
+
+def write_json(res, folder) -> Path:
+    """``subevents_<preset>_nuf<ν_f>_vth<V_th>.json`` in ``folder`` (what ``report`` and the study read)."""
+    out = Path(folder) / f"subevents_{_label(res)}.json"
+    out.write_text(json.dumps(res, indent=1))
+    return out
+
+
 def _label(res) -> str:
     return f"{res['preset']}_nuf{res['nu_f']:g}_vth{res['v_threshold']:g}"
 
 
+def _reading(f) -> str:
+    """The fit's word by the page's rule: no scaling range, ruled out, undecided, plausible; with the alternatives
+    the likelihood ratios favour (R < 0, p < 0.1)."""
+    from .clauset import p_reading
+
+    word = ("no scaling range" if math.log10(f["largest"] / f["xmin"]) < 1
+            else "power law " + p_reading(f["p"], f["bootstrap"]))
+    fav = [k.replace("_", " ") for k, (r, q) in f["ratios"].items() if r < 0 and q < 0.1]
+    return f"**{word}**" + (f"; favoured: {', '.join(fav)}" if fav else "")
+
+
 def write_report(folder) -> Path:
     """PUBLISHED_NU.md from the subevents_*.json of ``folder`` (nothing else read or written)."""
+    from .clauset import p_upper
+
     folder = Path(folder)
     rows = [json.loads(q.read_text()) for q in sorted(folder.glob("subevents_*.json"))]
     lines = ["# Presets at their own ν = 0.01: events split in time by a velocity threshold", "",
-             "Produced by `python -m bifurcation.models.chain.subevent_study report " + str(folder) + "` from the "
-             "`subevents_*.json` beside it, each written by `python -m bifurcation.models.chain.subevent_study run "
-             "PRESET [--nu-f X] --events 1000000 --cpu S --out " + str(folder) + "` (a CPU budget S stops a run early; "
-             "the row says so). Engine: the compiled chain engine with the velocity-threshold root "
-             "(`_subevents.py`, docs/chain.md \"Event membership\"): an event opens when some block's velocity "
-             "exceeds V_th and closes when none does; its potency is all slip in that interval, n_blocks the blocks "
-             "above V_th in it. Slip while no block exceeds V_th is counted apart (column 'slip below V_th'). Random "
-             "start of amplitude 0.1 (seed 1); events of the first loading cycle dropped. Chaotic sequences: digits "
-             "of single events depend on the CPU; the statistics within their errors do not.", "",
+             "Produced by `bifurcation study chain workflows/chain-report.toml --out " + str(folder) + " --published-nu-only` "
+             "(its `[published_nu]` table: one catalog per `[[published_nu.run]]`, each one process bounded by the "
+             "table's `cpu`; then `python -m bifurcation.models.chain.subevent_study report " + str(folder) + "` "
+             "rewrites this page alone) from the `subevents_*.json` beside it. Engine: the compiled chain engine with "
+             "the velocity-threshold root (`_subevents.py`, docs/chain.md \"Event membership\"): an event opens when "
+             "some block's velocity exceeds V_th and closes when none does; its potency is all slip in that interval, "
+             "n_blocks the blocks above V_th in it. Slip while no block exceeds V_th is counted apart (column 'slip "
+             "below V_th'). Random start of amplitude 0.1 (seed 1); events of the first loading cycle dropped. Chaotic "
+             "sequences: digits of single events, and the number of events a CPU budget reaches, depend on the CPU "
+             "and its load; the statistics within their errors do not."
+             + (" Records without the workflow's `run_cfg` (" + ", ".join(f"`{_label(r)}`" for r in rows if "run_cfg" not in r)
+                + ") were written by `python -m bifurcation.models.chain.subevent_study run PRESET [--nu-f X] --cpu 100 "
+                "--v-threshold 0.1 --bootstrap 100` before the workflow table existed: the same function and arguments "
+                "as the table's." if any("run_cfg" not in r for r in rows) else ""), "",
              "Fits: Clauset–Shalizi–Newman through `powerlaw` (`clauset.clauset_fit`, x_min on a grid of 10 data "
              "values per decade). p from B parametric bootstrap samples (each with its own x_min search): "
-             "resolution ±√(p(1 − p)/B), p = 0 of B bounds p by 1 − 0.05^(1/B) at 95 % (0.030 for B = 100); B = 100 resolves p to ±0.05 at p = 0.5 and decides "
-             "p ≤ 0.1 at 3σ only when p ≈ 0; Clauset's 2500 (±0.01) costs 25× the CPU of B = 100 over catalogs of "
-             "this size and was not run. The error of α is a moving-block bootstrap (100 resamples of blocks of "
-             "⌈n^(1/3)⌉ events, serial correlation); the goodness-of-fit bootstrap itself resamples independently. "
-             "b_P = α − 1 (potency), b_M = 1.5 (α − 1) (moment magnitude).", "",
+             "resolution ±√(p(1 − p)/B); k of B samples at least as far from their fit as the data bound p by the "
+             "one-sided 95 % Clopper–Pearson limit (0.030 for 0 of 100). Reading (`clauset.p_reading`): **ruled out** "
+             "when that bound is ≤ 0.1, **plausible** when p > 0.1, **undecided** otherwise; **no scaling range** when "
+             "the tail spans < 1 decade (largest P / x_min < 10), whatever p. Clauset's 2500 samples (±0.01) cost 25× "
+             "the CPU of B = 100 and were not run. The error of α is a moving-block bootstrap (100 resamples of "
+             "blocks of ⌈n^(1/3)⌉ events, serial correlation); the goodness-of-fit bootstrap itself resamples "
+             "independently. b_P = α − 1 (potency), b_M = 1.5 (α − 1) (moment magnitude).", "",
              "| preset (ν_f, α = 1/(2ν_f)) | N, ℓ, ν, σ, ends | V_th | events (kept), status | loading cycles | CPU s per "
-             "event (run + stats) | all-stuck stretches ended | slip below V_th / in events | n_blocks mean / max, ≥ N/2 "
-             "| duration mean / max (events over 1 cycle) | CSN fit | excess ≥ N/2 |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "event (run + stats; 10^6 events at that rate) | all-stuck stretches ended | slip below V_th / in events | n_blocks mean / max, ≥ N/2 "
+             "| duration mean / max (events over 1 cycle) | CSN fit | reading | excess ≥ N/2 |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         f = r["fit"]
         lr = ", ".join(f"{k} R = {v[0]:+.1f} (p = {v[1]:.2g})" for k, v in f["ratios"].items())
@@ -134,12 +181,14 @@ def write_report(folder) -> Path:
         lines.append(
             f"| `{r['preset']}` ({r['nu_f']:g}, {0.5 / r['nu_f']:g}) | {r['n']}, {r['ell']:g}, {r['nu']:g}, {r['sigma']:g}, "
             f"{r['ends']} | {r['v_threshold']:g} | {r['events']} ({r['kept']}), {r['status']} | {r['loading_cycles']:.1f} | "
-            f"{r['cpu_per_event'] * 1e3:.3g} ms ({r['cpu_run']:.0f} + {r['cpu_stats']:.0f} s) | {r['stretches_ended']} | "
+            f"{r['cpu_per_event'] * 1e3:.3g} ms ({r['cpu_run']:.0f} + {r['cpu_stats']:.0f} s; 10^6 events: "
+            f"{r['cpu_per_event'] * 1e6 / 3600:.0f} CPU h) | {r['stretches_ended']} | "
             f"{r['slip_below']:.3g} / {r['slip_in_events']:.4g} | {r['n_blocks']['mean']:.2f} / {r['n_blocks']['max']}, "
             f"{r['n_blocks']['large']} | {r['duration']['mean']:.3g} / {r['duration']['max']:.3g} "
             f"({r['duration']['over_one_cycle']}) | α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} above x_min = "
             f"{f['xmin']:.3g} ({f['n_tail']} of {f['n']}; largest P {f['largest']:.3g}); b_P = {f['b_P']:.3f}, "
-            f"b_M = {f['b_M']:.3f}; KS {f['ks']:.4f}; p = {f['p']:.2f} (B = {f['bootstrap']}); LR: {lr} | {exs} |")
+            f"b_M = {f['b_M']:.3f}; KS {f['ks']:.4f}; p = {f['p']:.2f} ({round(f['p'] * f['bootstrap'])} of "
+            f"B = {f['bootstrap']}, ≤ {p_upper(f['p'], f['bootstrap']):.2g} at 95 %); LR: {lr} | {_reading(f)} | {exs} |")
     lines += ["", "LR: normalised log-likelihood ratio R of the power law against each alternative (R > 0 favours the "
               "power law) with its p. Published numbers beside these: none could be read (presets.py says which "
               "numbers of each preset were read and where; MK's and CLST's texts were not found).", ""]
@@ -189,9 +238,7 @@ def main(argv=None) -> int:
         return 2
     res = run_preset(args.preset, nu_f=args.nu_f, events=args.events, cpu=args.cpu, v_threshold=args.v_threshold,
                      bootstrap=args.bootstrap)
-    out = Path(args.out) / f"subevents_{_label(res)}.json"
-    out.write_text(json.dumps(res, indent=1))
-    print(out)
+    print(write_json(res, args.out))
     return 0
 
 
