@@ -13,17 +13,6 @@ def carlson_langer_reference():
     return functools.cache(lambda nu: carlson_langer_mp(nu, 0.4, dps=30))
 
 
-@pytest.fixture(scope="session")
-def local_scheduler():
-    """One local cluster (two single-threaded worker processes) shared by the modules that submit to a
-    scheduler (test_submit, test_integrity, test_faults): each start of a cluster cost ~3 s of CPU (the
-    workers' imports and heyoka compiles), once per module before."""
-    from _store_helpers import local_cluster
-
-    with local_cluster(2) as address:
-        yield address
-
-
 # -- numba's first compile, off the critical path ---------------------------------------------------------
 # With an empty numba disk cache (a fresh clone) the compiled chain engine (two law kinds) and the RK4
 # baselines cost ~28 s of CPU to compile on first use. When many other tests are selected, a subprocess

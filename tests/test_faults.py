@@ -19,6 +19,7 @@ from click.testing import CliRunner
 
 from bifurcation.cli import cli
 
+from _store_helpers import local_cluster
 
 BIN = Path(sys.executable).parent
 TOML = """
@@ -41,8 +42,9 @@ nu = 2
 
 
 @pytest.fixture(scope="module")
-def scheduler(local_scheduler):   # two worker processes, shared with other modules (conftest.py)
-    return local_scheduler
+def scheduler():
+    with local_cluster(1) as address:
+        yield address
 
 
 def one_line(result, needle: str, code: int = 2) -> str:
@@ -175,8 +177,8 @@ def test_workers_wait_with_a_message_and_a_timeout(here, scheduler):
                  "--workers-timeout", "1")
     assert result.exit_code == 2 and "Traceback" not in result.output
     *_, waiting, error = result.stderr.strip().splitlines()
-    assert waiting == f"bifurcation: waiting for 5 workers at {scheduler} (2 connected), up to 1 s"
-    assert error.startswith("bifurcation: error: --workers=5: only 2 workers connected") and "--workers 2" in error
+    assert waiting == f"bifurcation: waiting for 5 workers at {scheduler} (1 connected), up to 1 s"
+    assert error.startswith("bifurcation: error: --workers=5: only 1 workers connected") and "--workers 1" in error
     assert not (here / "s.zarr").exists()
 
 

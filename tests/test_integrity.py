@@ -24,7 +24,7 @@ from bifurcation.store.integrity import StoreDamagedError, scan
 from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles
 from bifurcation.workflow import Workflow
 
-from _store_helpers import assert_store_equals
+from _store_helpers import assert_store_equals, local_cluster
 
 W = Workflow(name="integrity-test", laws=("piecewise-linear", "carlson-langer"),
              nu=(1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13), nu_f=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.9), tiles=(4, 3))
@@ -37,8 +37,9 @@ def reference():
 
 
 @pytest.fixture(scope="module")
-def scheduler(local_scheduler):   # two worker processes, shared with other modules (conftest.py)
-    return local_scheduler
+def scheduler():
+    with local_cluster(1) as address:
+        yield address
 
 
 def write_store(path):

@@ -18,7 +18,7 @@ from bifurcation.store import open_store, read_done
 from bifurcation.run.tiles import compute_serial, tile_count
 from bifurcation.workflow import Workflow
 
-from _store_helpers import assert_store_equals
+from _store_helpers import assert_store_equals, local_cluster
 
 TOML = """
 [study]
@@ -40,8 +40,9 @@ nu = 2
 
 
 @pytest.fixture(scope="module")
-def scheduler(local_scheduler):   # two worker processes, shared with other modules (conftest.py)
-    return local_scheduler
+def scheduler():
+    with local_cluster(2) as address:
+        yield address
 
 
 def workflow(**changes) -> Workflow:
