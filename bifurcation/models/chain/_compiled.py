@@ -352,19 +352,12 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
                     c += fw[lf, n - 1]
                 if rt >= 0:
                     c += fw[rt, n - 1]
-                # Σ_{j=1..n} v_j r_{n−j} in four partial sums (one serial chain was the step's bottleneck)
-                a0, a1, a2, a3 = 0.0, 0.0, 0.0, 0.0
-                j = 1
-                while j + 3 <= n:
-                    a0 += fv[i, j - 1] * cr[i, n - j]
-                    a1 += fv[i, j] * cr[i, n - j - 1]
-                    a2 += fv[i, j + 1] * cr[i, n - j - 2]
-                    a3 += fv[i, j + 2] * cr[i, n - j - 3]
-                    j += 4
-                while j <= n:
-                    a0 += fv[i, j - 1] * cr[i, n - j]
-                    j += 1
-                rn = -(c3 * ((a0 + a1) + (a2 + a3))) * cr[i, 0]
+                # Σ_{j=1..n} v_j r_{n−j}, one chain (four partial sums measured 15 % slower: the step is bound by
+                # the chain from v_n to v_{n+1}, which v_n joins last here)
+                acc_ = 0.0
+                for j in range(1, n + 1):
+                    acc_ += fv[i, j - 1] * cr[i, n - j]
+                rn = -(c3 * acc_) * cr[i, 0]
                 cr[i, n] = rn
                 gt = -rn * amp
                 ld = l2 * c - wn
