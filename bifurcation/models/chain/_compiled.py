@@ -1436,6 +1436,7 @@ class CompiledChain:
                         np.zeros(1, dtype=np.int64))
         f, i8 = np.zeros, np.int64
         taylor = bool(tape.carlson_langer) and taylor
+        self.taylor = taylor
         nd = TAYLOR_ORDER if taylor else 7     # dense-output columns: Taylor coefficients or DOP853's rows
         self._win = _Win(f(n, i8), f(n, i8), f(n, i8), f(n), f(n), f(n), f(n), f(n, np.uint8), f(n, i8), f(n), f(n),
                          f(n), f(n), f(n), f(n), f((n, 16)), f((n, 16)), f((n, nd)), f((n, nd)),
