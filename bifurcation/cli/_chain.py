@@ -168,7 +168,8 @@ def _u0(ctx, param, value):
               help="Event membership by slip velocity: count only blocks faster than V_th (in V0), or 'default' "
                    "for 10·ν (docs/chain.md). Without it: every block that moved, until all are stuck.")
 @click.option("--engine", type=click.Choice(["exact", "compiled"]), default="exact", show_default=True,
-              help="exact: heyoka Taylor (the reference); compiled: numba DOP853, events located the same way.")
+              help="exact: heyoka Taylor (the reference); compiled: numba (Taylor steps for Carlson-Langer, DOP853 "
+                   "otherwise), events located the same way.")
 @click.option("--verify", callback=number("--verify", "0.01"), default="0",
               help="Compiled engine: re-run this fraction of events exactly and print the largest difference.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (keys = the field names).")

@@ -217,6 +217,12 @@ def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu_f: floa
                "steps_per_event": float(cat["steps"].mean()), "noise_ks": 1.36 * math.sqrt(2 / k),
                "numba": [], "rk4": []}
         sizes_, mags = cat["n_blocks"], _magnitudes(cat["potency"])
+        if CompiledChain(law_obj, 1, ell, nu, nu_f, "free", np.zeros(1)).taylor:
+            # the same engine with DOP853 steps (its integrator before the Taylor method), side by side
+            dop = CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0, taylor=False)
+            dout, _, dcpu = _timed(lambda: dop.run(k))
+            row["dop853_events_per_s"] = k / dcpu
+            row["dop853_steps_per_event"] = float(dout["catalog"]["steps"].mean())
         if verify:
             _, rep = run_verified(CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0), k, verify)
             row["verify"] = rep
@@ -241,6 +247,12 @@ def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu_f: floa
                  if "exact_events_per_s" in row else "exact not timed (N > 1024)")
         say(f"  ν = {nu:g}, N = {n:5d}: compiled {rate:9.0f} events/s ({k / wall_s:.0f}), {row['steps_per_event']:.0f} "
             f"steps/event, mean size {row['mean_n_blocks']:.2f}; {exact}")
+        if "dop853_events_per_s" in row:
+            d = row["dop853_events_per_s"]
+            rk = next(r["events_per_s"] for r in row["numba"] if r["kind"] == "active" and r["dt"] == dts[-1])
+            say(f"           the same engine with DOP853 steps (taylor=False): {d:9.0f} events/s, "
+                f"{row['dop853_steps_per_event']:.0f} steps/event; Taylor/DOP853 = {rate / d:.2f}x; DOP853/numba RK4 "
+                f"active dt = {dts[-1]:g}: {d / rk:.3f}x")
         if "verify" in row:
             v = row["verify"]
             say(f"           verify: {v['checked']} events re-run exactly, largest relative difference "

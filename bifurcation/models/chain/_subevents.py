@@ -160,8 +160,8 @@ def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f,
 
 class SubeventRun:
     """One chain run whose catalog is split in time by V_th (``run_subevents``); the chain as
-    ``CompiledChain`` (double precision, DOP853 throughout). ``run`` goes on where the last call
-    stopped, also inside an all-stuck stretch."""
+    ``CompiledChain`` (double precision, Taylor or DOP853 steps throughout). ``run`` goes on where the last
+    call stopped, also inside an all-stuck stretch."""
 
     def __init__(self, law, n, ell, nu, nu_f, ends, u0, *, v_threshold: float, sigma: float = 0.0,
                  tol: float | None = None, max_steps: int = 10**15) -> None:

@@ -79,11 +79,12 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         on stderr when it is about to compile its loop (no disk cache yet for this kind of law).
     engine : {"exact", "compiled"}
         ``"exact"``: heyoka's Taylor integrator (the reference). ``"compiled"``: the numba engine
-        (``_compiled``; double precision, no energy budget), DOP853 at tolerance ``tol`` with the
-        same exact event location; its catalog adds ``error_estimate`` per event (docs/chain.md,
+        (``_compiled``; double precision, no energy budget), an order-20 Taylor method for
+        Carlson–Langer and DOP853 for the other laws at tolerance ``tol``, with the same exact event
+        location; its catalog adds ``error_estimate`` per event (docs/chain.md,
         "Engines").
     tol : float, optional
-        The compiled engine's DOP853 tolerance (default ``_compiled.TOL`` = 1e-11).
+        The compiled engine's tolerance (Taylor or DOP853 steps; default ``_compiled.TOL`` = 1e-11).
     verify : float
         With the compiled engine: re-run this fraction of the events (every ⌈1/verify⌉-th, the first
         included) with the exact engine from the same pre-event state; ``result.verification`` holds
