@@ -840,6 +840,9 @@ CASES += [
     'chain --preset carlson-langer-1991 --n 1048576 --amplitude 0.1 --seed 1 --events 1000000 ## --events=1000000: with --n 1048576',
     'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 0,0,0,0 --amplitude 0.1 --events 3 ## --amplitude=0.1: is given with --u0',
     'continue {wf_wk_rs_kappa_min_big} --out {newdir} ## branch[0].kappa_min=50',
+    "submit {wf_fig} --store {newstore} --scheduler tcp://garbage ## --scheduler='tcp://garbage': has no HOST:PORT",
+    "submit {wf_fig} --store {newstore} --scheduler tcp://localhost:8786/ ## has no HOST:PORT",   # traceback before
+    "reproduce --scheduler tcp://127.0.0.1:70000 ## has port 70000",
 ]
 
 def _split(case: str) -> tuple[str, str]:
@@ -1101,3 +1104,24 @@ def study_env(env):
 @pytest.mark.parametrize("case", STUDY_CASES, ids=[_split(c)[0][:90] for c in STUDY_CASES])
 def test_bad_study_input_is_one_line_exit_2_and_writes_nothing(case, study_env, tmp_path, monkeypatch):
     test_bad_input_is_one_line_exit_2_and_writes_nothing(case, study_env, tmp_path, monkeypatch)
+
+
+@pytest.mark.parametrize("address, needle", [
+    ("garbage", "is not a scheduler address"),                  # a ValueError traceback from distributed after 20 s
+    ("tcp://127.0.0.1:99999", "has port 99999"),                # waited 10 s to fail connecting
+    ("tcp://garbage", "has no HOST:PORT"),
+])
+def test_bad_scheduler_address_in_the_environment(address, needle, env, tmp_path, monkeypatch):
+    """DASK_SCHEDULER_ADDRESS (read by dask at import; set here through dask.config) is checked as --scheduler
+    is, before anything is written, and named as such."""
+    import dask
+
+    _, paths, _ = env
+    monkeypatch.chdir(tmp_path)
+    with dask.config.set({"scheduler-address": address}):
+        result = CliRunner().invoke(cli, ["submit", paths["wf_fig"], "--store", str(tmp_path / "new" / "s.zarr")])
+    assert result.exit_code == 2, result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"bifurcation: error: DASK_SCHEDULER_ADDRESS='{address}'"), lines
+    assert needle in lines[0] and not (tmp_path / "new").exists()
