@@ -657,6 +657,193 @@ CASES += [
     "submit {wf_r2_chain_batch} --store {newstore} ## engine.batch=8: does not apply to model 'chain'",
 ]
 
+# -- walk (issue 21, a new user's walk then an adversary's): inputs beyond the blocks above, every command. The
+#    first rows failed before: the comment was silently dropped from a formula ('1/(1+x)#'), --u0 with --seed
+#    was named --u0='given', hopf with a = 1e-300 or b = 1e300 gave a ZeroDivisionError traceback,
+#    --workers-timeout without a scheduler was ignored, a port 99999 waited 10 s to fail, N = 2^20 × 10^6
+#    events ran for hours, 100 branches × 1000 points or 2000 [hopf] cases were accepted (days of work), a
+#    kappa_min above the Hopf point computed a branch, a UTF-8 BOM was "Invalid statement (line 1)"; the rest
+#    were refused already and are kept so.
+_RSG = (ROOT / "workflows" / "rate-state-grid.toml").read_text()
+_MANY = "".join(f'[[branch]]\nlabel = "b{i}"\nstate_law = "aging"\npoints = 1000\n' for i in range(3))
+WORKFLOWS.update({f"wk_{k}": v for k, v in {
+    "bom": (FIG, "[study]", "\ufeff[study]"),
+    "nul": (FIG, "[tiles]", "\x00\n[tiles]"),
+    "rsg_kappa_nan": (_RSG, "log = { start = 0.3, stop = 2.0, num = 8 }", "values = [nan]"),
+    "rsg_kappa_neg": (_RSG, "log = { start = 0.3, stop = 2.0, num = 8 }", "values = [-1.0]"),
+    "rsg_mass_inf": (_RSG, "values = [0.0, 1e-5]", "values = [inf]"),
+    "rsg_law_chain": (_RSG, 'laws = ["aging", "slip", "prz"]', 'laws = ["carlson-langer"]'),
+    "rsg_tmax": (_RSG, 'laws = ["aging", "slip", "prz"]', 'laws = ["aging"]\nt_max = 1e300'),
+    "rsg_axis": (_RSG, "[grid.mass]", "[grid.n]"),
+    "fig_tiles_neg": (FIG, "nu_f = 2\nnu = 2", "nu_f = -2\nnu = 2"),
+    "fig_tiles_str": (FIG, "nu_f = 2\nnu = 2", 'nu_f = "2"\nnu = 2'),
+    "fig_batch_zero": (FIG, 'precision = "double"', 'precision = "double"\nbatch = 0'),
+    "fig_batch_quad": (FIG, 'precision = "double"', 'precision = "quad"\nbatch = 8'),
+    "fig_batch_huge": (FIG, 'precision = "double"', 'precision = "double"\nbatch = 100000'),
+    "fig_desc_num": (FIG, 'name = "bad-input"', 'name = "bad-input"\ndescription = 5'),
+    "fig_name_long": (FIG, 'name = "bad-input"', 'name = "' + "a" * 5000 + '"'),
+    "fig_values_table": (FIG, "values = [1e-6, 1e-9]", "values = { a = 1 }"),
+    "fig_values_nested": (FIG, "values = [1e-6, 1e-9]", "values = [[1e-6], [1e-9]]"),
+    "fig_log_num_big": (FIG, "values = [1e-6, 1e-9]", "log = { start = 1e-3, stop = 1e-15, num = 1000000 }"),
+    "fig_log_both": (FIG, "values = [1e-6, 1e-9]", "log = { start = 1e-3, stop = 1e-15, num = 5, per_decade = 2 }"),
+    "fig_range_rev": (FIG, "values = [0.3, 0.4]", "ranges = [{ start = 0.9, stop = 0.1, num = 5 }]"),
+    "fig_range_nan": (FIG, "values = [0.3, 0.4]", "ranges = [{ start = nan, stop = 0.9, num = 5 }]"),
+    "fig_law_formula_bad": (FIG, 'laws = ["carlson-langer"]', 'laws = ["1/(1+x)#"]'),
+    "fig_law_state": (FIG, 'laws = ["carlson-langer"]', 'laws = ["aging"]'),
+    "fig_total_huge": (FIG, "values = [1e-6, 1e-9]\n[grid.nu_f]\nvalues = [0.3, 0.4]",
+                       "log = { start = 1e-3, stop = 1e-15, num = 100000 }\n[grid.nu_f]\n"
+                       "ranges = [{ start = 0.1, stop = 0.9, num = 100000 }]"),
+    "chain_law_state": (CHAIN, 'laws = ["carlson-langer"]', 'laws = ["aging"]'),
+    "chain_log_n": (CHAIN, "[grid.n]\nvalues = [4]", "[grid.n]\nlog = { start = 1, stop = 1024, num = 5 }"),
+    "rsc_vth_neg": (RSC, "[tiles]", "[grid.v_th]\nvalues = [-1.0]\n[tiles]"),
+    "rs_kappa_min_big": (RS, "points = 4", "points = 4\nkappa_min = 50"),
+    "rs_kappa_max_low": (RS, "points = 4", "points = 4\nkappa_max = 0.5"),
+    "rs_maxstep_inf": (RS, "max_step = 0.5", "max_step = inf"),
+    "rs_v_lp_branch_str": (RS, "points = 4", 'points = 4\nv_lp = "1"'),
+    "rs_hopf_cases": (RS, "b_over_a = [2.0]\nv_lp = [1.0]",
+                      "b_over_a = [" + ", ".join(str(1.5 + i / 100) for i in range(100)) + "]\nv_lp = ["
+                      + ", ".join(str(1.0 + i / 100) for i in range(20)) + "]"),
+    "rs_points_many": (RS, "[hopf]", _MANY + "[hopf]"),
+    "rs_desc_table": (RS, 'name = "bad-rs"', 'name = "bad-rs"\ndescription = { x = 1 }'),
+    "rs_branch_table": (RS, "[[branch]]", "[branch]"),
+    "rs_slider_list": (RS, "[slider]\na = 0.01", "slider = [1]\n[slider2]\na = 0.01"),
+}.items()})
+CASES += [
+    'slip --law carlson-langer --nu 1e-9 --nu-f 0.4 --precision ## --precision',
+    'slip --law "1-x+y" --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "piecewise(1-x)" --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "piecewise(1 - x, 1, 0, 5)" --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "piecewise(1 - x, -1, 0)" --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "piecewise(1 - x, nan, 0)" --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law nan --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law x --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "1" --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "   " --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "1/(1+x)#" --nu 1e-9 --nu-f 0.4 ## --law=\'1/(1+x)#\'',
+    'slip --law "1/(1+x);1" --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "exp(-x)**1e308" --nu 1e-9 --nu-f 0.4 ## --law',
+    'slip --law "1/(1+x**1000000)" --nu 1e-9 --nu-f 0.4 ## --law',
+    "slip --law 'caf\udce9' --nu 1e-9 --nu-f 0.4 ## --law",
+    "slip --law carlson-langer --nu '1e-9\udcff' --nu-f 0.4 ## --nu",
+    'slip --law carlson-langer --nu 1e-9 --nu-f 0.4 --json --precision quad --nu-f 0.3 ## --nu-f',
+    'limit --law carlson-langer --nu-f 1e400 ## --nu-f',
+    'limit --law "1/(1+x)" --nu-f 0.4 --nu 1e-9 ## --nu',
+    'limit --law carlson-langer --nu-f "" ## --nu-f',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 0,0,0,0 --seed 1 --events 3 ## --seed=1: is given with --u0',
+    'chain --law carlson-langer --n 1 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 "" --events 3 ## --u0',
+    'chain --law "exp(-x)" --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --sigma 0.99 --engine compiled ## --sigma',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --verify 0.5 --engine exact ## --verify',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --ends periodic --ends free ## --ends',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --n 5 ## --n',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10,100 --at 10 --t-end 40 ## --at',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 0 --t-end 40 ## --at',
+    'rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json --mass 1e-300 ## --mass',
+    'rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json --t-end 40 ## --t-end',
+    'hopf --state-law slip --a 1e-300 --b 0.015 --dc 0.01 --v-lp 1 ## a, b, dc, v_lp=(1e-300',
+    'hopf --state-law slip --a 0.01 --b 1e300 --dc 0.01 --v-lp 1 ## a, b, dc, v_lp=(0.01, (1e+300,)',
+    'hopf --state-law slip,aging --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 ## b',
+    'hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01,0.02 --v-lp 1 ## dc',
+    'hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01 --v-lp 1,2 ## --v-lp',
+    'hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 --damping 1e-300 --mass 1e30 ## --mass',
+    'submit {wf_wk_bom} --store {newstore} ## byte-order mark',
+    'submit {wf_wk_nul} --store {newstore} ## WORKFLOW',
+    "submit {wf_fig} --store '' ## --store",
+    'submit {wf_fig} --store {newstore} --new-store --detach ## --detach',
+    "submit {wf_fig} --store {newstore} --scheduler '' ## --scheduler",
+    'submit {wf_fig} --store {newstore} --workers 1.5 ## --workers',
+    'submit {wf_fig} --store {newstore} --workers-timeout 5 ## --workers-timeout=5.0: applies to an existing scheduler',
+    'submit {adir}/ ## WORKFLOW',
+    "submit '' ## WORKFLOW",
+    "continue {wf_rs} --out '' ## --out",
+    'continue {wf_rs} --out {outdir} --damping 1e-300 --damping 1 ## --damping',
+    'continue {wf_wk_bom} --out {newdir} ## byte-order mark',
+    "continue '' ## WORKFLOW",
+    'continue {wf_rsc} --out {newdir} ## submit',
+    'export --store {sb} --out {sb} ## --out',
+    "export --store {sb} --out '' ## --out",
+    'export --store {sb} --out {outdir}/.nc ## --out',
+    'export --store {sb} --out /dev/stdout --format csv ## --out',
+    'export --store {sb} --out - ## --out',
+    'export --store {chain} --out {outdir}/c.csv ## --format',
+    "export --store '' --out {outdir}/x.nc ## --store",
+    'export --store {sb} --out {text}/x.nc ## --out',
+    "report --store '' --out {newdir} ## --store",
+    "report --store {sb} --out '' ## --out",
+    'report --store {chain} --out {chain} ## --out',
+    'report --store {wf_fig} --out {newdir} ## --store',
+    "status --store '' ## --store",
+    'status --store / ## --store',
+    'status --store {locked} --json --json ## --json',
+    "verify --store '' ## --store",
+    'verify --store {chain} --repair --workers 0 ## --workers',
+    'verify --store {damaged} --repair --scheduler notanaddress ## --scheduler',
+    'verify --store {wf_fig} ## --store',
+    "query --store '' ## --store",
+    'query --store {sb} --point 1 ## --point',
+    'query --store {chain} --catalog --n 4 --format xml ## --format',
+    'query --store {chain} --catalog --json --format csv ## --json',
+    'query --store {chain} --periodic 0.5 ## --periodic',
+    'query --store {chain} --periodic FREE ## --periodic',
+    'query --store {sb} --nu "" ## --nu',
+    'extrapolate --store {sb} --law carlson-langer --nu-f "" ## --nu-f',
+    "extrapolate --store '' --law carlson-langer --nu-f 0.4 ## --store",
+    'fit-period --store {sb} --law "" --nu-f 0.4 ## --law',
+    'fit-period --store {chain} --law carlson-langer --nu-f 0.2 --nearest ## --store',
+    'bench --subset -1 ## --subset',
+    'bench --points 1 --subset 0 ## --subset',
+    'bench --points 2.5 ## --points',
+    'bench --pipeline x ## --pipeline',
+    'bench --suite chain --subset 0 ## --subset',
+    "reproduce --out '' ## --out",
+    'reproduce --workers -1 ## --workers',
+    'reproduce --out {sb} ## --out',
+    "reproduce --out {adir} --scheduler '' ## --scheduler",
+    'reproduce --workers x ## --workers',
+    'submit {wf_wk_rsg_kappa_nan} --store {newstore} ## grid.kappa',
+    'submit {wf_wk_rsg_kappa_neg} --store {newstore} ## grid.kappa',
+    'submit {wf_wk_rsg_mass_inf} --store {newstore} ## grid.mass',
+    'submit {wf_wk_rsg_law_chain} --store {newstore} ## engine.laws[0]',
+    'submit {wf_wk_rsg_tmax} --store {newstore} ## engine.t_max',
+    'submit {wf_wk_rsg_axis} --store {newstore} ## grid.n',
+    'submit {wf_wk_fig_tiles_neg} --store {newstore} ## tiles.nu_f',
+    'submit {wf_wk_fig_tiles_str} --store {newstore} ## tiles.nu_f',
+    'submit {wf_wk_fig_batch_zero} --store {newstore} ## engine.batch',
+    'submit {wf_wk_fig_batch_quad} --store {newstore} ## engine.batch',
+    'submit {wf_wk_fig_batch_huge} --store {newstore} ## engine.batch',
+    'submit {wf_wk_fig_desc_num} --store {newstore} ## study.description',
+    'submit {wf_wk_fig_name_long} --store {newstore} ## study.name',
+    'submit {wf_wk_fig_values_table} --store {newstore} ## grid.nu.values',
+    'submit {wf_wk_fig_values_nested} --store {newstore} ## grid.nu.values',
+    'submit {wf_wk_fig_log_num_big} --store {newstore} ## grid.nu',
+    'submit {wf_wk_fig_log_both} --store {newstore} ## grid.nu.log',
+    'submit {wf_wk_fig_range_rev} --store {newstore} ## grid.nu_f',
+    'submit {wf_wk_fig_range_nan} --store {newstore} ## grid.nu_f',
+    'submit {wf_wk_fig_law_formula_bad} --store {newstore} ## engine.laws[0]',
+    'submit {wf_wk_fig_law_state} --store {newstore} ## engine.laws[0]',
+    'submit {wf_wk_fig_total_huge} --store {newstore} ## grid',
+    'submit {wf_wk_chain_law_state} --store {newstore} ## engine.laws[0]',
+    'submit {wf_wk_chain_log_n} --store {newstore} ## grid.n',
+    'submit {wf_wk_rsc_vth_neg} --store {newstore} ## grid.v_th',
+    'continue {wf_wk_rs_kappa_max_low} --out {newdir} ## kappa_max',
+    'continue {wf_wk_rs_maxstep_inf} --out {newdir} ## max_step',
+    'continue {wf_wk_rs_v_lp_branch_str} --out {newdir} ## branch[0].v_lp',
+    "continue {wf_wk_rs_hopf_cases} --out {newdir} ## hopf='100 b_over_a × 20 v_lp × 1 eta': makes 2000 combinations",
+    "continue {wf_wk_rs_points_many} --out {newdir} ## branch='4 branches': hold 3004 points in all",
+    'continue {wf_wk_rs_desc_table} --out {newdir} ## study.description',
+    'continue {wf_wk_rs_branch_table} --out {newdir} ## branch',
+    'continue {wf_wk_rs_slider_list} --out {newdir} ## slider',
+    'verify --store {locked} ## --store',
+    'extrapolate --store {locked} --law carlson-langer --nu-f 0.4 ## --nu-f=0.4: has no finished points',
+    "submit {wf_fig} --store {newstore} --scheduler tcp://256.1.1.1:99999 ## --scheduler='tcp://256.1.1.1:99999': has port 99999",
+    "submit {wf_fig} --store {newstore} --scheduler 127.0.0.1:0 ## --scheduler='127.0.0.1:0': has port 0",
+    'chain --law carlson-langer --n 1048576 --ell 1 --nu 1e-9 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 1000000 ## --events=1000000: with --n 1048576',
+    'chain --preset carlson-langer-1991 --n 1048576 --amplitude 0.1 --seed 1 --events 1000000 ## --events=1000000: with --n 1048576',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 0,0,0,0 --amplitude 0.1 --events 3 ## --amplitude=0.1: is given with --u0',
+    'continue {wf_wk_rs_kappa_min_big} --out {newdir} ## branch[0].kappa_min=50',
+    "submit {wf_fig} --store {newstore} --scheduler tcp://garbage ## --scheduler='tcp://garbage': has no HOST:PORT",
+    "submit {wf_fig} --store {newstore} --scheduler tcp://localhost:8786/ ## has no HOST:PORT",   # traceback before
+    "reproduce --scheduler tcp://127.0.0.1:70000 ## has port 70000",
+]
 
 def _split(case: str) -> tuple[str, str]:
     argv, _, needle = case.partition(" ## ")
@@ -871,6 +1058,17 @@ STUDY_CASES = [
 ]
 
 
+STUDY_CASES += [   # walk (issue 21): see the block of that name above
+    'continue {study} --out {newdir} ## study chain',
+    'study chain {study} --out {sb} ## --out',
+    "study chain '' ## WORKFLOW",
+    'study chain {wf_wk_bom} ## byte-order mark',
+    "study chain {study} --from-data --out '' ## --out",
+    'study ## study [OPTIONS] COMMAND',
+    "study rs-chain {study} ## No such command 'rs-chain'",
+]
+
+
 @pytest.fixture(scope="module")
 def study_env(env):
     """``env`` with the chain study's workflows and output directories (in the same checked root)."""
@@ -906,3 +1104,24 @@ def study_env(env):
 @pytest.mark.parametrize("case", STUDY_CASES, ids=[_split(c)[0][:90] for c in STUDY_CASES])
 def test_bad_study_input_is_one_line_exit_2_and_writes_nothing(case, study_env, tmp_path, monkeypatch):
     test_bad_input_is_one_line_exit_2_and_writes_nothing(case, study_env, tmp_path, monkeypatch)
+
+
+@pytest.mark.parametrize("address, needle", [
+    ("garbage", "is not a scheduler address"),                  # a ValueError traceback from distributed after 20 s
+    ("tcp://127.0.0.1:99999", "has port 99999"),                # waited 10 s to fail connecting
+    ("tcp://garbage", "has no HOST:PORT"),
+])
+def test_bad_scheduler_address_in_the_environment(address, needle, env, tmp_path, monkeypatch):
+    """DASK_SCHEDULER_ADDRESS (read by dask at import; set here through dask.config) is checked as --scheduler
+    is, before anything is written, and named as such."""
+    import dask
+
+    _, paths, _ = env
+    monkeypatch.chdir(tmp_path)
+    with dask.config.set({"scheduler-address": address}):
+        result = CliRunner().invoke(cli, ["submit", paths["wf_fig"], "--store", str(tmp_path / "new" / "s.zarr")])
+    assert result.exit_code == 2, result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"bifurcation: error: DASK_SCHEDULER_ADDRESS='{address}'"), lines
+    assert needle in lines[0] and not (tmp_path / "new").exists()

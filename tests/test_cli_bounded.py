@@ -112,3 +112,17 @@ def test_chain_work_bound_is_kept_by_the_exact_engine():
     assert whole.status == ChainStatus.COMPLETE and run.status == ChainStatus.NO_STOP, run.message
     assert "the run's bound of 2e+04 block-steps ran out" in run.message and 0 < run.events < 200
     assert np.array_equal(whole.potency[:run.events], run.potency)
+
+
+def test_chain_still_running_line_with_verify_does_not_claim_an_event(monkeypatch, capsys):
+    """With --engine compiled --verify nothing reports progress until the end (compiling, then the verified
+    run): the line said 'event 1 of 1000 still sliding after 244 s' on a fresh clone's README example."""
+    from bifurcation.cli import _chain
+
+    monkeypatch.setattr(_chain, "STILL_RUNNING_SECONDS", 0.15)
+    report = _chain._progress(time.perf_counter())
+    with _chain._still_running(report, 1000, 256, 1e-4, counted=False):
+        time.sleep(0.5)
+    lines = capsys.readouterr().err.splitlines()
+    assert lines and all(l.startswith("bifurcation: chain: still running after ") and "--verify" in l
+                         and "event" not in l for l in lines), lines

@@ -48,6 +48,10 @@ MAX_TIME_SCALES = 1e5
 MIN_INERTIAL_TIME = 1e-14
 #: Seconds between progress lines on stderr of a long run.
 PROGRESS_SECONDS = 5.0
+#: The Taylor steps of one run in quad (the API's default, 2e6, bounds double: 15 s measured on an inertial
+#: stick-slip run that reaches it; real128 steps are ~40× slower, 1600 steps/s at load 9: 2e6 was ~20 min).
+#: Beyond it the run ends with status max-steps, as in double.
+QUAD_MAX_STEPS = 100_000
 
 
 def _time_scale(spec, velocities) -> tuple[float, str]:
@@ -203,8 +207,9 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
                          "begin with a velocity > 0 and hold after it, e.g. --v-lp 1,0,1 --at 5,10")
     _check_length(spec, history.velocities, t_end)
     t = np.linspace(history.times[0], t_end, outputs)
+    bound = {"max_steps": QUAD_MAX_STEPS} if precision == "quad" else {}
     r = rate_state(a=a, b=b, dc=dc, state_law=laws, k=k, v_lp=history, t=t, mass=mass, damping=damping,
-                   precision=precision, progress=_progress(t_end))
+                   precision=precision, progress=_progress(t_end), **bound)
     record = {"status": r.status, "message": r.message, "steps": r.steps, "t": r.t.tolist(),
               "mu": [float(x) for x in r.mu], "v": r.v.tolist(), "theta": r.theta.tolist(),
               "slip": [float(x) for x in r.slip], "extrema": r.extrema.tolist()}

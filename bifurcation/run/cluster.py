@@ -38,7 +38,15 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
         import dask
 
         address = dask.config.get("scheduler-address", None)
-        return ("address", str(address), "DASK_SCHEDULER_ADDRESS") if address else None
+        if not address:
+            return None
+        text = str(address).strip()   # checked as --scheduler is ('garbage' was a traceback after 20 s)
+        host, _, port = text.rpartition(":")
+        if "://" not in text and not (host and port.isdigit()):
+            raise InputError("DASK_SCHEDULER_ADDRESS", text, "is not a scheduler address",
+                             "set it to tcp://HOST:PORT, or unset it for the embedded cluster")
+        _check_port(text, "DASK_SCHEDULER_ADDRESS")
+        return ("address", str(address), "DASK_SCHEDULER_ADDRESS")
     text = str(scheduler).strip()
     if "://" in text:
         _check_port(text)
@@ -55,12 +63,18 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
                      "give tcp://HOST:PORT or the path written by `dask scheduler --scheduler-file`")
 
 
-def _check_port(address: str) -> None:
-    """A port in an address is 1-65535 (tcp://host:99999 waited 10 s to fail connecting, issue 21 walk)."""
-    port = address.rpartition(":")[2].rstrip("/")
-    if port.isdigit() and not 1 <= int(port) <= 65535:
-        raise InputError("--scheduler", address, f"has port {port}, outside 1-65535",
-                         "give tcp://HOST:PORT with the scheduler's port (8786 by default)")
+def _check_port(address: str, source: str = "--scheduler") -> None:
+    """A TCP address has a host and a port in 1-65535 (tcp://host:99999 waited 10 s to fail connecting;
+    tcp://host without a port was a traceback from distributed after 20 s; issue 21 walk)."""
+    scheme, sep, rest = address.partition("://")
+    rest = rest if sep else address   # (a trailing / is a traceback in distributed: refused here)
+    host, _, port = rest.rpartition(":")
+    fix = "give tcp://HOST:PORT with the scheduler's port (8786 by default)"
+    if scheme.lower() in ("tcp", "tls", "ws", "wss") or not sep:
+        if not host or not port.isdigit():
+            raise InputError(source, address, "has no HOST:PORT", fix)
+        if not 1 <= int(port) <= 65535:
+            raise InputError(source, address, f"has port {port}, outside 1-65535", fix)
 
 
 def _check_scheduler_file(path: Path) -> None:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 import time
 
-from ..store.status import format_eta
+from ..store.status import format_eta, format_rate
 
 __all__ = ["Progress", "format_eta"]
 
@@ -63,7 +63,7 @@ class Progress:
         rate = self.done / elapsed if elapsed > 0 else 0.0
         eta = (self.total - self.done) / rate if rate > 0 else float("nan")
         percent = 100 * self.done / self.total if self.total else 100.0
-        return (f"bifurcation: {self.done}/{self.total} points ({percent:.1f}%), {rate:.0f} points/s, "
+        return (f"bifurcation: {self.done}/{self.total} points ({percent:.1f}%), {format_rate(rate)}, "
                 f"{elapsed:.1f} s elapsed, ETA {format_eta(eta)}")
 
     def update(self, points: int) -> None:

@@ -26,6 +26,7 @@ from ..outcome import Status
 from ..errors import InputError
 from .tiles import Tile, compute_tile, iter_tiles
 from ..workflow import Workflow, load_workflow
+from ..store.status import format_rate
 from .cluster import check_scheduler, check_workers, check_workers_timeout, connect, describe
 from .progress import Progress
 
@@ -82,7 +83,7 @@ class Summary:
             f"(already done), {self.failed} failed",
             f"statuses of computed points: {statuses}",
             (f"wall time {self.wall_time:.2f} s ({self.compute_time:.2f} s computing), "
-             f"{self.points_per_second:.0f} points/s, {self.tiles} tiles on {self.cluster}")
+             f"{format_rate(self.points_per_second)}, {self.tiles} tiles on {self.cluster}")
             if self.tiles else "nothing to compute: every point of the grid is already done",
         ]
         if self.repaired:

@@ -24,6 +24,11 @@ _RESULTS = ("stick-slip", "creep", "complete", "steady-sliding", "limit-cycle", 
 _RATE_WINDOW = 300.0
 
 
+def format_rate(rate: float) -> str:
+    """Points per second with the digits that say something: '0 points/s' was printed for 0.26 (a slow model)."""
+    return f"{rate:.0f} points/s" if rate >= 10 or rate == 0 else f"{rate:.2g} points/s"
+
+
 def format_eta(seconds: float) -> str:
     """``"42 s"``, ``"12 min"``, ``"3.2 h"``: an ETA to read at a glance."""
     if seconds != seconds or seconds == float("inf"):
@@ -76,7 +81,7 @@ class StudyStatus:
             count = f"{row['done']}/{row['points']}"
             lines.append(f"  {str(label):{width}s}  {count:>17s}  {share:6.1f}  {outcomes}")
         if self.writer is not None:
-            rate = "rate not known yet" if self.rate is None else f"{self.rate:.0f} points/s"
+            rate = "rate not known yet" if self.rate is None else format_rate(self.rate)
             eta = "" if self.eta is None else f", ETA {format_eta(self.eta)}"
             lines.append(f"being written by {self.writer['describe']}: {rate}{eta}")
         elif self.complete:

@@ -70,6 +70,9 @@ def parse_toml(text: str, argument: str, source, example: str) -> dict:
         raise InputError(argument, str(source), "is nested too deeply",
                          f"a workflow needs only tables nested a few deep (see {example})") from None
     except tomllib.TOMLDecodeError as exc:
+        if text.startswith("\ufeff"):   # said as 'Invalid statement (at line 1, column 1)' before
+            raise InputError(argument, str(source), "starts with a byte-order mark (U+FEFF, as some editors save "
+                             "UTF-8), which TOML does not allow", "save it as UTF-8 without a BOM") from None
         raise InputError(argument, str(source), f"is not valid TOML ({exc})",
                          f"fix the syntax; see {example} for an example") from None
 

@@ -137,6 +137,9 @@ def load_study(path) -> StudySpec:
             kappa_min=br.number("kappa_min", 0.05, above=0),
             kappa_max=br.number("kappa_max", 20.0, above=1),
             **_v_lp_keys(br, at("v_lp").number("v_lp"))))
+        if out[-1].kappa_min >= 1:   # accepted before, and a branch computed (issue 21 walk: kappa_min = 50)
+            raise InputError(br.path("kappa_min"), out[-1].kappa_min, "is not below the Hopf point κ = 1, where "
+                             "every branch starts", "give kappa_min in (0, 1), e.g. 0.4")
         check_damping(out[-1], out[-1].damping, br.path("damping"))
     total = sum(b.points for b in out)
     if total > MAX_TOTAL_POINTS:
