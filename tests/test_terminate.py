@@ -103,3 +103,59 @@ def test_sigterm_in_process_exits_143_and_restores_the_handlers(tmp_path, monkey
     (line,) = capsys.readouterr().err.strip().splitlines()
     assert line.startswith("bifurcation: terminated by SIGTERM. A submit keeps every finished tile")
     assert {s: signal.getsignal(s) for s in before} == before
+
+
+def test_a_stop_inside_a_tile_write_waits_for_its_end():
+    """A SIGTERM during a tile's write (data first, done last) is acted on once the tile is whole: cut
+    there it left data without done, reported by verify as damage (found with helpers, below)."""
+    from bifurcation.errors import Terminated, stop, uninterrupted
+
+    written = []
+    with pytest.raises(Terminated) as exc:
+        with uninterrupted():
+            with uninterrupted():   # nested: the outermost block's end acts
+                stop(signal.SIGTERM)
+                written.append("data")
+            written.append("done")
+    assert written == ["data", "done"] and exc.value.signum == signal.SIGTERM
+    with pytest.raises(Terminated):   # outside a block: at once
+        stop(signal.SIGHUP)
+    with uninterrupted():   # nothing pending is left over from above
+        pass
+
+
+@pytest.mark.slow   # ~15-40 s at load ~9: a study large enough that a helper process starts
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="helpers start only with 2 cores")
+def test_a_batch_jobs_sigterm_to_every_process_leaves_no_damage(tmp_path):
+    """Slurm's SIGTERM reaches every process of the job, helpers included: they leave the stop to the
+    submitting process, which finishes the tiles being written; status 143, no lock, no damaged chunk,
+    no process left."""
+    text = (TOML.replace("num = 32", "num = 512").replace("num = 24", "num = 192")
+            .replace("nu = 16", "nu = 64").replace("nu_f = 4", "nu_f = 8"))
+    (tmp_path / "w.toml").write_text(text)
+    store = tmp_path / "s.zarr"
+    env = {k: v for k, v in os.environ.items() if not k.startswith("DASK_")}
+    run = subprocess.Popen([str(BIN / "bifurcation"), "submit", "w.toml", "--store", str(store), "--workers", "2"],
+                           cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           start_new_session=True)
+    try:
+        deadline = time.monotonic() + 120
+        err = ""
+        while "helper process(es)" not in err:   # the note is printed as the helper starts
+            assert run.poll() is None, "the submit ended before a helper started"
+            assert time.monotonic() < deadline, "no helper within 120 s"
+            err += os.read(run.stderr.fileno(), 4096).decode()
+        time.sleep(3.0)   # the helper is importing or in its first tiles
+        os.killpg(run.pid, signal.SIGTERM)
+        out, rest = run.communicate(timeout=120)
+    finally:
+        if run.poll() is None:
+            os.killpg(run.pid, signal.SIGKILL)
+    assert run.returncode == 143, err + rest
+    assert "Traceback" not in rest and "terminated by SIGTERM" in rest
+    assert not (store / LOCK_NAME).exists()
+    report = verify(store)
+    assert report.damage == () and report.ok, str(report)
+    time.sleep(1.0)
+    with pytest.raises(ProcessLookupError):   # the whole group is gone: no helper lives on
+        os.killpg(run.pid, 0)

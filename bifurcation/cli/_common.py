@@ -15,7 +15,7 @@ from pathlib import Path
 
 import click
 
-from ..errors import InputError
+from ..errors import InputError, Terminated, stop
 
 __all__ = ["Group", "as_typed", "check_out_dir", "check_outside_stores", "check_replace", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
@@ -130,16 +130,6 @@ class Group(click.Group):
             sys.exit(1)
 
 
-class Terminated(BaseException):
-    """Raised in the main thread by SIGTERM or SIGHUP. A BaseException like KeyboardInterrupt, so that
-    no ``except Exception`` (a tile's retry) swallows it and every ``finally`` (the store's lock, the
-    helper pool) runs; not a KeyboardInterrupt, which click turns into Abort and loses the signal."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signum)
-        self.signum = signum
-
-
 #: Signals that stop a command cleanly: a batch scheduler's SIGTERM at the walltime (Slurm sends SIGKILL
 #: after its grace period, KillWait), a closed terminal's SIGHUP.
 _STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
@@ -148,7 +138,7 @@ _STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 def _raise_terminated(signum, frame):
     for other in _STOP_SIGNALS:   # one stop: a second signal must not interrupt the cleanup (lock release)
         signal.signal(other, signal.SIG_IGN)
-    raise Terminated(signum)
+    stop(signum)   # raises Terminated now, or once the tile being written is whole (errors.uninterrupted)
 
 
 @contextmanager
