@@ -7,13 +7,15 @@ import io
 import json
 import math
 import os
+import signal
 import sys
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 
 import click
 
-from ..errors import InputError
+from ..errors import InputError, Terminated, stop
 
 __all__ = ["Group", "as_typed", "check_out_dir", "check_outside_stores", "check_replace", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
@@ -69,7 +71,7 @@ class Group(click.Group):
     """A command group whose usage and input errors are one line and exit with status 2.
 
     An option that takes one value and is given twice is refused (click would silently keep the last).
-    Ctrl-C ends with status 130 and says what is kept.
+    Ctrl-C ends with status 130, SIGTERM and SIGHUP with 128 + the signal, and each says what is kept.
     """
 
     _command: click.Command | None = None
@@ -99,14 +101,20 @@ class Group(click.Group):
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         try:
-            return super().main(args=args, prog_name=prog_name or "bifurcation",
-                                complete_var=complete_var, standalone_mode=False, **extra)
+            with _stop_on_signals():
+                return super().main(args=args, prog_name=prog_name or "bifurcation",
+                                    complete_var=complete_var, standalone_mode=False, **extra)
         except click.exceptions.Exit as exc:
             sys.exit(exc.exit_code)
         except (click.exceptions.Abort, KeyboardInterrupt):
             name = getattr(self._command, "name", None)
             click.echo(f"bifurcation: interrupted. {_KEPT.get(name, 'Nothing of this run was written.')}", err=True)
             sys.exit(130)
+        except Terminated as exc:   # SIGTERM (a batch job's walltime), SIGHUP: the same clean stop as Ctrl-C
+            name = getattr(self._command, "name", None)
+            click.echo(f"bifurcation: terminated by {signal.Signals(exc.signum).name}. "
+                       f"{_KEPT.get(name, 'Nothing of this run was written.')}", err=True)
+            sys.exit(128 + exc.signum)
         except click.UsageError as exc:
             fail(" ".join(exc.format_message().split()))
         except InputError as exc:
@@ -120,6 +128,37 @@ class Group(click.Group):
                    "tiles are kept" if exc.errno == errno.ENOSPC else "")
             click.echo(f"bifurcation: error: {exc.strerror or exc}{where}{fix}", err=True)
             sys.exit(1)
+
+
+#: Signals that stop a command cleanly: a batch scheduler's SIGTERM at the walltime (Slurm sends SIGKILL
+#: after its grace period, KillWait), a closed terminal's SIGHUP.
+_STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+
+
+def _raise_terminated(signum, frame):
+    for other in _STOP_SIGNALS:   # one stop: a second signal must not interrupt the cleanup (lock release)
+        signal.signal(other, signal.SIG_IGN)
+    stop(signum)   # raises Terminated now, or once the tile being written is whole (errors.uninterrupted)
+
+
+@contextmanager
+def _stop_on_signals():
+    """SIGTERM and SIGHUP raise ``Terminated`` while a command runs (without a handler the process died
+    at once and left its store's lock behind, which a submit from another node may not break). A signal
+    that is ignored (``nohup``) stays ignored; off the main thread (signal handlers cannot be set there)
+    nothing changes. The previous handlers are restored afterwards."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {s: signal.getsignal(s) for s in _STOP_SIGNALS}
+    try:
+        for s, handler in previous.items():
+            if handler is not signal.SIG_IGN:
+                signal.signal(s, _raise_terminated)
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
 
 
 #: What an interrupted command kept, by command (the submit's words were printed for every command: a

@@ -353,13 +353,17 @@ def _pool_tile(tile: Tile, store: str, run_id: str, writer: str):
 
 
 def _helper_start(parent: int) -> None:
-    """A helper process's start: Ctrl-C is for the submitting process (it stops the pool), and a helper
-    whose submitting process died (``kill -9``) exits instead of waiting on the pool's pipe for ever."""
+    """A helper process's start: Ctrl-C, SIGTERM and SIGHUP are for the submitting process (it stops the
+    pool: queued tiles cancelled, running ones finished and written), and a helper whose submitting
+    process died (``kill -9``) exits instead of waiting on the pool's pipe for ever. (A batch job's
+    SIGTERM reaches every process of the job: a helper that died of it mid-tile left data without its
+    done mask, which ``verify`` reports as damage.)"""
     import os
     import signal
     import threading
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for stop in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(stop, signal.SIG_IGN)
 
     def watch() -> None:
         while os.getppid() == parent:

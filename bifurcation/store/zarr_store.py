@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, uninterrupted
 from .layout import (STORE_FORMAT, coordinate_attrs, fills, provenance, store_model, utc_now, variable_attrs,
                      variables)
 
@@ -310,8 +310,14 @@ def write_tile(path, tile, values: dict, run_id: str) -> None:
     """Write one computed tile into its chunk: the data variables first, ``done`` last.
 
     For a partly done tile (``tile.todo``) the points already done are read back and kept, so the
-    whole chunk is rewritten by this one writer without losing them.
+    whole chunk is rewritten by this one writer without losing them. A SIGTERM or SIGHUP that arrives
+    meanwhile stops the command once the tile is written whole (``errors.uninterrupted``).
     """
+    with uninterrupted():
+        _write_tile(path, tile, values, run_id)
+
+
+def _write_tile(path, tile, values: dict, run_id: str) -> None:
     arrays = _arrays(str(path), run_id)
     region = tile.region
     catalogs = [k for k in values if k not in arrays]
