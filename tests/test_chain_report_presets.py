@@ -167,3 +167,21 @@ def test_published_nu_jobs_carry_the_shared_settings_and_the_run():
     shared, run = jobs[1][1]
     assert run == {"preset": "mori-kawamura-2006", "nu_f": 0.5} and shared["v_threshold"] == 0.1
     assert jobs[1][2] == cfg["published_nu"]["cpu"]
+
+
+@pytest.mark.parametrize("flags,needle", [
+    (["--from-data", "--published-nu-only"], "give one of --from-data, --presets-only, --catalogs-only"),
+    (["--catalogs-only", "--presets-only"], "give one of --from-data, --presets-only, --catalogs-only"),
+    (["--published-nu-only"], "does not exist: the report is re-rendered from it"),
+    (["--catalogs-only"], "does not exist: the report is re-rendered from it")])
+def test_the_partial_run_flags_refuse_before_running(tmp_path, flags, needle):
+    """One line, exit 2, nothing written: two partial runs at once, or a partial run without DIR/data.json."""
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    wf = str(Path(__file__).resolve().parents[1] / "workflows" / "chain-report.toml")
+    out = tmp_path / "o"
+    r = CliRunner().invoke(cli, ["study", "chain", wf, "--out", str(out), *flags])
+    assert r.exit_code == 2 and needle in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert not any(out.iterdir()) if out.exists() else True

@@ -38,7 +38,9 @@ CSN_RULES = (
     "**plausible** when p > 0.1, **undecided** otherwise; **no scaling range** when the tail above x_min spans "
     "< 1 decade (largest / x_min < 10; not read as a power law whatever p); LR: the normalised log-likelihood "
     "ratio against the truncated power law (TPL), lognormal (LN) and exponential (exp), an alternative "
-    "**favoured** when R < 0 with p < 0.1")
+    "**favoured** when R < 0 with p < 0.1. The fits are seeded and deterministic on one machine (tests refit them "
+    "exactly); on another CPU the last digits of α, x_min and R may move at rounding level, and a count k of B by one "
+    "where a synthetic KS distance ties the data's")
 
 
 def _key(values: np.ndarray, settings: dict) -> str:

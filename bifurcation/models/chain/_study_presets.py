@@ -192,17 +192,20 @@ def preset_section(data) -> list:
     runs = data.get("presets") or []
     if not runs:
         return []
-    B = int(data.get("presets_cfg", {}).get("bootstrap", 10))
+    Bs = sorted({int(x["fit"]["bootstrap"]) for x in runs if x.get("fit")}) or [
+        int(data.get("presets_cfg", {}).get("bootstrap", 10))]
     intro = ("One catalog per row, compiled engine (`bifurcation.chain(preset=..., engine=\"compiled\")`, "
          "docs/chain.md \"Engines\") from the seeded random start (amplitude 0.1, seed 1); events of the first "
          f"{runs[0]['transient_cycles']:g} loading cycle(s) dropped. Sizes are potencies P; the fits are "
          "Clauset–Shalizi–Newman's through `powerlaw` (`clauset.clauset_fit`, x_min searched over "
          f"{data.get('presets_cfg', {}).get('resolution', 10)} data values per decade; "
-         f"B = {B} bootstrap samples for p, chosen to fit the CPU budget (each is an x_min search over ~10^6 "
-         f"events, 3–10 CPU s here): p is resolved to about ±{math.sqrt(0.25 / B):.2f} at p = 0.5, and 0 of {B} "
-         f"samples bounds p by 1 − 0.05^(1/B) = {p_upper(0.0, B):.3f} at 95 % (Clopper–Pearson), "
-         + ("enough to rule a power law out when no sample is as far from its fit as the data; "
-            if p_upper(0.0, B) <= 0.1 else "not enough to rule a power law out; ")
+         f"B = {' or '.join(map(str, Bs))} bootstrap samples for p (per run: the CSN fit column), chosen to fit the "
+         "CPU budget (each is an x_min search over ~10^6 events, 3–10 CPU s here): p is resolved to about "
+         + " or ".join(f"±{math.sqrt(0.25 / b):.2f}" for b in Bs) + " at p = 0.5, and 0 of B samples bounds p by "
+         "1 − 0.05^(1/B) at 95 % (Clopper–Pearson): "
+         + "; ".join(f"{p_upper(0.0, b):.3f} for B = {b}, " + ("enough to rule a power law out when no sample is as "
+                     "far from its fit as the data" if p_upper(0.0, b) <= 0.1 else "not enough to rule a power law out")
+                     for b in Bs) + "; "
          + f"moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
          "resamples of blocks of ⌈n^(1/3)⌉ events). Where a preset's own number was changed, the row says why. "
          "Which numbers of each preset were read in a source: docs/chain.md \"Presets\" and presets.py. "

@@ -178,8 +178,16 @@ def main(argv=None) -> None:
         _render(out, cfg, path, saved_data(out, cfg))
         return
     if "--published-nu-only" in argv[1:]:   # the [published_nu] catalogs into subevents_*.json, then re-render
+        import tomllib
+
         from .subevent_study import published_nu_jobs, write_json
 
+        data = json.loads((out / "data.json").read_text())
+        ran = tomllib.loads(data.get("workflow", ""))
+        now = tomllib.loads(path.read_text())
+        if {k: v for k, v in ran.items() if k != "published_nu"} != {k: v for k, v in now.items() if k != "published_nu"}:
+            sys.exit(f"bifurcation: error: --published-nu-only: {out / 'data.json'} was run with another workflow than "
+                     f"{path} (tables other than [published_nu] differ); run those sections again first")
         t0 = time.perf_counter()
         with _pool(cfg["study"].get("workers", 2)) as pool:
             futures = [pool.submit(f, a) for f, a, _ in published_nu_jobs(cfg)]
@@ -189,6 +197,8 @@ def main(argv=None) -> None:
                       f"{r['cpu_run'] + r['cpu_stats']:.0f} cpu s", file=sys.stderr, flush=True)
         from .subevent_study import write_report
 
+        data["workflow"] = path.read_text()      # only its [published_nu] table may have changed (checked above)
+        (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
         write_report(out)
         _render(out, cfg, path, saved_data(out, cfg))
         return
