@@ -24,6 +24,15 @@ _NUMBA_TESTS = {"test_chain_compiled.py", "test_chain_compiled_lone.py", "test_c
 _warmup = []   # the running subprocess, if any (in the process that started it)
 
 
+def _numba_cache_cold() -> bool:
+    from bifurcation.laws import resolve_law
+    from bifurcation.models.chain._compiled import _CACHE, CompiledChain
+    from bifurcation.models.chain._validate import check_initial
+
+    if not _CACHE:
+        return False
+
+
 def _warmup_lock(config):
     """Under pytest-xdist (``-n 2``) only worker gw0 starts the warm-up; it holds an exclusive flock on this
     file for its lifetime, so a numba test on any worker waits on the lock (the warm-up is not its child).
