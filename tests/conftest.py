@@ -59,8 +59,8 @@ def pytest_collection_modifyitems(session, config, items):
     later = [item for item in items if item.path.name in _NUMBA_TESTS]
     if config.option.collectonly or not later or len(items) - len(later) < 300:
         return
-    # every xdist worker orders the same way (xdist requires equal collections); with --dist loadfile the
-    # numba modules are handed out last
+    # every xdist worker orders the same way (xdist requires equal collections); --dist loadfile hands the
+    # numba modules out last only with --no-loadscope-reorder (by default it sorts modules by test count)
     items[:] = [item for item in items if item.path.name not in _NUMBA_TESTS] + later
     if os.environ.get("PYTEST_XDIST_WORKER", "gw0") != "gw0" or not _numba_cache_cold():
         return
