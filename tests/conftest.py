@@ -1,6 +1,7 @@
 """Fixtures shared between test modules."""
 
 import functools
+import os
 
 import pytest
 
@@ -20,7 +21,7 @@ def carlson_langer_reference():
 # that use them run last and wait for it, then load from the cache. The same tests run, on the same
 # compiled code; with a warm cache, a subset, or no writable cache nothing changes.
 _NUMBA_TESTS = {"test_chain_compiled.py", "test_chain_compiled_lone.py", "test_chain_bench.py"}
-_warmup = []   # the running subprocess, if any
+_warmup = []   # the running subprocess, if any (in the process that started it)
 
 
 def _numba_cache_cold() -> bool:
@@ -38,6 +39,17 @@ def _numba_cache_cold() -> bool:
         return False
 
 
+def _warmup_lock(config):
+    """Under pytest-xdist (``-n 2``) only worker gw0 starts the warm-up; it holds an exclusive flock on this
+    file for its lifetime, so a numba test on any worker waits on the lock (the warm-up is not its child).
+    Every worker collects before any test is handed out, so the file exists by then if it ever will."""
+    import tempfile
+    from pathlib import Path
+
+    run = getattr(config, "workerinput", {}).get("testrunuid")
+    return Path(tempfile.gettempdir()) / f"bifurcation-numba-warmup-{run}.lock" if run else None
+
+
 @pytest.hookimpl(trylast=True)   # after -m/-k deselection: count only the tests that will run
 def pytest_collection_modifyitems(session, config, items):
     import subprocess
@@ -45,15 +57,53 @@ def pytest_collection_modifyitems(session, config, items):
     from pathlib import Path
 
     later = [item for item in items if item.path.name in _NUMBA_TESTS]
-    if config.option.collectonly or not later or len(items) - len(later) < 300 or not _numba_cache_cold():
+    if config.option.collectonly or not later or len(items) - len(later) < 300:
         return
-    _warmup.append(subprocess.Popen([sys.executable, str(Path(__file__).with_name("_numba_warmup.py"))],
-                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+    # every xdist worker orders the same way (xdist requires equal collections); --dist loadfile hands the
+    # numba modules out last only with --no-loadscope-reorder (by default it sorts modules by test count)
     items[:] = [item for item in items if item.path.name not in _NUMBA_TESTS] + later
+    if os.environ.get("PYTEST_XDIST_WORKER", "gw0") != "gw0" or not _numba_cache_cold():
+        return
+    lock = _warmup_lock(config)
+    fd = None
+    if lock is not None:
+        import fcntl
+
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o600)
+        fcntl.flock(fd, fcntl.LOCK_EX)   # the child inherits the open file and with it the lock
+    try:
+        _warmup.append(subprocess.Popen([sys.executable, str(Path(__file__).with_name("_numba_warmup.py"))],
+                                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                        pass_fds=() if fd is None else (fd,)))
+    finally:
+        if fd is not None:
+            os.close(fd)
+
+
+def _wait_for_lock(lock, timeout):
+    import fcntl
+    import time
+
+    try:
+        fd = os.open(lock, os.O_RDONLY)
+    except FileNotFoundError:    # no warm-up in this run
+        return
+    try:
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+                return
+            except BlockingIOError:
+                time.sleep(0.2)
+    finally:
+        os.close(fd)
 
 
 def pytest_runtest_setup(item):
-    if _warmup and item.path.name in _NUMBA_TESTS:
+    if item.path.name not in _NUMBA_TESTS:
+        return
+    if _warmup:
         import subprocess
 
         try:
@@ -62,6 +112,8 @@ def pytest_runtest_setup(item):
             _warmup[0].kill()
             _warmup[0].wait()
         _warmup.clear()
+    elif (lock := _warmup_lock(item.config)) is not None:
+        _wait_for_lock(lock, 900)
 
 
 def pytest_unconfigure(config):
@@ -69,3 +121,5 @@ def pytest_unconfigure(config):
         proc = _warmup.pop()
         proc.kill()
         proc.wait()
+    if os.environ.get("PYTEST_XDIST_WORKER") == "gw0" and (lock := _warmup_lock(config)) is not None:
+        lock.unlink(missing_ok=True)
