@@ -1,5 +1,5 @@
 """Compile what the fast suite's numba tests use into numba's disk cache: the compiled chain engine for both
-law kinds (Carlson–Langer and the tape) and the RK4 baselines (tests/conftest.py runs this in a subprocess
+law kinds (Carlson–Langer, by its Taylor method and by DOP853, and the tape) and the RK4 baselines (tests/conftest.py runs this in a subprocess
 on a cold cache; ~28 s of CPU on 2 cores). Prints what it compiled."""
 
 from bifurcation.laws import resolve_law
@@ -8,10 +8,11 @@ from bifurcation.models.chain._compiled import CompiledChain
 from bifurcation.models.chain._validate import check_initial
 
 u0 = check_initial(6, 1.0, "free", None, 0.1, 3)
-for law in ("carlson-langer", "exp(-x)"):
-    run = CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", u0)
+for law, taylor in (("carlson-langer", True), ("carlson-langer", False), ("exp(-x)", True)):
+    # Carlson–Langer steps by its Taylor method, or by DOP853 with taylor=False (test_chain_compiled_taylor)
+    run = CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", u0, taylor=taylor)
     if not run.compiled():
         run.run(2)
-        print("compiled the engine for", law, flush=True)
+        print("compiled the engine for", law, "taylor" if run.taylor else "DOP853", flush=True)
 for kind in ("plain", "active"):   # the types of test_chain_bench's calls (cache hits when warm)
     run_rk4(kind, "carlson-langer", n=6, ell=1.0, nu=1e-3, nu_f=0.2, u0=u0, events=1, dt=0.1)

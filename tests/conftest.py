@@ -20,7 +20,8 @@ def carlson_langer_reference():
 # (_numba_warmup.py) compiles them into the cache on the second core while those tests run; the modules
 # that use them run last and wait for it, then load from the cache. The same tests run, on the same
 # compiled code; with a warm cache, a subset, or no writable cache nothing changes.
-_NUMBA_TESTS = {"test_chain_compiled.py", "test_chain_compiled_lone.py", "test_chain_bench.py"}
+_NUMBA_TESTS = {"test_chain_compiled.py", "test_chain_compiled_lone.py", "test_chain_compiled_taylor.py",
+                "test_chain_bench.py", "test_cli_bounded.py"}
 _warmup = []   # the running subprocess, if any (in the process that started it)
 
 
@@ -33,8 +34,9 @@ def _numba_cache_cold() -> bool:
         return False
     u0 = check_initial(6, 1.0, "free", None, 0.1, 3)
     try:
-        return not all(CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", u0, lone=False).compiled()
-                       for law in ("carlson-langer", "exp(-x)"))
+        return not all(CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", u0, lone=False,
+                                     taylor=taylor).compiled()
+                       for law, taylor in (("carlson-langer", True), ("carlson-langer", False), ("exp(-x)", True)))
     except Exception:   # noqa: BLE001 (the engine's API changed: no warm-up, the tests compile for themselves)
         return False
 

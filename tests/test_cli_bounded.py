@@ -84,10 +84,8 @@ def test_chain_event_that_never_ends_stops_at_the_work_bound(monkeypatch):
     monkeypatch.setattr(_chain, "MAX_WORK", {k: 20_000 for k in _chain.MAX_WORK})
     args = ["chain", "--law", "carlson-langer", "--n", "64", "--ell", "1", "--nu", "0.05", "--nu-f", "0.3",
             "--amplitude", "0.1", "--seed", "1", "--events", "50"]
-    for engine in ("exact", "compiled"):
-        started = time.perf_counter()
+    for engine in ("exact", "compiled"):   # bounded by the work count, not a clock (no timed test)
         result = CliRunner().invoke(cli, args + ["--engine", engine])
-        assert time.perf_counter() - started < 30
         assert result.exit_code == 1, result.output
         status = [l for l in result.stdout.splitlines() if l.startswith("status ")]
         assert status and status[0].startswith("status no-stop"), result.stdout
