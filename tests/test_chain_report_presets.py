@@ -33,7 +33,7 @@ def test_the_verdict_table_has_one_row_per_claim_and_prints_its_rules():
                         _run("mori-kawamura-2006", 0.25)]}
     blocks = verdict_table({}, data, {"vas": "x", "vas_word": "**undecided**", "sak": "y"})
     (table,) = [b for b in flatten(blocks) if isinstance(b, Table)]
-    assert len(table.head) == 4 and table.head[0] == "claim" and table.head[-1] == "verdict"
+    assert len(table.head) == 5 and table.head[0] == "claim" and table.head[-1] == "verdict"
     assert len(table.rows) == 5
     # no published-ν catalog given: that column says so for the chain claims
     assert table.rows[1][2] == "not run" and table.rows[3][2] == "not run"
@@ -185,3 +185,30 @@ def test_the_partial_run_flags_refuse_before_running(tmp_path, flags, needle):
     r = CliRunner().invoke(cli, ["study", "chain", wf, "--out", str(out), *flags])
     assert r.exit_code == 2 and needle in r.stderr and len(r.stderr.strip().splitlines()) == 1
     assert not any(out.iterdir()) if out.exists() else True
+
+
+def test_the_literature_column_quotes_each_finding_in_its_claims_row():
+    """Column 4 (literature.py): every finding read, with its source, place and words, in the row of its
+    claim; a claim with none says so; CL's comparison is computed from the run, not written by hand."""
+    from bifurcation.models.chain.literature import FINDINGS, SEARCHES
+
+    data = {"presets": [_run("carlson-langer-1991", 0.2), _run("mori-kawamura-2006", 0.5)]}
+    (table,) = [b for b in flatten(verdict_table({}, data, {})) if isinstance(b, Table)]
+    assert table.head[3].startswith("published finding read")
+    keys = ["vas", "cl", "dsvvn", "mk", "sak"]
+    for f in FINDINGS:
+        assert f.claim in keys and f.source and f.place
+        cell = table.rows[keys.index(f.claim)][3]
+        assert f"“{f.quote}”" in cell and f.source in cell
+        # an account of another paper says it is one
+        assert ("(secondary: its account of another paper)" in cell) or not f.secondary
+    # MK's 1D α-dependence was not read anywhere: the cell says so, and that the claim is the issue's summary
+    assert table.rows[3][3].startswith("none read") and "issue 17's summary" in table.rows[3][3]
+    # the hand-made CL run: 6 events ≥ N/2 at 6× the prediction is an excess by the rule; p = 0 of 10 undecided
+    assert "ours **excess** (30 events with P ≥ 100 against 5 predicted (6×))" in table.rows[1][3]
+    assert "small events: ours power law undecided (b_P = 0.60)" in table.rows[1][3]
+    # without a CL run there is nothing to set beside the CL findings
+    (t2,) = [b for b in flatten(verdict_table({}, {"presets": []}, {})) if isinstance(b, Table)]
+    assert t2.rows[1][3].endswith("beside ours: no run on the preset")
+    # the record of searches that found nothing names its corpus and query
+    assert SEARCHES and all(c in ("pages", "code", "docs", "find_string") and q and r for c, q, r in SEARCHES)

@@ -294,6 +294,7 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
                  "the catalog adds only that every event is the same); chains: "
                  + old_rows.get("vas_word", "**undecided**") + " (ℓ and ν of chains are not in the paper)"))
     cl = find("carlson-langer-1991")
+    cl_beside = "no run on the preset"
     if cl:
         x = cl[0]
         f = x.get("fit")
@@ -308,6 +309,12 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
                      f"{word} — on the preset, which reproduces J. Xia's reimplementation (ℓ, α, ν) with σ, N, "
                      "ends NOT READ and ν lowered to approach CLST's ν → 0 limit: **not a test of the paper** until "
                      "those are read"))
+        cl_beside = ("large events beyond the power law: ours " + _excess_word(ex) + f" ({_excess_words(ex)})"
+                     + (f" and a rise at m = {pk['m']:.1f}" if pk else ", no rise")
+                     + " — the kind of finding the texts read state; small events: ours " + _fit_word(x)
+                     + (f" (b_P = {f['b_P']:.2f})" if f else "")
+                     + " by CSN, where the texts read give no exponent and no test of 'consistent with'"
+                     " (on the preset, not CLST's parameters)")
     else:
         rows.append(("Carlson & Langer 1989 / CLST 1991", "no run", "**not tested**"))
     rows.append(("de Sousa Vieira, Vasconcelos & Nagel, PRE 47, R2221 (1993)",
@@ -345,8 +352,20 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
         return "; ".join(_pub_cell(x) for x in xs) if xs else "not run"
 
     keys = ["vasconcelos-1996", "carlson-langer-1991", None, "mori-kawamura-2006", None]
+    beside = {"vas": "Δ0(ν_f = 1/2) of the Carlson–Langer block as ν → 0: ours 0.1507294408752 (docs/physics.md, "
+                     "\"Asymptotics at small ν\": the approach is logarithmic, which a power-law extrapolation misses), "
+                     "the paper's 0.17",
+              "cl": cl_beside,
+              "dsvvn": "not compared: its chain's N, ℓ, ν and friction were not read, and its loading–unloading "
+                       "hysteresis is not the ν_f-sweep loop measured here (section \"Order parameter and hysteresis\")",
+              "mk": "nothing: the first column's claim (GR-like at α = 1, a peak at α ≥ 2) is issue 17's summary of "
+                    "MK, not read in MK's text (its stored opening speaks of CL's dependence on the friction "
+                    "parameter: row above)",
+              "sak": "not compared: its friction has a state variable; no exponent is in the abstract"}
+    lit = [_literature_cell(c, beside[c]) for c in ("vas", "cl", "dsvvn", "mk", "sak")]
     rows = [(r[0], r[1], (pub_cells(k) if k and k != "vasconcelos-1996" else
-                          "– (N = 1: its own ν, above)" if k else "not run"), r[2]) for r, k in zip(rows, keys)]
+                          "– (N = 1: its own ν, above)" if k else "not run"), li, r[2])
+            for r, k, li in zip(rows, keys, lit)]
     size = []
     if pub:
         cost = [x["cpu_per_event"] for x in pub]
@@ -365,11 +384,24 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
             "**no scaling range**).")]
     return [Section("Verdict table (issue 17): one row per claim, each on its own model", [
         Table(["claim", "run and numbers (ν lowered, all-stuck events)",
-               "at the preset's own ν (events split by V_th; PUBLISHED_NU.md)", "verdict"], rows), *size,
-        Paragraph("Rules: " + PRESET_RULES + "; " + PUBLISHED_NU_RULE + ". Published numbers beside ours: none could be read for these claims "
-          "(CL 1989's abstract: sizes \"consistent with the Gutenberg-Richter law\", no b; MK's and CLST's texts "
-          "were not found; Sakaguchi–Morita arXiv:1309.4583 give b ≈ 2/3 for another, heterogeneous, model), so "
-          "no row compares digits with a paper.")])]
+               "at the preset's own ν (events split by V_th; PUBLISHED_NU.md)",
+               "published finding read (source, place, its words) and ours beside it", "verdict"], rows), *size,
+        Paragraph("Rules: " + PRESET_RULES + "; " + PUBLISHED_NU_RULE + ". Published numbers beside ours: the only "
+          "number read in these papers is Vasconcelos' Δ = 0.17 (first row); for the chains, the texts that could "
+          "be read (stored openings: abstracts and introductions, bifurcation/models/chain/literature.py) state "
+          "findings in words only — no exponent, no b, no parameter of CL, CLST, MK or de Sousa Vieira–"
+          "Vasconcelos–Nagel — so the fourth column sets words beside words; a paper's account of another paper "
+          "is marked secondary; the searches that found nothing are listed in docs/chain.md, \"Presets\".")])]
+
+
+def _literature_cell(claim: str, beside: str) -> str:
+    """The fourth column: every finding read for ``claim`` (literature.py), then ours beside it."""
+    from .literature import findings_for
+
+    fs = findings_for(claim)
+    read = " ".join(f"{f.source}, {f.place}{' (secondary: its account of another paper)' if f.secondary else ''}: "
+                    f"“{f.quote}”" for f in fs) if fs else "none read (docs/chain.md, \"Presets\": what was searched)"
+    return read + (f" — beside ours: {beside}" if beside else "")
 
 
 def presets_figure(out, runs) -> None:

@@ -1,0 +1,118 @@
+"""What was read in the published texts behind the chain report's claims (issue 17, items 3 and 6).
+
+Each :class:`Finding` is a sentence read in a stored copy of a paper (the `search` tool's public pages:
+often only a page's opening is stored), with the paper, the place in it and the exact wording. The
+verdict table (``_study_presets.verdict_table``) prints them beside the report's own numbers; a claim
+with no finding says so. ``SEARCHES`` records the look-ups that found **no** text with the papers'
+parameters, so that the next search starts elsewhere (docs/chain.md, "Presets").
+
+Rules kept here: a finding is the source's own wording, never a paraphrase from memory; a paper's
+account of *another* paper is marked ``secondary`` (it is what that paper says the other found, not the
+other's text); a stored copy cut short is marked with ``[…]`` where it stops.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["FINDINGS", "SEARCHES", "Finding", "findings_for"]
+
+
+@dataclass(frozen=True)
+class Finding:
+    #: the verdict table's claim this bears on: "vas", "cl", "dsvvn", "mk", "sak"
+    claim: str
+    source: str
+    #: where in the source (section, paragraph, figure) and which stored copy was read
+    place: str
+    #: the source's own words
+    quote: str
+    #: True when the source reports what *another* paper found
+    secondary: bool = False
+
+
+FINDINGS = (
+    Finding("vas", "Vasconcelos, PRL 76, 4865 (1996)", "text under Fig. 3 (the paper's own text; the seed)",
+            "An extrapolation for ν → 0 shows that the transition is indeed discontinuous: Δ = 0.17 at ν_f = 1/2, "
+            "whereas Δ = 0 for ν_f > 1/2."),
+    Finding("vas", "Vasconcelos, PRL 76, 4865 (1996)", "last paragraph",
+            "(homogeneous) spring-block models cannot be brought to a critical state displaying scaling behavior"),
+    Finding("cl", "Carlson & Langer, PRA 40, 6470 (1989)",
+            "abstract, p. 1 (de.scribd.com/document/250510769/Carlson-Langer-1; the OCR reads 'Csutenberg')",
+            "Their size distributions are found numerically to be consistent with the Gutenberg-Richter law."),
+    Finding("cl", "J. M. Carlson, J. Geophys. Res. 96 (1991), doi:10.1029/90JB02474 (same homogeneous model)",
+            "abstract (earthref.org/ERR/38696)",
+            "We find that the model gives rise to slipping events of all sizes; the smaller events are consistent "
+            "with the Gutenberg-Richter statistical law, whereas the characteristic events have a separate "
+            "statistical distribution."),
+    Finding("cl", "Sakaguchi, arXiv nlin/0210057", "Sec. 1 (Introduction), on its refs. [7, 8] (Carlson and Langer); "
+            "ar5iv.labs.arxiv.org/html/nlin/0210057",
+            "All sizes of stick-slip events are observed and the size distribution exhibits a power law in small "
+            "scales, but, great events occur more frequently than is expected from the power law.", secondary=True),
+    Finding("cl", "Mori & Kawamura, PRL 94, 058501 (2005) = arXiv cond-mat/0408396",
+            "third paragraph, on Carlson, Langer and collaborators (ar5iv; the stored copy stops mid-sentence)",
+            "These authors paid particular attention to the magnitude distribution of earthquake events, and "
+            "examined its dependence on the friction parameter characterizing the nonlinear stick-slip dynamics of "
+            "the model. It was observed that, while smaller events persistently obeyed the GR law, i[…]",
+            secondary=True),
+    Finding("dsvvn", "Vasconcelos, PRL 76, 4865 (1996)",
+            "paragraph after Fig. 3, on its ref. [10] (the reference list is not in the text read; PRE 47, R2221 "
+            "(1993) is issue 17's reference)",
+            "the transition from stick-slip motion to creep was first observed by de Sousa Vieira, Vasconcelos, and "
+            "Nagel [10]. These authors showed that in the region corresponding to stick-slip motion, the system "
+            "displays a relaxation-oscillation behavior analogous to a first-order transition. They also observed "
+            "that as the parameter ν_f approached the transition value the loading-unloading hysteresis became "
+            "less dramatic.", secondary=True),
+    Finding("sak", "Sakaguchi, arXiv nlin/0210057", "abstract (ar5iv)",
+            "The transition from steady sliding to stick-slip is subcritical in a single block and spring system. "
+            "However, we find that the transition is continuous in a long chain of blocks and springs. The size "
+            "distribution of stick-slip motions exhibits a power law at the critical point."),
+)
+
+#: Look-ups of 2026-11-26 (issue 17) that found no text with these papers' parameters or the findings the
+#: verdict table needs: (corpus, query as sent, what came back). Earlier searches: presets.py.
+SEARCHES = (
+    ("pages", "Mori Kawamura simulation study of spatiotemporal correlations of earthquakes as a stick-slip "
+     "frictional instability", "MK 2005 abstract (scilit) and opening (ar5iv cond-mat/0408396): no model section"),
+    ("pages", "Statistical physics of fracture, friction and earthquakes Kawamura Hatano Kato Biswas Chakrabarti "
+     "Burridge-Knopoff model", "RMP 84, 839 abstract and contents only (arxiv-vanity 1112.0148, it.scribd): "
+     "sections III.1.1-III.1.3 not stored"),
+    ("pages", "1D BK model with short-range interaction magnitude distribution alpha=1 near-critical characteristic "
+     "peak alpha=2,3 sigma=0.01 l=3 nu'=0.01", "nothing on the 1D BK model"),
+    ("pages", "Mori Kawamura one-dimensional BK model equation of motion dimensionless friction force "
+     "velocity-weakening parameter alpha sigma=0.01 l=3 N=800 periodic boundary conditions",
+     "J. Xia's page only (ℓ, α, ν defaults; a b table of his long-range model)"),
+    ("pages", "Mori Kawamura Journal of Geophysical Research 2006 one-dimensional Burridge-Knopoff model abstract "
+     "frictional parameter magnitude distribution subcritical supercritical",
+     "MK JGR 2006: title only (sciencedocbox); MK 2D short-range (arXiv 0706.1871) and 2D long-range "
+     "(arXiv 0802.1305) abstracts: other models"),
+    ("pages", "Takahiro Mori, Hikaru Kawamura TL;DR one-dimensional Burridge-Knopoff model spatiotemporal "
+     "correlations frictional parameter α magnitude distribution",
+     "MK continuum limit (arXiv 0807.4588) abstract: no α or magnitude numbers"),
+    ("pages", "Carlson Langer Shaw Tang intrinsic properties of a Burridge-Knopoff model of an earthquake fault",
+     "CLST 1991 not found; CL PRA 1989 page 1, CLS RMP abstract, Sakaguchi-Morita abstract"),
+    ("pages", "Carlson Langer Shaw Tang Physical Review A 44 884 1991 intrinsic properties Burridge-Knopoff "
+     "abstract small events localized large events delocalized", "not found"),
+    ("pages", "Properties of earthquakes generated by fault dynamics Carlson Langer Physical Review Letters 62 2632 "
+     "1989", "not found (Carlson JGR 1991 abstract found: earthref.org/ERR/38696)"),
+    ("pages", "Carlson Langer mechanical model of an earthquake fault dimensionless equation of motion U_j'' = "
+     "l^2 (U_{j+1} - 2U_j + U_{j-1}) - U_j - phi(2 alpha nu + 2 alpha U_j')",
+     "CL PRA 1989 page 1 again (the equations are on later pages, not stored)"),
+    ("pages", "Dynamics of spring-block models: tuning to criticality, Physical Review E 47 R2221 1993", "not found"),
+    ("pages", "M. de Sousa Vieira, G. L. Vasconcelos, S. R. Nagel 1993 spring-block model", "not found"),
+    ("pages", "Sakaguchi Stick-Slip Motion and Phase Transition in a Block-Spring System model equations state "
+     "variable theta friction force critical point power law exponent size distribution",
+     "abstract and introduction only: no model section, no exponent"),
+    ("code", "Burridge-Knopoff Mori Kawamura 2005 parameters l=3 sigma=0.01 alpha nu' periodic boundary "
+     "simulation", "no reimplementation quoting MK"),
+    ("code", "Carlson Langer Shaw Tang 1991 friction phi(v) = (1-sigma)/(1+2 alpha v/(1-sigma)) Burridge Knopoff "
+     "chain", "nothing relevant"),
+    ("docs", "Carlson Langer Burridge-Knopoff model parameters friction drop sigma alpha ell velocity weakening",
+     "nothing relevant"),
+    ("find_string", "'Mori and Kawamura', 'Carlson and Langer', 'Carlson-Langer', 'Mogi doughnut'",
+     "no quotation of either paper's parameters in stored GitHub files"),
+)
+
+
+def findings_for(claim: str) -> tuple:
+    return tuple(f for f in FINDINGS if f.claim == claim)
