@@ -202,8 +202,12 @@ def test_the_literature_column_quotes_each_finding_in_its_claims_row():
         assert f"“{f.quote}”" in cell and f.source in cell
         # an account of another paper says it is one
         assert ("(secondary: its account of another paper)" in cell) or not f.secondary
-    # MK's 1D α-dependence was not read anywhere: the cell says so, and that the claim is the issue's summary
-    assert table.rows[3][3].startswith("none read") and "issue 17's summary" in table.rows[3][3]
+    # MK's 1D α-dependence was not read anywhere: only its 2D models' abstracts, not compared; the claim is the
+    # issue's summary
+    assert "not compared: both are MK's two-dimensional models" in table.rows[3][3]
+    assert "issue 17's summary" in table.rows[3][3]
+    # de Sousa Vieira–Vasconcelos–Nagel is read only through Vasconcelos 1996's account of it
+    assert table.rows[2][3].startswith("Vasconcelos, PRL 76, 4865 (1996)") and "secondary" in table.rows[2][3]
     # the hand-made CL run: 6 events ≥ N/2 at 6× the prediction is an excess by the rule; p = 0 of 10 undecided
     assert "ours **excess** (30 events with P ≥ 100 against 5 predicted (6×))" in table.rows[1][3]
     assert "small events: ours power law undecided (b_P = 0.60)" in table.rows[1][3]

@@ -55,6 +55,15 @@ FINDINGS = (
             "examined its dependence on the friction parameter characterizing the nonlinear stick-slip dynamics of "
             "the model. It was observed that, while smaller events persistently obeyed the GR law, i[…]",
             secondary=True),
+    Finding("mk", "Mori & Kawamura, arXiv 0706.1871 (their **two-dimensional** short-range model, not the 1D chain)",
+            "abstract (ar5iv.labs.arxiv.org/html/0706.1871)",
+            "The model is found to exhibit either a “subcritical”, “supercritical” or “near-critical” behavior, "
+            "depending on the values of the model parameters."),
+    Finding("mk", "Mori & Kawamura, arXiv 0802.1305 (their **two-dimensional** model with long-range interactions, "
+            "not the 1D chain)", "abstract (tomesphere.com/paper/0802.1305)",
+            "The magnitude distribution exhibits a ``near-critical'' behavior, i.e., a power-law-like behavior close "
+            "to the Gutenberg-Richter law, for a wide parameter range with its B-value, B≃0.55, insensitive to the "
+            "model parameters"),
     Finding("dsvvn", "Vasconcelos, PRL 76, 4865 (1996)",
             "paragraph after Fig. 3, on its ref. [10] (the reference list is not in the text read; PRE 47, R2221 "
             "(1993) is issue 17's reference)",
