@@ -216,3 +216,12 @@ def test_the_literature_column_quotes_each_finding_in_its_claims_row():
     assert t2.rows[1][3].endswith("beside ours: no run on the preset")
     # the record of searches that found nothing names its corpus and query
     assert SEARCHES and all(c in ("pages", "code", "docs", "find_string") and q and r for c, q, r in SEARCHES)
+
+
+def test_docs_list_every_search_that_found_nothing():
+    """docs/chain.md, "Presets", lists the look-ups of literature.SEARCHES, so the next search starts elsewhere."""
+    from bifurcation.models.chain.literature import SEARCHES
+
+    doc = (Path(__file__).resolve().parents[1] / "docs" / "chain.md").read_text(encoding="utf-8")
+    for corpus, query, outcome in SEARCHES:
+        assert f"- {corpus}: \"{query}\" → {outcome}" in doc
