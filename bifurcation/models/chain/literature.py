@@ -112,6 +112,11 @@ SEARCHES = (
     ("pages", "Sakaguchi Stick-Slip Motion and Phase Transition in a Block-Spring System model equations state "
      "variable theta friction force critical point power law exponent size distribution",
      "abstract and introduction only: no model section, no exponent"),
+    ("pages", "Spatiotemporal correlations of the one-dimensional spring-block (Burridge-Knopoff) model of "
+     "earthquakes are extensively studied by means of numerical computer simulations. The frictional parameter",
+     "MK 2005 abstract, MK 2D and continuum-limit abstracts; no 1D JGR 2006 abstract"),
+    ("pages", "thesis Burridge-Knopoff Carlson-Langer model simulation l = 10, alpha = 2.5, sigma = 0.01, nu = 0.01 "
+     "magnitude distribution localized events delocalized events", "no thesis or notes quoting the parameters"),
     ("code", "Burridge-Knopoff Mori Kawamura 2005 parameters l=3 sigma=0.01 alpha nu' periodic boundary "
      "simulation", "no reimplementation quoting MK"),
     ("code", "Carlson Langer Shaw Tang 1991 friction phi(v) = (1-sigma)/(1+2 alpha v/(1-sigma)) Burridge Knopoff "

@@ -46,7 +46,7 @@ MK_PRL = "Mori & Kawamura, PRL 94, 058501 (2005), arXiv cond-mat/0408396 (openin
 #: title page and abstract only; CLST 1991, de Sousa Vieira-Vasconcelos-Nagel 1993: not found. So every
 #: NOT READ below stays so. Searched once more on 2026-11-26 (pages corpus: de Sousa Vieira-Vasconcelos-Nagel
 #: 1993; MK 2005 parameters; CLST 1991): no new text found (hits were other BK/train-model papers).
-#: And again for issue 17 (17 look-ups over the pages, code and docs corpora and find_string, each listed
+#: And again for issue 17 (19 look-ups over the pages, code and docs corpora and find_string, each listed
 #: in literature.SEARCHES): no parameter found; the findings read in words are in literature.FINDINGS.
 
 
