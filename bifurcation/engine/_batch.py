@@ -63,7 +63,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     target = np.full(lanes, float(t_max))
     state = ta.state
     pars = ta.pars
-    queue = iter(range(n_points))
+    head = 0   # the queue: points head, head + 1, ... are still to be loaded
     initial = np.asarray(c.initial, dtype=float)
     slot_values = [(slots.index(name), np.asarray(values[name], dtype=float).tolist()) for name in slots.names]
     first_values = [recorded[name] for name in c.recorder.first]            # NaN until recorded
@@ -85,7 +85,9 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
 
     def load(lane: int) -> bool:
         """Next point into ``lane`` (time 0); False when the queue is empty (the lane idles)."""
-        i = next(queue, -1)
+        nonlocal head
+        i = head if head < n_points else -1
+        head += 1
         point[lane] = i
         new_hi[lane] = new_lo[lane] = 0.0
         if not (rest_is_start and is_parked[lane]):
@@ -180,11 +182,12 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     record_resets = [(values_, [math.nan] * lanes) for values_ in first_values] + \
                     [(values_, [0.0] * lanes) for values_ in max_values]
 
-    def load_block(first: int, parked_all: bool) -> None:
-        """Points ``first`` .. ``first + lanes - 1`` into every lane (time set by the caller): ``load``
-        for each lane, by rows."""
-        nonlocal block
-        block = first
+    def load_block(parked_all: bool) -> None:
+        """The next ``lanes`` points of the queue into every lane (time set by the caller): ``load`` for
+        each lane, by rows."""
+        nonlocal block, head
+        block = first = head
+        head += lanes
         pars[:n_named] = named[:, first:first + lanes]
         if one_hot is not None:   # piece 0 (``Run.start``)
             pars[n_named:n_named + c.n_pieces] = one_hot
@@ -205,9 +208,9 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     # A lane that never gets a point (fewer points than lanes) must still have a finite right side:
     # ν = ν_f = 0 gave 0/0, a NaN time step and a ValueError from heyoka for the whole batch.
     pars[:, :] = 1.0
-    if park_at and contiguous and n_points >= lanes:
-        load_block(0, False)
-        queue = iter(range(lanes, n_points))
+    blocks = park_at and contiguous
+    if blocks and n_points >= lanes:
+        load_block(False)
         live = list(range(lanes))
     else:
         live = [lane for lane in range(lanes) if load(lane)]
@@ -243,10 +246,8 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
             for values_, out in record_columns:
                 out[where] = values_
             out_steps[where] = np.subtract(counts, np.not_equal(times, stop_hi)) + (before - oldest)
-            nxt = block + lanes
-            if nxt + lanes <= n_points:
-                load_block(nxt, True)
-                queue = iter(range(nxt + lanes, n_points))
+            if n_points - head >= lanes:
+                load_block(True)
                 start = [clock] * lanes
                 oldest = clock
                 ta.set_dtime(0.0, 0.0)
@@ -254,7 +255,6 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
             # the last, partial batch: lane by lane (``done`` is every lane, all finished)
             block = -1
             done = list(range(lanes))
-            queue = iter(range(nxt, n_points))
         else:
             block = -1
             done = []
@@ -296,6 +296,12 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
             # every live lane ended (the usual return, all lanes parked): all times restart at 0 (idle
             # lanes rest at 0), set by one scalar (~0.1 µs; the arrays cost ~8 µs a return)
             everyone = len(done) == len(live)
+            if blocks and everyone and len(live) == lanes and n_points - head >= lanes:
+                load_block(all(is_parked))   # back to blocks (a lane that did not park is reset)
+                start = [clock] * lanes
+                oldest = clock
+                ta.set_dtime(0.0, 0.0)
+                continue
             if not everyone:
                 new_hi[:] = hi
                 new_lo[:] = lo
