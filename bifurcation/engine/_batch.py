@@ -147,6 +147,8 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
 
         def park(lane: int) -> bool:
             # the end of a point (a stick-slip stop): its time and state kept, the lane parked (~1 µs)
+            if is_parked[lane]:   # (at rest, x = 0 identically: no sign change, never seen; be explicit)
+                return True
             stop_hi[lane] = hi.item(lane)
             for kept, row in state_rows:
                 kept[lane] = row.item(lane)
