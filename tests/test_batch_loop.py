@@ -102,3 +102,29 @@ def test_batch_takes_the_scalar_loops_steps(law):
         a, b = getattr(batch, field), getattr(scalar, field)
         np.testing.assert_array_equal(np.isnan(a), np.isnan(b), err_msg=field)
         assert np.nanmax(np.abs(a - b) / np.abs(b)) <= 3e-14, field
+
+
+@pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear"])
+def test_blocks_of_lanes_give_the_per_lane_bits(monkeypatch, law):
+    # while every lane of a block of consecutive points parks, the block is finished and reloaded by
+    # whole rows (engine._batch, load_block); a lane without a stop (max_steps, t_max) sends the loop
+    # lane by lane until every lane has ended, then back to blocks. Against the loop that reloads each
+    # lane on its own (PARK_SHARE = 0): the same bits, steps and messages, over 5 blocks of 16 and a
+    # partial one
+    from bifurcation.engine import _batch
+
+    rng = np.random.default_rng(23)
+    nu = 10.0 ** -rng.uniform(3, 14, 87)
+    nu_f = rng.uniform(0.05, 0.95, 87)
+    free = bf.slip(law, nu=nu, nu_f=nu_f, batch=1)
+    # bounds that end about a fifth of the points early: between two of the points' step counts and stop times
+    steps, stops = np.sort(free.steps), np.sort(free.stop_time)
+    for bounds in ({}, {"max_steps": int(steps[70])}, {"t_max": float(stops[69] + stops[70]) / 2}):
+        blocks = bf.slip(law, nu=nu, nu_f=nu_f, batch=16, **bounds)
+        monkeypatch.setattr(_batch, "PARK_SHARE", 0)
+        lanes = bf.slip(law, nu=nu, nu_f=nu_f, batch=16, **bounds)
+        monkeypatch.undo()
+        _same(blocks, lanes)
+        assert blocks.messages == lanes.messages
+        if bounds:   # the bound ends some points early and not others
+            assert 5 < len(blocks.messages) < nu.size / 2

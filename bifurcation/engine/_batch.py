@@ -7,7 +7,8 @@ t1 are terminal too (the step ends exactly there, as in the scalar loop: the sam
 heyoka's callback and let the integration go on (``_integrator.LaneActions``; maxima and t1 are
 written into ``LaneRecorder``). ``cycle.batch_order`` queues alike points together, so that lanes often end in the
 same step and share a return (~10 µs); for the single block an ended lane is parked at rest until all
-the lanes have ended (``PARK_SHARE``), so one return reloads them all. A lane whose point
+the lanes have ended (``PARK_SHARE``), so one return finishes and reloads them all, by whole-row numpy
+operations while the lanes hold a block of consecutive points (no per-lane Python). A lane whose point
 has stopped is loaded with the next point at the next return (its own time, state and parameters), so the SIMD
 width stays busy until the queue is empty. Every lane keeps its double-length time exactly
 (``dtime``/``set_dtime``), so a point gives the same bits whichever lane and neighbours it had.
@@ -21,7 +22,7 @@ import heyoka as hy
 import numpy as np
 
 from ._actions import LaneRecords, Run, act, limit
-from ._integrator import Compiled, EventKind
+from ._integrator import Compiled
 from .result import Status
 
 __all__ = ["run_batch"]
@@ -62,7 +63,7 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
     target = np.full(lanes, float(t_max))
     state = ta.state
     pars = ta.pars
-    queue = iter(range(n_points))
+    head = 0   # the queue: points head, head + 1, ... are still to be loaded
     initial = np.asarray(c.initial, dtype=float)
     slot_values = [(slots.index(name), np.asarray(values[name], dtype=float).tolist()) for name in slots.names]
     first_values = [recorded[name] for name in c.recorder.first]            # NaN until recorded
@@ -84,7 +85,9 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
 
     def load(lane: int) -> bool:
         """Next point into ``lane`` (time 0); False when the queue is empty (the lane idles)."""
-        i = next(queue, -1)
+        nonlocal head
+        i = head if head < n_points else -1
+        head += 1
         point[lane] = i
         new_hi[lane] = new_lo[lane] = 0.0
         if not (rest_is_start and is_parked[lane]):
@@ -121,50 +124,101 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         if message:
             messages[i] = message
 
-    # Parking (a model that declares a rest_slot, the single block's forcing): an ended lane is finished
-    # in the end event's callback and parked at the model's rest state with that slot at 0 (W = V = 0 stays
-    # exactly there: its one next step runs to t_max and it is done, counting that step), and the
-    # integration goes on until ``park_at`` lanes have ended; they are then reloaded together, one return
-    # for several points.
+    # Parking (a model that declares a rest_slot, the single block's forcing): an ended lane is parked in
+    # the end event's callback at the model's rest state with that slot at 0 (W = V = 0 stays exactly
+    # there: its one next step runs to t_max and it is done, counting that step), its time and state at
+    # the end kept in ``stop_hi`` and ``stop_state``, and the integration goes on until ``park_at`` lanes
+    # have ended; they are then finished and reloaded together, one return for several points.
     parked = []
     is_parked = [False] * lanes
     forcing = slots.index(c.model.rest_slot) if c.model is not None and c.model.rest_slot else -1
     park_at = max(2, int(PARK_SHARE * lanes)) if forcing >= 0 and PARK_SHARE > 0 else 0
     stop_hi = [0.0] * lanes
+    stop_state = [[0.0] * lanes for _ in names]
 
     stick_slip = int(Status.STICK_SLIP)
     out_columns = [out_state[name] for name in names]
     record_columns = [(column, out_records[name]) for name, column in recorded.items()]
-    is_end = [kind is EventKind.STOP for kind in c.kinds]
 
-    def park(lane: int, index: int) -> bool:
-        if not is_end[index]:
-            return False
-        # ``finish`` with its status (an end is a stick-slip stop), inlined: ~1 µs of ~15 per point
+    if park_at:
+        state_rows = [(row, state[k]) for k, row in enumerate(stop_state)]   # row views, live
+        rest_row = pars[forcing]
+        columns = [run.state for run in runs]
+
+        def park(lane: int) -> bool:
+            # the end of a point (a stick-slip stop): its time and state kept, the lane parked (~1 µs)
+            if is_parked[lane]:   # (at rest, x = 0 identically: no sign change, never seen; be explicit)
+                return True
+            stop_hi[lane] = hi.item(lane)
+            for kept, row in state_rows:
+                kept[lane] = row.item(lane)
+            columns[lane].fill(0.0)   # (a slice assignment of a column view costs twice as much)
+            rest_row[lane] = 0.0
+            is_parked[lane] = True
+            parked.append(lane)
+            return len(parked) < park_at
+
+        actions.park = park
+
+    def finish_parked(lane: int, n_steps: int) -> None:
         i = point[lane]
-        out_time[i] = stop_hi[lane] = hi.item(lane)
-        out_status[i] = stick_slip
-        column = runs[lane].state
-        for out, value in zip(out_columns, column.tolist()):
-            out[i] = value
+        out_time[i], out_steps[i], out_status[i] = stop_hi[lane], n_steps, stick_slip
+        for out, kept in zip(out_columns, stop_state):
+            out[i] = kept[lane]
         for values_, out in record_columns:
             out[i] = values_[lane]
-        column.fill(0.0)   # (a slice assignment of a column view costs twice as much)
-        runs[lane].pars[forcing] = 0.0
-        is_parked[lane] = True
-        parked.append(lane)
-        return len(parked) < park_at
 
-    actions.park = park if park_at else None
+    # Blocks (parking only): while the queue holds a whole batch and every lane ended at the last return,
+    # the lanes hold consecutive points ``block`` .. ``block + lanes - 1``, all loaded at one clock, and
+    # are finished and reloaded by whole-row numpy operations, not lane by lane (the same values: the
+    # same bits). Anything else (an abnormal end, a slow return, the last partial batch) takes the
+    # per-lane path below.
+    n_named = len(slots.names)
+    named = np.array([np.asarray(values[name], dtype=float) for name in slots.names]).reshape(n_named, n_points)
+    contiguous = [slots.index(name) for name in slots.names] == list(range(n_named))
+    one_hot = None
+    if c.n_pieces > 1:
+        one_hot = np.zeros((c.n_pieces, 1))
+        one_hot[0] = 1.0
+    block = -1
+    record_resets = [(values_, [math.nan] * lanes) for values_ in first_values] + \
+                    [(values_, [0.0] * lanes) for values_ in max_values]
+
+    def load_block(parked_all: bool) -> None:
+        """The next ``lanes`` points of the queue into every lane (time set by the caller): ``load`` for
+        each lane, by rows."""
+        nonlocal block, head
+        block = first = head
+        head += lanes
+        pars[:n_named] = named[:, first:first + lanes]
+        if one_hot is not None:   # piece 0 (``Run.start``)
+            pars[n_named:n_named + c.n_pieces] = one_hot
+        if not (rest_is_start and parked_all):
+            state[:] = initial[:, None]
+        ta.reset_cooldowns()
+        for run in runs:
+            if run.piece or run.crossings or run.message:
+                run.piece, run.crossings, run.message = 0, [], ""
+        for values_, fresh_values in record_resets:
+            values_[:] = fresh_values
+        for lane in range(lanes):
+            point[lane] = first + lane
+            is_parked[lane] = False
+            fresh[lane] = False
 
     n_events = len(c.kinds)
     # A lane that never gets a point (fewer points than lanes) must still have a finite right side:
     # ν = ν_f = 0 gave 0/0, a NaN time step and a ValueError from heyoka for the whole batch.
     pars[:, :] = 1.0
-    live = [lane for lane in range(lanes) if load(lane)]
+    blocks = park_at and contiguous
+    if blocks and n_points >= lanes:
+        load_block(False)
+        live = list(range(lanes))
+    else:
+        live = [lane for lane in range(lanes) if load(lane)]
     ta.set_dtime(new_hi, new_lo)
     success, step_limit = int(_SUCCESS), int(hy.taylor_outcome.step_limit)
-    fired = actions.fired   # (lane, event index) of the end events (and ending actions) of a call
+    fired = actions.fired   # (lane, event index) of the ending actions (and unparked ends) of a call
     # Steps by a clock: heyoka steps every lane once per iteration of a call, and a lane that is
     # neither done nor non-finite counts each of them, so a point's steps are the clock's advance
     # since its load; the loop then reads only the lanes that fired, and looks at every lane (slow
@@ -182,47 +236,74 @@ def run_batch(c: Compiled, values: dict, n_points: int, *, t_max: float, max_ste
         counts = [r[3] for r in ta.propagate_res]
         it = max(counts)
         before, clock = clock, clock + it
-        done = []
         times = hi.tolist()
-        for lane, index in fired:
-            if is_parked[lane]:   # finished in the callback; a parked lane counted its step to t_max
-                steps[lane] = n = before + counts[lane] - start[lane] - (times[lane] != stop_hi[lane])
-                out_steps[point[lane]] = n
-                done.append(lane)
+        if block >= 0 and len(parked) == lanes and not fired and clock - oldest < max_steps:
+            # the usual return: every lane of the block parked at a stop. A parked lane counted one
+            # step to t_max after its stop unless it parked in the call's last iteration.
+            where = slice(block, block + lanes)
+            out_time[where] = stop_hi
+            out_status[where] = stick_slip
+            for out, kept in zip(out_columns, stop_state):
+                out[where] = kept
+            for values_, out in record_columns:
+                out[where] = values_
+            out_steps[where] = np.subtract(counts, np.not_equal(times, stop_hi)) + (before - oldest)
+            if n_points - head >= lanes:
+                load_block(True)
+                start = [clock] * lanes
+                oldest = clock
+                ta.set_dtime(0.0, 0.0)
                 continue
-            status = ended.pop(lane, None) or act(c, index, runs[lane])
-            if status is not None:
-                steps[lane] = before + counts[lane] - start[lane]
-                finish(lane, status, runs[lane].message)
+            # the last, partial batch: lane by lane (``done`` is every lane, all finished)
+            block = -1
+            done = list(range(lanes))
+        else:
+            block = -1
+            done = []
+            for lane in parked:   # finished here (kept in the callback); it counted its step to t_max
+                steps[lane] = n = before + counts[lane] - start[lane] - (times[lane] != stop_hi[lane])
+                finish_parked(lane, n)
                 done.append(lane)
-        # (a lane that reached t_max in the call's last iteration counted it all: seen by its time)
-        slow = it == 0 or clock - oldest >= max_steps
-        if not slow and not parked:
-            slow = counts.count(it) != len(live) or max(times) >= t_near
-        elif not slow:
-            slow = any(counts[lane] != it or times[lane] >= t_near for lane in live if lane not in done)
-        if slow:
-            results = ta.propagate_res
-            for lane in live:
-                if lane in done:
-                    continue
-                outcome = results[lane][0]
-                steps[lane] = before + counts[lane] - start[lane]
-                code = int(outcome)
-                # stopped because another lane had an event or by the call's step budget (code i ≥ 0:
-                # its last step ended at event i, acted on in the callback)
-                if code == success or code >= 0 or code == step_limit:
-                    if steps[lane] >= max_steps:
-                        finish(lane, Status.NO_STOP, f"no stop within max_steps = {max_steps}")
-                        done.append(lane)
-                    continue
-                if not 0 <= -code - 1 < n_events:   # time or step limit, non-finite state
-                    finish(lane, *limit(outcome, hi[lane], steps[lane], t_max, max_steps))
+            for lane, index in fired:
+                status = ended.pop(lane, None) or act(c, index, runs[lane])
+                if status is not None:
+                    steps[lane] = before + counts[lane] - start[lane]
+                    finish(lane, status, runs[lane].message)
                     done.append(lane)
+            # (a lane that reached t_max in the call's last iteration counted it all: seen by its time)
+            slow = it == 0 or clock - oldest >= max_steps
+            if not slow and not parked:
+                slow = counts.count(it) != len(live) or max(times) >= t_near
+            elif not slow:
+                slow = any(counts[lane] != it or times[lane] >= t_near for lane in live if lane not in done)
+            if slow:
+                results = ta.propagate_res
+                for lane in live:
+                    if lane in done:
+                        continue
+                    outcome = results[lane][0]
+                    steps[lane] = before + counts[lane] - start[lane]
+                    code = int(outcome)
+                    # stopped because another lane had an event or by the call's step budget (code i ≥ 0:
+                    # its last step ended at event i, acted on in the callback)
+                    if code == success or code >= 0 or code == step_limit:
+                        if steps[lane] >= max_steps:
+                            finish(lane, Status.NO_STOP, f"no stop within max_steps = {max_steps}")
+                            done.append(lane)
+                        continue
+                    if not 0 <= -code - 1 < n_events:   # time or step limit, non-finite state
+                        finish(lane, *limit(outcome, hi[lane], steps[lane], t_max, max_steps))
+                        done.append(lane)
         if done:
             # every live lane ended (the usual return, all lanes parked): all times restart at 0 (idle
             # lanes rest at 0), set by one scalar (~0.1 µs; the arrays cost ~8 µs a return)
             everyone = len(done) == len(live)
+            if blocks and everyone and len(live) == lanes and n_points - head >= lanes:
+                load_block(all(is_parked))   # back to blocks (a lane that did not park is reset)
+                start = [clock] * lanes
+                oldest = clock
+                ta.set_dtime(0.0, 0.0)
+                continue
             if not everyone:
                 new_hi[:] = hi
                 new_lo[:] = lo

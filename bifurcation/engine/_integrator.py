@@ -132,7 +132,7 @@ class LaneActions:
     def __init__(self) -> None:
         self.compiled, self.runs, self.ended = None, (), {}
         self.fired = []   # (lane, event index) of each stopping event since the batch loop last looked
-        self.park = None  # the batch loop's (lane, index) -> bool: go on with the lane parked (True)
+        self.park = None  # the batch loop's lane -> bool for an end: go on with the lane parked (True)
 
     def __deepcopy__(self, memo) -> "LaneActions":
         return self   # heyoka deep-copies each event callback on construction
@@ -174,13 +174,17 @@ class LaneActions:
 
     def end(self, index: int):
         """The callback of an end event: note the lane, stop the integration (the batch loop reloads
-        the lane; only there can its time be reset). The loop then reads only the noted lanes."""
+        the lane; only there can its time be reset). The loop then reads only the noted lanes. With a
+        ``park`` hook (the batch loop's) the hook does both: it parks the lane and says whether the
+        integration goes on."""
         fired = self.fired
 
         def on_end(ta, d_sgn, lane) -> bool:
-            fired.append((lane, index))
             park = self.park
-            return False if park is None else park(lane, index)
+            if park is None:
+                fired.append((lane, index))
+                return False
+            return park(lane)
 
         return on_end
 

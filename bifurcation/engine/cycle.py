@@ -239,7 +239,8 @@ def batch_lanes() -> int:
     step is lowest at 16 (0.22 µs against 0.26 at 8 and 0.31 at 4, Carlson-Langer). Measured on the
     AVX-512 host (CPU time per point, one process): 16 lanes as fast as or faster than 4, 8 and 32 from
     16 to 10 000 points for Carlson-Langer and piecewise-linear (1 989-point bench grid: 11.7 µs against
-    12.9 at 8 and 13.0 at 32; 128 random points: 15.0 against 15.6 at 8)."""
+    12.9 at 8 and 13.0 at 32; 128 random points: 15.0 against 15.6 at 8). Again after the block reloads of
+    ``_batch`` (random points, 16 to 10 000): 16 lanes fastest or within 4 % of the fastest of 8, 16 and 32."""
     return 4 * int(hy.recommended_simd_size())
 
 
@@ -251,7 +252,7 @@ def auto_batch(law, size: int, precision: str = "double") -> int:
     time on a host. Batch results do not depend on the lane count or the order of points, and equal the
     scalar ones to rounding (≤ 7e-15 on the bench grid of 1 989 points; more at the ill-conditioned
     ν_f ≈ 0.51, see test_engine), not bit for bit. On the bench grid (2 000 points, CPU time per
-    point, ``bifurcation bench``) the default batch is 2.6x (Carlson-Langer) and 2.3x (piecewise-linear)
+    point, ``bifurcation bench``) the default batch is 2.9x (Carlson-Langer) and 2.5x (piecewise-linear)
     faster than the scalar loop.
     """
     if precision != "double" or size < AUTO_BATCH_MIN_POINTS:
