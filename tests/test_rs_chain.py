@@ -221,10 +221,48 @@ def test_a_bad_workflow_is_one_line_exit_2_before_any_work(tmp_path):
 def test_bench_hook_runs_and_reports_ratios():
     from bifurcation.models.rs_chain._bench import run_rs_chain_bench
 
-    out = run_rs_chain_bench(repeat=1, cases=((2, 1.0, 12),), rtols=(1e-8,), echo=None)
+    out = run_rs_chain_bench(repeat=1, cases=((2, 1.0, 12),), rtols=(1e-8,), lsoda_rtols=(1e-8,), echo=None)
     row = out["cases"][0]
     assert row["engine_events_per_s"] > 0 and row["lsoda"][0]["events_found"] >= 10
+    assert row["dop853"][0]["events_found"] >= 10 and row["dop853"][0]["ratio"] > 0
     assert math.isfinite(row["lsoda"][0]["max_rel_error_first_10"])
+
+
+@pytest.mark.slow   # ~10-25 s: numba compiles the DOP853 loop
+def test_compiled_baselines_integrate_the_engines_equations():
+    # The bench's baselines (models/rs_chain/_baseline.py) write the chain out by hand in numba. Their
+    # right-hand side must be the engine's (_system.rhs_expressions evaluated on floats: 1e-13 relative, a
+    # few roundings), their Jacobian its derivative (central differences, step 1e-6: error ~1e-9 relative
+    # to the largest entry), and the compiled DOP853's catalog the engine's: at rtol = atol = 1e-12 its first
+    # 10 events agree to 1e-9 (measured 2.4e-11 at N = 4; the engine agrees with mpmath to 2.5e-14).
+    pytest.importorskip("numba")
+    pytest.importorskip("scipy")
+    from bifurcation.models.rs_chain._baseline import build, dop853_catalog
+    from bifurcation.models.rs_chain._system import Layout, rhs_expressions
+
+    k = build()
+    spec = RSChainSpec(n=4, ell=1.0, **QD)
+    layout = Layout(4, False)
+    u = initial_state(spec, 1.0, 1)
+    u[4:8] += np.array([0.3, -0.2, 0.1, -0.4])       # off steady state: every term of ẏ counts
+    args = (4, spec.a, spec.b, spec.dc, spec.k, spec.ell ** 2, spec.v_lp, spec.eta)
+    ours = np.array(rhs_expressions(spec.law, layout, list(u), spec.parameters(), math.exp, math.log,
+                                    periodic=False, damped=True), dtype=float)
+    theirs = k["rhs"](0.0, u, *args)
+    assert np.allclose(theirs, ours, rtol=1e-13, atol=1e-13 * np.max(np.abs(ours)))
+    jac = k["jac"](0.0, u, *args)
+    eps = 1e-6
+    fd = np.empty_like(jac)
+    for i in range(u.size):
+        up, dn = u.copy(), u.copy()
+        up[i] += eps
+        dn[i] -= eps
+        fd[:, i] = (k["rhs"](0.0, up, *args) - k["rhs"](0.0, dn, *args)) / (2 * eps)
+    assert np.max(np.abs(jac - fd)) < 1e-7 * np.max(np.abs(jac))
+    ref = run(spec, initial_state(spec, 1.0, 1), 12)
+    base = dop853_catalog(spec, initial_state(spec, 1.0, 1), 1.5 * ref.t_end, 12, 1e-12, 1e-12)
+    for name in ("t_start", "potency", "duration"):
+        assert np.max(np.abs(base[name][:10] / getattr(ref, name)[:10] - 1)) < 1e-9, name
 
 
 def test_massless_undamped_blow_up_is_a_status_not_a_number():

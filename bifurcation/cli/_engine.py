@@ -85,7 +85,8 @@ def _suites() -> list[str]:
               help="Also time the Dask pipeline on this many points (0: skip; at most 10^6).")
 @click.option("--suite", type=click.Choice(["engine", *_suites()]), default="engine", show_default=True,
               help="A model whose declaration has a bench hook; engine (the single block): the engine vs "
-                   "compiled DOP853; rate-state: rsfmodel's cases vs compiled LSODA, deep cycles vs LSODA; chain: the chain vs RK4.")
+                   "compiled DOP853; rate-state: rsfmodel's cases vs compiled LSODA, deep cycles vs LSODA; chain: the chain vs RK4; "
+                   "rs-chain: vs a compiled (numba) DOP853 and scipy LSODA.")
 @O.JSON
 def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: bool) -> None:
     """Benchmarks, side by side in one run, reported as ratios (never a test)."""

@@ -155,7 +155,12 @@ def run_rate_state_bench(repeat: int = 5, echo=print) -> dict:
     from .simulate import rate_state
     from .spec import load_history
 
+    import os
+
     history = load_history([1.0, 10.0], at=[10.0])
+    if echo:
+        echo("rate-state bench: rsfmodel's five cases, mu at t = 0..40; CPU seconds, best of "
+             f"{repeat}; load average " + " ".join(f"{v:.1f}" for v in os.getloadavg()))
     t = np.arange(41.0)
     rows = []
     for name, (a, k, states) in _CASES.items():
@@ -194,7 +199,7 @@ def run_rate_state_bench(repeat: int = 5, echo=print) -> dict:
     if echo:
         echo("ratios: baseline time / engine time on the same case (compiled: numbalsoda LSODA with a numba "
              "cfunc right-hand side; odeint: scipy with a Python right-hand side, second column)")
-    return {"suite": "rate-state", "repeat": repeat, "cases": rows,
+    return {"suite": "rate-state", "repeat": repeat, "cases": rows, "load_average": list(os.getloadavg()),
             "reference": "heyoka real128 run of the same model (agrees with the mpmath reference to 1e-28)",
             "baselines": {"lsoda_numba": "numbalsoda.lsoda, numba cfunc right-hand side",
                           "odeint": "scipy.integrate.odeint, Python right-hand side"}}

@@ -11,7 +11,7 @@ the same end time; the error is the phase drift per cycle |Δt|/(N T_ref) read f
 (Δt = ln(V_end/V_lp)/ẋ at the section). Baseline: LSODA (numbalsoda, Fortran-grade LSODA called from
 numba, with a numba ``cfunc`` right-hand side in the same variables ln V, ln θ — a compiled integrator
 with a compiled right-hand side, what a user would write) at rtol = atol = 1e-8 … 1e-12. Best of
-``repeat`` wall-clock times on one core; ratios, never asserted.
+``repeat`` CPU times of this process (QDYN: wall time of its process); ratios, never asserted.
 
 QDYN, if the environment variable ``BIFURCATION_QDYN`` names a built QDYN source directory (its
 ``qdyn`` executable beside ``pyqdyn.py``; github.com/ydluo/qdyn, not part of this package): its
@@ -130,11 +130,13 @@ class _Quiet:
 
 
 def _best(fn, repeat):
+    # CPU seconds of this process (the engine and LSODA are single-threaded): on a shared machine other
+    # processes' load disturbs them less than wall time (QDYN, a separate process, is timed by the wall)
     best, out = math.inf, None
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         out = fn()
-        best = min(best, time.perf_counter() - t0)
+        best = min(best, time.process_time() - t0)
     return best, out
 
 

@@ -153,6 +153,7 @@ class _Events:
     def __init__(self, spec: RSChainSpec, layout: Layout, wanted: int) -> None:
         self.spec, self.layout, self.wanted = spec, layout, wanted
         self.above = np.zeros(spec.n, dtype=bool)
+        self.n_above = 0      # = above.sum(), kept as an int: the step callback asks it every Taylor step
         self.rows: list = []
         self.current = None
         self.t_last = 0.0
@@ -172,17 +173,19 @@ class _Events:
             if kind == 1:
                 if self.above[j]:
                     continue          # a repeated root at a tangency: already above
-                if not self.above.any():
+                if not self.n_above:
                     self.current = {"t_start": time, "hypocentre": j, "blocks": {j}, "vmax": self.spec.v_th,
                                     "p0": float(data[self.layout.potency]),
                                     "s0": self.spec.stress(data, self.layout)}
                 self.above[j] = True
+                self.n_above += 1
                 self.current["blocks"].add(j)
             elif kind == -1:
                 if not self.above[j]:
                     continue
                 self.above[j] = False
-                if not self.above.any():
+                self.n_above -= 1
+                if not self.n_above:
                     self._close(time, data)
             elif self.above[j] and data > self.ln_v_th:
                 self.current["vmax"] = max(self.current["vmax"], math.exp(data))
@@ -245,6 +248,7 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
         ta.state[:] = resume.state
         ta.dtime = resume.dtime          # the double-length time: the rounded one would shift every step
         assembler.above[:] = resume.above
+        assembler.n_above = int(np.count_nonzero(assembler.above))
         assembler.current = None if resume.current is None else {**resume.current,
                                                                  "blocks": set(resume.current["blocks"])}
         assembler.t_last = resume.t_last
@@ -253,27 +257,33 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     status = [RSChainStatus.COMPLETE, ""]
     p_index = layout.potency
     saved = [assembler.done // every if save is not None else 0]     # chunks checkpointed so far
+    # The step callback runs once per Taylor step (1-5 µs of heyoka work at N <= 16), so it touches only
+    # Python ints and a view of the state bound once (``ta.state`` builds a new array per access) and reads
+    # the catalog only when the step recorded a crossing or maximum.
+    buffer, rows, wanted = c.recorder.buffer, assembler.rows, assembler.wanted
+    state = ta.state
+    bounded_t = math.isfinite(t_max)
 
     def step(ta) -> bool:
         steps[0] += 1
         steps[1] += 1
-        before = assembler.done
-        if c.recorder.buffer:
-            assembler.feed(c.recorder.buffer)
-            c.recorder.buffer.clear()
-        if assembler.done >= assembler.wanted:
+        before = len(rows)
+        if buffer:
+            assembler.feed(buffer)
+            buffer.clear()
+        if len(rows) >= wanted:
             return False
-        if assembler.done > before:
+        if len(rows) > before:
             steps[1] = 0
-        if not assembler.above.any():
-            ta.state[p_index] = 0.0     # between events P restarts from 0: it never grows large
-        if steps[1] > max_steps or ta.time - assembler.t_last > t_max:
+        if not assembler.n_above:
+            state[p_index] = 0.0     # between events P restarts from 0: it never grows large
+        if steps[1] > max_steps or (bounded_t and ta.time - assembler.t_last > t_max):
             status[0] = RSChainStatus.NO_STOP
             status[1] = (f"no-stop: event {assembler.done + 1} did not end within t_max = {t_max:g} or "
                          f"max_steps = {max_steps} (t = {ta.time:.17g}, {steps[0]} steps)")
             return False
-        if save is not None and assembler.done // every > saved[0]:
-            saved[0] = assembler.done // every
+        if save is not None and len(rows) // every > saved[0]:
+            saved[0] = len(rows) // every
             save(_snapshot(ta, assembler, steps))
         return True
 
