@@ -1,6 +1,6 @@
 """Compile what the fast suite's numba tests use into numba's disk cache: the compiled chain engine for both
 law kinds (Carlson–Langer, by its Taylor method and by DOP853, and the tape) and the RK4 baselines (tests/conftest.py runs this in a subprocess
-on a cold cache; ~28 s of CPU on 2 cores). Prints what it compiled."""
+on a cold cache; ~45-50 s of CPU, see conftest.py). Prints what it compiled."""
 
 from bifurcation.laws import resolve_law
 from bifurcation.models.chain._bench_rk4 import run_rk4

@@ -16,7 +16,8 @@ def carlson_langer_reference():
 
 # -- numba's first compile, off the critical path ---------------------------------------------------------
 # With an empty numba disk cache (a fresh clone) the compiled chain engine (two law kinds) and the RK4
-# baselines cost ~28 s of CPU to compile on first use. When many other tests are selected, a subprocess
+# baselines cost ~45-50 s of CPU to compile on first use, a quarter of the fast suite's CPU (measured
+# 2026-11-26, load 3-6: 32-35 s for the Carlson-Langer loop, 13-15 s for the tape's, 3 s for the RK4s). When many other tests are selected, a subprocess
 # (_numba_warmup.py) compiles them into the cache on the second core while those tests run; the modules
 # that use them run last and wait for it, then load from the cache. The same tests run, on the same
 # compiled code; with a warm cache, a subset, or no writable cache nothing changes.
