@@ -187,10 +187,16 @@ def _order_section(cfg, data, sw, star) -> list:
         verdict, words = fss_words(f)
         rows.append([name, f"**{verdict}**: {words}"])
     B.append(Section("Finite-size scaling", [
-        Paragraph("Fits of y(N) = A N^-θ (weighted least squares on ln y) against y = constant, over the chains "
+        Paragraph("Fits of the grid readings above (the largest change between neighbouring ν_f, the loop width): "
+                  "y(N) = A N^-θ (weighted least squares on ln y) against y = constant, over the chains "
                   "(N > 1; N = 1 is deterministic and has no loop by construction: every event starts from the same "
-                  "state). analysis.finite_size_fit; rules for the words: _study_text.fss_words."),
+                  "state). analysis.finite_size_fit; rules for the words: _study_text.fss_words. The jump's place moves "
+                  "from interval to interval with N, so its fit follows no one transition: the next subsection "
+                  "locates one."),
         Figure("fig_fss.png", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
+    from ._study_transition import transition_section, transition_stats
+
+    B += transition_section(data.get("transition") or transition_stats(data))
     return [Section("Order parameter and hysteresis (ν_f up, then down, within one run)", B)]
 
 
@@ -224,7 +230,6 @@ def _verdict(cfg, data, sw, star) -> list:
 
     notes = verdict_notes(cfg, data)
     fss, nu = sw["fss"], cfg["chain"]["nu"]
-    vj, wj = fss_words(fss["slip_per_block.jump"])
     vw, ww = fss_words(fss["slip_per_block.width"])
     th, cats, table = data["threshold"], data["catalogs"], sw["table"]
     offs = ", ".join(f"ℓ = {t['ell']:g} {'end' if t['end'] else 'interior'} {100 * t['rows'][-1]['relative_offset']:+.1f} %"
@@ -266,28 +271,25 @@ def _verdict(cfg, data, sw, star) -> list:
                                             for s in cats if s["n"] == n) for n in sorted({s["n"] for s in cats}))
     row1 = next(r for r in table if r["n"] == 1)
     one = row1["slip_per_block"]
-    sharper = [r["n"] for r in table if r["n"] > 1 and r["slip_per_block"]["jump"] - 2 * r["slip_per_block"]["jump_sigma"]
-               > one["jump"]]
     at = [i for i, x in enumerate(row1["nu_f"]) if abs(x - 0.5) < 1e-9]
     smear = (f"D(1/2) = {one['up'][at[0]]:.3f} and D({row1['nu_f'][at[0] + 1]:g}) = {one['up'][at[0] + 1]:.3f}"
              if at and at[0] + 1 < len(row1["nu_f"]) else "")
-    sak = ("undecided: no chain size shows a jump beyond the single block's smeared one, so there is no jump "
-           "whose finite-size trend could be followed at ν = " + f"{nu:g}" if not sharper
-           else "supported" if vj == "vanishes" else "contradicted" if vj == "persists" else "undecided")
-    chain_word = ("undecided" if not sharper or vj not in ("persists", "vanishes")
-                  else "first-order-like change that " + vj)
+    from ._study_transition import transition_evidence, transition_stats
+
+    tr = transition_evidence(data.get("transition") or transition_stats(data))
+    sak, chain_word = tr["sak"], tr["vas"]
+    defined = " ".join(f"{v[0].upper()}{v[1:]}." for v in tr["sentences"].values())
     rows = [
         ("Vasconcelos (1996): the transition stays first order in chains, hysteresis persists up to the "
          "transition, no critical state", f"Lone block: threshold ν_f* = 1/(2√k) confirmed on the engine (offsets of "
          f"the crossing at the smallest ν: {offs}; closing as ν → 0); the 1-block events of the catalogs have the "
-         f"closed-form potency to {dev:.1e}. Chain, order parameter D: largest change between neighbouring ν_f "
-         f"(up branch) {jumps}; the single block at the same ν already changes by {one['jump']:.3f} "
-         f"({one['jump_at'][0]:g}→{one['jump_at'][1]:g}): its first-order jump (from Δ0 = 0.1507 to 0 at ν_f = 1/2 "
-         f"as ν → 0, docs/physics.md) is smeared at ν = {nu:g} ({smear}). Chains changing more sharply than the "
-         f"single block (beyond 2σ): {', '.join(f'N = {n}' for n in sharper) or 'none'}. FSS of that change: {wj}. Loop widths of D: {loop_txt} ({len(sig)} of {len(loops)} "
-         f"above 2σ); FSS: {ww}.", f"lone block: {lone}. Chain: **{chain_word}** at ν = {nu:g}; loops "
-         f"{'resolved at 2σ for N = ' + ', '.join(map(str, sig)) if sig else 'within the noise'}; telling a "
-         "persisting jump from a vanishing one needs a smaller ν (the large workflow)"),
+         f"closed-form potency to {dev:.1e}. Chain, order parameter D, its transition located and scaled (section "
+         f"\"Finite-size scaling of a defined transition\"; N = 1 is the single block, whose first-order jump from "
+         f"Δ0 = 0.1507 to 0 at ν_f = 1/2 as ν → 0, docs/physics.md, is smeared at ν = {nu:g}: {smear}): {defined} "
+         f"Loop widths of D: {loop_txt} ({len(sig)} of {len(loops)} above 2σ); FSS: {ww}. (The earlier reading, the "
+         f"largest change between neighbouring ν_f, sits in a different interval for each N: {jumps}; it follows "
+         "no one transition and is not read.)", f"lone block: {lone}. Chain: **{chain_word}**; loops "
+         f"{'resolved at 2σ for N = ' + ', '.join(map(str, sig)) if sig else 'within the noise'}"),
          ("Carlson & Langer (1989): power-law small events with an excess of large ones", f"{mfd_cells}. "
          f"{notes['cl'][0]}", f"**{notes['cl'][1] or cl}**"
          + (" (ν_f = " + ", ".join(sorted({f"{s['nu_f']:g}" for s in cats})) + "; near ν_f = 1/2 see Mori & Kawamura)"
@@ -303,9 +305,9 @@ def _verdict(cfg, data, sw, star) -> list:
             "**undecided**: broader distributions towards ν_f = 1/2, then, for the longest chain, a switch to "
             "sliding of the whole chain, not a scale-free state; the MFD at ν_f near 1/2 and its finite-size "
             "scaling were not measured")),
-         ("Sakaguchi (2002): the transition becomes continuous in long chains", "largest change of D per N: "
-         f"{jumps} (on a grid, the slope of a smooth curve also gives a change); its FSS: {wj}. {notes['sak'][0]}",
-         f"**{sak}**" + (f"; **{notes['sak'][1]}**" if notes["sak"][1] else ""))]
+         ("Sakaguchi (2002): the transition becomes continuous in long chains", "the transition of D located "
+         f"per N and its width W scaled (section \"Finite-size scaling of a defined transition\"): {defined}",
+         f"**{sak}**")]
     caveats = ("Caveats: one law, one ℓ; the sweeps of all N at one ν (" + f"{nu:g}"
          + (f"; N ≤ {max(cfg['sweep_small_nu']['sizes'])} also at ν = {cfg['sweep_small_nu']['nu']:g}"
             if data.get("sweeps_small_nu", {}).get("table") else "") + "); errors are seed-to-seed standard errors from "

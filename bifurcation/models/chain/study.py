@@ -241,6 +241,10 @@ def _render(out: Path, cfg, path: Path, data) -> None:
     from ._study_figures import figures
 
     figures(out, data)
+    from ._study_transition import transition_figure, transition_stats
+
+    data["transition"] = transition_stats(data)      # not stored: recomputed from the sweeps at each rendering
+    transition_figure(out, data["transition"])
     if data.get("near_half"):
         from ._study_mfd import near_half_figure
 
