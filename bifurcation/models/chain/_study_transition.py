@@ -99,8 +99,8 @@ def transition_section(st: dict) -> list:
             "and N = 1 (deterministic) has σ = 0. The change's sharpness: **W** = drop / largest −dD/dν_f, the "
             "ν_f range a straight ramp of the same steepest slope needs (a step the grid does not resolve gives "
             f"W = the spacing {h:g}), and the fall of D across the fixed window ν_½ ± {WINDOW:g} as a fraction of the "
-            "drop (1: the whole change inside the window). Where D has no lower plateau on the grid (the step "
-            f"into the minimum still falls by more than {100 * PLATEAU_FRACTION:g} % of the drop) no crossing, W or "
+            "drop (1: the whole change inside the window). Where D has no lower plateau on the grid (fewer than "
+            f"two points within {100 * PLATEAU_FRACTION:g} % of the drop above the minimum) no crossing, W or "
             "window is given: the grid (or the steps D could be kept at) is too short there, and no number is made up."),
         Paragraph(
             f"Calibration on the single block, whose transition lies at ν_f = 1/2 as ν → 0 (docs/physics.md): {cal}. "

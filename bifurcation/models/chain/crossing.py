@@ -26,8 +26,8 @@ import numpy as np
 
 __all__ = ["PLATEAU_FRACTION", "WINDOW", "half_crossing", "locate", "location_fit", "location_words", "slope_peak"]
 
-#: a lower plateau is the points within this fraction of the drop above the minimum; a step into the
-#: minimum larger than this fraction of the drop is a curve still falling (no plateau on the grid)
+#: a lower plateau is the points (past the half-way fall) within this fraction of the drop above the minimum;
+#: fewer than two such points is a curve still falling or turning up again (no plateau on the grid)
 PLATEAU_FRACTION = 0.1
 
 
@@ -40,8 +40,8 @@ def _valid(x, y):
 def half_crossing(x, y) -> tuple[float, str]:
     """(ν_½, status) of a falling curve y(x) on an ascending grid; NaN values (steps left out) skipped.
 
-    status "ok", or why there is no crossing: "no lower plateau on the grid" (the step into the minimum
-    still falls by more than PLATEAU_FRACTION of the drop), "too few points",
+    status "ok", or why there is no crossing: "no lower plateau on the grid" (fewer than two points past
+    the half-way fall lie within PLATEAU_FRACTION of the drop above the minimum), "too few points",
     "no drop" (the curve does not fall)."""
     x, y = _valid(x, y)
     if x.size < 3:
@@ -50,9 +50,10 @@ def half_crossing(x, y) -> tuple[float, str]:
     drop = hi - y[i_lo]
     if not drop > 0 or i_lo == 0:
         return math.nan, "no drop"
-    if y[i_lo - 1] - y[i_lo] > PLATEAU_FRACTION * drop:
+    plateau = (y <= y[i_lo] + PLATEAU_FRACTION * drop) & (np.arange(x.size) >= np.argmax(y < hi - drop / 2))
+    if plateau.sum() < 2:
         return math.nan, "no lower plateau on the grid"
-    lo = float(y[(y <= y[i_lo] + PLATEAU_FRACTION * drop) & (np.arange(x.size) >= np.argmax(y < hi - drop / 2))].mean())
+    lo = float(y[plateau].mean())
     level = 0.5 * (hi + lo)
     for i in range(i_lo):
         if y[i] >= level > y[i + 1]:
