@@ -46,7 +46,10 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
     carried over from an earlier REPORT.md (none if empty)."""
     from ...report.document import Heading, Paragraph
 
+    from ._study_transition import transition_stats
+
     c, sw = cfg["chain"], data["sweeps"]
+    data = {**data, "transition": data.get("transition") or transition_stats(data)}   # computed once per rendering
     ell = float(c["ell"])
     star = 0.5 / math.sqrt(1 + 2 * ell**2)
     B = [Heading("Burridge–Knopoff chains, event-exact: report", 1), Paragraph(
@@ -194,9 +197,9 @@ def _order_section(cfg, data, sw, star) -> list:
                   "from interval to interval with N, so its fit follows no one transition: the next subsection "
                   "locates one."),
         Figure("fig_fss.png", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
-    from ._study_transition import transition_section, transition_stats
+    from ._study_transition import transition_section
 
-    B += transition_section(data.get("transition") or transition_stats(data))
+    B += transition_section(data["transition"])
     return [Section("Order parameter and hysteresis (ν_f up, then down, within one run)", B)]
 
 
@@ -274,9 +277,9 @@ def _verdict(cfg, data, sw, star) -> list:
     at = [i for i, x in enumerate(row1["nu_f"]) if abs(x - 0.5) < 1e-9]
     smear = (f"D(1/2) = {one['up'][at[0]]:.3f} and D({row1['nu_f'][at[0] + 1]:g}) = {one['up'][at[0] + 1]:.3f}"
              if at and at[0] + 1 < len(row1["nu_f"]) else "")
-    from ._study_transition import transition_evidence, transition_stats
+    from ._study_transition import transition_evidence
 
-    tr = transition_evidence(data.get("transition") or transition_stats(data))
+    tr = transition_evidence(data["transition"])
     sak, chain_word = tr["sak"], tr["vas"]
     defined = " ".join(f"{v[0].upper()}{v[1:]}." for v in tr["sentences"].values())
     rows = [

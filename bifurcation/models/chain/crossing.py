@@ -82,48 +82,45 @@ def slope_peak(x, y) -> tuple[float, float, str]:
 WINDOW = 0.05
 
 
-def _width(x, y) -> float:
-    """W = drop / largest −dy/dx, NaN without a crossing (no lower plateau)."""
-    if not math.isfinite(half_crossing(x, y)[0]):
-        return math.nan
-    x, y = _valid(x, y)
-    g = -np.diff(y) / np.diff(x)
-    return float((y[0] - y.min()) / g.max())
-
-
-def _window(x, y) -> float:
-    """The fall of y across [ν_½ − WINDOW, ν_½ + WINDOW] (linear interpolation) as a fraction of the drop
-    (1: the whole change inside the window), NaN without a crossing or with the window off the grid."""
+def _measures(x, y) -> tuple[float, float, float, float]:
+    """(ν_½, ν_χ, W, window fraction) of one curve with no NaN; NaN where not defined. W = drop / largest
+    −dy/dx and the window fraction (the fall of y across ν_½ ± WINDOW, linear interpolation, over the drop;
+    1: the whole change inside the window) are given only with a crossing (a lower plateau), the window only
+    when it lies on the grid."""
     c = half_crossing(x, y)[0]
-    x, y = _valid(x, y)
-    if not math.isfinite(c) or c - WINDOW < x[0] or c + WINDOW > x[-1]:
-        return math.nan
+    peak = slope_peak(x, y)[0]
+    if not math.isfinite(c):
+        return c, peak, math.nan, math.nan
+    drop = y[0] - y.min()
+    width = float(drop / np.max(-np.diff(y) / np.diff(x)))
+    if c - WINDOW < x[0] or c + WINDOW > x[-1]:
+        return c, peak, width, math.nan
     a, b = np.interp([c - WINDOW, c + WINDOW], x, y)
-    return float((a - b) / (y[0] - y.min()))
+    return c, peak, width, float((a - b) / drop)
 
 
 def locate(x, y, se, *, samples: int = 2000, seed: int = 1) -> dict:
-    """Both locations and the width W of one D(ν_f) curve, each with its bootstrap σ (see the module text).
+    """Both locations, the width W and the window fraction of one D(ν_f) curve, each with its bootstrap σ
+    (see the module text); NaN values (steps left out) are skipped.
 
-    A location is reported (finite) only when the data themselves give one (status "ok"); its σ is over
-    the draws that also give one, and ``*_found`` is that fraction of draws."""
+    A value is reported (finite) only when the data themselves give one (status "ok"); its σ is over
+    the draws that also give one, and ``found`` is that fraction of draws."""
     x, y, se = (np.asarray(a, dtype=float) for a in (x, y, se))
+    ok = np.isfinite(y)
+    x, y, se = x[ok], y[ok], np.nan_to_num(se[ok])
     rng = np.random.default_rng(seed)
-    draws = y + np.nan_to_num(se) * rng.standard_normal((samples, y.size))
+    draws = y + se * rng.standard_normal((samples, y.size))
+    boot = np.array([_measures(x, v) for v in draws]).reshape(samples, 4)
+    data = _measures(x, y) if x.size >= 3 else (math.nan,) * 4
+    status = {"half": half_crossing(x, y)[1], "peak": slope_peak(x, y)[2]}
     out = {}
-    for name, f in (("half", lambda v: half_crossing(x, v)), ("peak", lambda v: slope_peak(x, v)[::2])):
-        value, status = f(y)
-        b = np.array([f(v)[0] for v in draws])
-        b = b[np.isfinite(b)]
-        out[name] = {"value": value, "status": status, "found": b.size / samples,
-                     "sigma": float(b.std(ddof=1)) if status == "ok" and b.size > 1 else math.nan}
-    for name, f in (("width", _width), ("window", _window)):
-        b = np.array([f(x, v) for v in draws])
-        b = b[np.isfinite(b)]
-        v = f(x, y)
-        out[name] = {"value": v, "sigma": float(b.std(ddof=1)) if b.size > 1 and math.isfinite(v) else math.nan}
-    xv, yv = _valid(x, y)
-    out["drop"] = float(yv[0] - yv.min()) if yv.size else math.nan
+    for k, name in enumerate(("half", "peak", "width", "window")):
+        b = boot[:, k][np.isfinite(boot[:, k])]
+        out[name] = {"value": data[k], "found": b.size / samples,
+                     "sigma": float(b.std(ddof=1)) if b.size > 1 and math.isfinite(data[k]) else math.nan}
+        if name in status:
+            out[name]["status"] = status[name]
+    out["drop"] = float(y[0] - y.min()) if y.size else math.nan
     out["max_slope"] = slope_peak(x, y)[1]
     return out
 
