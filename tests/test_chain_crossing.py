@@ -116,7 +116,20 @@ def test_verdict_rows_read_the_defined_transition(committed):
     vas = next(line for line in report.splitlines() if line.startswith("| Vasconcelos (1996): the transition"))
     sak = next(line for line in report.splitlines() if line.startswith("| Sakaguchi (2002)"))
     for row in (vas, sak):
-        assert "ν_½: N = 1: 0.382 ± 0.000; N = 4: 0.306 ± 0.009" in row and "W: N = 1: " in row
+        assert "ν_½: N = 1: 0.382 ± 0.001; N = 4: 0.306 ± 0.009" in row and "W: N = 1: " in row
         assert "largest change of D per N" not in row and "FSS of that change" not in row
     assert "**undecided: at ν = 0.001 no chain's change is step-like" in sak.rsplit("|", 2)[-2]
     assert "it follows no one transition and is not read" in vas          # the old figure kept only as labelled
+
+
+def test_grid_error_is_the_log_interpolation_difference():
+    # the ramp's level 0.375 lies in the bracket 0.30 → 0.35 (y = 0.51429, 0.28214): interpolated in ln y it
+    # sits at 0.30 + 0.05 ln(0.375/y0)/ln(y1/y0); the linear one is exact (0.33); the difference by hand
+    from bifurcation.models.chain.crossing import grid_error
+
+    y = _ramp(GRID, 0.7, 0.05, 0.26, 0.40)
+    y0, y1 = 0.7 - 0.65 * 0.04 / 0.14, 0.7 - 0.65 * 0.09 / 0.14
+    expected = abs(0.30 + 0.05 * math.log(0.375 / y0) / math.log(y1 / y0) - 0.33)
+    assert abs(grid_error(GRID, y) - expected) < 1e-12 and expected > 1e-3
+    r = locate(GRID, y, np.zeros(GRID.size), samples=50)       # no noise: σ is the grid error alone
+    assert abs(r["half"]["sigma"] - expected) < 1e-12 and r["half"]["statistical"] == 0

@@ -12,8 +12,11 @@ the transition is located by two definitions that do not depend on which grid in
   two neighbours (a peak on the first or last interval is not located).
 
 Errors: a seeded parametric bootstrap over D's error bars (each D_i drawn from N(D_i, se_i²), the
-location recomputed; σ is the draws' standard deviation). The linear interpolation's own error on the
-coarse grid is not in σ (it vanishes for a locally linear D). With the location, the transition's
+location recomputed; σ is the draws' standard deviation); for ν_½ the interpolation's own error (the same
+bracket interpolated in ln D, as transition.py does) is added in quadrature. transition.py locates a
+half-jump crossing with plateaus from the grid's first and last two points; here the lower plateau is found
+from the data (at N ≥ 64 the last grid points are the chain's slides, where D rises again) and steps left
+out (NaN) are skipped. With the location, the transition's
 **width** W = (drop)/(largest −dD/dν_f): the ν_f range a straight ramp of the same steepest slope needs
 (W = grid spacing for a step the grid does not resolve).
 """
@@ -24,7 +27,7 @@ import math
 
 import numpy as np
 
-__all__ = ["PLATEAU_FRACTION", "WINDOW", "half_crossing", "locate", "location_fit", "location_words", "slope_peak"]
+__all__ = ["PLATEAU_FRACTION", "WINDOW", "grid_error", "half_crossing", "locate", "location_fit", "location_words", "slope_peak"]
 
 #: a lower plateau is the points (past the half-way fall) within this fraction of the drop above the minimum;
 #: fewer than two such points is a curve still falling or turning up again (no plateau on the grid)
@@ -55,10 +58,27 @@ def half_crossing(x, y) -> tuple[float, str]:
         return math.nan, "no lower plateau on the grid"
     lo = float(y[plateau].mean())
     level = 0.5 * (hi + lo)
-    for i in range(i_lo):
-        if y[i] >= level > y[i + 1]:
-            return float(x[i] + (y[i] - level) / (y[i] - y[i + 1]) * (x[i + 1] - x[i])), "ok"
-    return math.nan, "no drop"   # pragma: no cover - y[0] > level >= y[i_lo] always crosses
+    i = _bracket(y, level, i_lo)
+    return float(x[i] + (y[i] - level) / (y[i] - y[i + 1]) * (x[i + 1] - x[i])), "ok"
+
+
+def _bracket(y, level, i_lo) -> int:
+    """The first i < i_lo with y[i] ≥ level > y[i + 1] (there is one: y[0] > level > y[i_lo])."""
+    return next(i for i in range(i_lo) if y[i] >= level > y[i + 1])
+
+
+def grid_error(x, y) -> float:
+    """The interpolation's own error of ν_½: the same bracket interpolated in ln y instead of y (D falls by
+    a factor across a coarse bracket, so neither is exact; transition.py's measure); NaN without a crossing."""
+    c = half_crossing(x, y)[0]
+    x, y = _valid(x, y)
+    if not math.isfinite(c) or not np.all(y > 0):
+        return math.nan
+    i = int(np.searchsorted(x, c, side="right")) - 1
+    i = min(i, x.size - 2)
+    level = y[i] + (y[i + 1] - y[i]) * (c - x[i]) / (x[i + 1] - x[i])     # the level, read back at ν_½
+    f = math.log(level / y[i]) / math.log(y[i + 1] / y[i])
+    return float(abs(x[i] + f * (x[i + 1] - x[i]) - c))
 
 
 def slope_peak(x, y) -> tuple[float, float, str]:
@@ -120,6 +140,9 @@ def locate(x, y, se, *, samples: int = 2000, seed: int = 1) -> dict:
                      "sigma": float(b.std(ddof=1)) if b.size > 1 and math.isfinite(data[k]) else math.nan}
         if name in status:
             out[name]["status"] = status[name]
+    g = grid_error(x, y) if x.size >= 3 else math.nan
+    if math.isfinite(g):     # ν_½: the draws' spread and the interpolation's error in quadrature
+        out["half"].update(statistical=out["half"]["sigma"], grid=g, sigma=math.hypot(out["half"]["sigma"], g))
     out["drop"] = float(y[0] - y.min()) if y.size else math.nan
     out["max_slope"] = slope_peak(x, y)[1]
     return out
