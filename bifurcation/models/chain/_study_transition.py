@@ -113,8 +113,8 @@ def transition_section(st: dict) -> list:
         Figure("fig_transition.png", alt="transition location and width against N"),
         Paragraph(
             "Fits over the chains' up branches (N > 1): the location by ν_c(N) = ν_∞ + a/N (weighted least "
-            "squares; the shift of a first-order transition goes as N^−d with d = 1, Challa, Landau & Binder, "
-            "PRB 34, 1841 (1986)); W and the window fraction by analysis.finite_size_fit (A N^−θ against a "
+            "squares; a shift ∝ 1/volume, the form usually assumed at a first-order transition, with the chain's "
+            "volume N — an assumption of this report, not a result read in a source here); W and the window fraction by analysis.finite_size_fit (A N^−θ against a "
             f"constant). Rules for the words: the location **approaches ν_f*** (= {star:.4f}) when ν_∞ is within "
             "2σ of ν_f* and more than 2σ from 1/2, **approaches 1/2** the other way round, **undecided** when "
             "within 2σ of both, or with fewer than 3 located sizes, or χ²/dof > 2 (crossing.location_words); W "

@@ -149,8 +149,8 @@ def locate(x, y, se, *, samples: int = 2000, seed: int = 1) -> dict:
 
 
 def location_fit(sizes, values, sigmas) -> dict:
-    r"""ν_c(N) = ν_∞ + a/N by weighted least squares (the shift of a first-order transition ∝ N^−d, d = 1,
-    Challa, Landau & Binder, PRB 34, 1841 (1986)); needs ≥ 3 sizes with σ > 0. Returns ν_∞, a, their σ,
+    r"""ν_c(N) = ν_∞ + a/N by weighted least squares (a shift ∝ 1/volume, the form usually assumed at
+    a first-order transition, with the chain's volume N: an assumption, not taken from a source read here); needs ≥ 3 sizes with σ > 0. Returns ν_∞, a, their σ,
     χ² and dof."""
     n, v, s = (np.asarray(a, dtype=float) for a in (sizes, values, sigmas))
     ok = np.isfinite(v) & (s > 0)
