@@ -322,47 +322,50 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
     P = fw.shape[1]
     c3, sig, c4 = fr[3], fr[2], fr[4]
     amp = (1.0 - sig) * c4
+    idx = win.nblk          # (``_rebuild``'s scratch, free here): the slipping slots, so the order loop skips no slot
+    ns = 0
     for i in range(m):
         if slip[i]:
+            idx[ns] = i
+            ns += 1
             cr[i, 0] = 1.0 / (1.0 + c3 * v[i])
+            lf, rt = left[i], right[i]
+            wn, vn = w[i], v[i]
+            c = (selfc[i] - 2.0) * wn
+            if lf >= 0:
+                c += w[lf]
+            if rt >= 0:
+                c += w[rt]
+            xs = c3 * vn
+            g = xs / (1.0 + xs)
+            gt = g * c4 if sig == 0.0 else (sig + (1.0 - sig) * g) * c4
+            fw[i, 0] = vn
+            fv[i, 0] = (d[i] + l2 * c - wn + tau) + gt
         else:
             for q in range(P):
                 fw[i, q] = 0.0
                 fv[i, q] = 0.0
-    for n in range(P):
-        for i in range(m):
-            if not slip[i]:
-                continue
+    for n in range(1, P):
+        for t in range(ns):
+            i = idx[t]
             lf, rt = left[i], right[i]
-            if n == 0:
-                wn, vn = w[i], v[i]
-                c = (selfc[i] - 2.0) * wn
-                if lf >= 0:
-                    c += w[lf]
-                if rt >= 0:
-                    c += w[rt]
-                xs = c3 * vn
-                g = xs / (1.0 + xs)
-                gt = g * c4 if sig == 0.0 else (sig + (1.0 - sig) * g) * c4
-                ld = d[i] + l2 * c - wn + tau
-            else:
-                wn, vn = fw[i, n - 1], fv[i, n - 1]
-                c = (selfc[i] - 2.0) * wn
-                if lf >= 0:
-                    c += fw[lf, n - 1]
-                if rt >= 0:
-                    c += fw[rt, n - 1]
-                # Σ_{j=1..n} v_j r_{n−j}, one chain (four partial sums measured 15 % slower: the step is bound by
-                # the chain from v_n to v_{n+1}, which v_n joins last here)
-                acc_ = 0.0
-                for j in range(1, n + 1):
-                    acc_ += fv[i, j - 1] * cr[i, n - j]
-                rn = -(c3 * acc_) * cr[i, 0]
-                cr[i, n] = rn
-                gt = -rn * amp
-                ld = l2 * c - wn
-                if n == 1:
-                    ld += 1.0
+            wn, vn = fw[i, n - 1], fv[i, n - 1]
+            c = (selfc[i] - 2.0) * wn
+            if lf >= 0:
+                c += fw[lf, n - 1]
+            if rt >= 0:
+                c += fw[rt, n - 1]
+            # Σ_{j=1..n} v_j r_{n−j}, one chain (four partial sums measured 15 % slower: the step is bound by
+            # the chain from v_n to v_{n+1}, which v_n joins last here)
+            acc_ = 0.0
+            for j in range(1, n + 1):
+                acc_ += fv[i, j - 1] * cr[i, n - j]
+            rn = -(c3 * acc_) * cr[i, 0]
+            cr[i, n] = rn
+            gt = -rn * amp
+            ld = l2 * c - wn
+            if n == 1:
+                ld += 1.0
             fw[i, n] = vn / (n + 1)
             fv[i, n] = (ld + gt) / (n + 1)
     a_1, a_0 = 0.0, 0.0      # the largest scaled last and next-to-last coefficients (one pow each)
