@@ -1448,7 +1448,8 @@ _Glob = namedtuple("_Glob", "s u tv ti p slot mem pend touched evid cnt")
 #: 6.7e-13, 1.2e-11, 1.1e-10 at tol 1e-12, 1e-11, 1e-10; docs/chain.md, "Engines")
 TOL = 1e-11
 #: about what compiling ``run_events`` for one law kind costs with a cold disk cache, for the CLI's notice
-#: (8–17 s of CPU measured on 2 loaded cores, 40 s of wall time under load; docs/chain.md, "Engines")
+#: (8–17 s of CPU measured on 2 loaded cores, 40 s of wall time under load; ~20 % more with the Taylor step's
+#: helpers inlined; docs/chain.md, "Engines")
 COMPILE_SECONDS = 15
 
 
