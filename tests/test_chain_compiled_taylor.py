@@ -72,3 +72,45 @@ def test_a_block_at_rest_that_rises_and_falls_back_stops_past_its_excursion():
         out, rep = run_verified(run, 1, 1.0)
         assert out["status"] == 1, (taylor, out["message"])
         assert rep["mismatched"] == [] and rep["largest_any"] <= VERIFY_BOUND, (taylor, rep["largest"])
+
+
+def _window_with_row(coeffs, v0=1.0):
+    """A Taylor window whose slot 0 has the dense output v(θ) = v0 + Σ_k coeffs[k − 1] θ^k."""
+    run = CompiledChain(resolve_law("carlson-langer"), 4, 1.0, 1e-3, 0.2, "free", np.zeros(4))
+    win = run._win
+    win.fv[0, :] = 0.0
+    win.fv[0, :len(coeffs)] = coeffs
+    win.v[0] = v0
+    return win
+
+
+def test_velocity_maximum_on_a_taylor_step_is_the_polynomials():
+    """``_vmax_at`` on a Taylor step (Newton on the slope since this session; golden section and an Illinois
+    root before): the closed form of a parabola v0 + aθ − bθ², maximum v0 + a²/(4b) at θ = a/(2b), to
+    rounding in v (Newton stops at |Δθ| ≤ 1e-10, which moves v by b·1e-20); on an order-20 polynomial the
+    value at the root in (0, 1) of its derivative found by numpy (companion-matrix eigenvalues, independent
+    of the engine's Horner and Newton), to 4 ulps."""
+    from bifurcation.models.chain._compiled import _vmax_at
+
+    a, b, v0 = 3.0, 2.0, 1.5
+    vm, th = _vmax_at(0, _window_with_row([a, -b], v0), 1.0)
+    assert abs(th - a / (2 * b)) < 1e-9
+    assert abs(vm - (v0 + a * a / (4 * b))) <= 4e-16 * vm
+    rng = np.random.default_rng(7)
+    c = np.concatenate(([2.0, -1.0], rng.normal(0.0, 0.3, 18) / np.arange(3, 21) ** 2))
+    poly = np.polynomial.Polynomial(np.concatenate(([0.7], c)))
+    crit = [r.real for r in poly.deriv().roots() if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
+    assert len(crit) == 1                                  # one interior maximum: the Newton branch
+    vm, th = _vmax_at(0, _window_with_row(c, 0.7), 1.0)
+    assert abs(th - crit[0]) < 1e-9
+    assert abs(vm - poly(crit[0])) <= 4 * 2.2e-16 * vm
+
+
+def test_velocity_maximum_before_the_peak_is_the_value_at_the_cut():
+    """A step cut (at an event) before v peaks: v rises over [0, lim], so the largest v is v(lim) exactly
+    (golden section converged to within 1e-12 of lim, a part in ~1e-12 low)."""
+    from bifurcation.models.chain._compiled import _vmax_at
+
+    a, b, v0, lim = 3.0, 2.0, 1.5, 0.5          # peak at 0.75
+    vm, th = _vmax_at(0, _window_with_row([a, -b], v0), lim)
+    assert th == lim and vm == v0 + a * lim - b * lim * lim

@@ -308,7 +308,7 @@ def _step(m, h, tau, win, law, gfun, fr, l2, rtol, atol):
 TAYLOR_ORDER = 20
 
 
-@_jit
+@_inline
 def _taylor(m, tau, win, fr, l2, rtol, atol):
     """Taylor coefficients about τ of the window's slipping slots (Carlson–Langer: g_σ = σ_f + (1 − σ_f) x/(1 + x),
     x = fr[3] v, whose series follows from that of 1/(1 + x) by the usual recurrence; stuck slots have
@@ -322,47 +322,50 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
     P = fw.shape[1]
     c3, sig, c4 = fr[3], fr[2], fr[4]
     amp = (1.0 - sig) * c4
+    idx = win.nblk          # (``_rebuild``'s scratch, free here): the slipping slots, so the order loop skips no slot
+    ns = 0
     for i in range(m):
         if slip[i]:
+            idx[ns] = i
+            ns += 1
             cr[i, 0] = 1.0 / (1.0 + c3 * v[i])
+            lf, rt = left[i], right[i]
+            wn, vn = w[i], v[i]
+            c = (selfc[i] - 2.0) * wn
+            if lf >= 0:
+                c += w[lf]
+            if rt >= 0:
+                c += w[rt]
+            xs = c3 * vn
+            g = xs / (1.0 + xs)
+            gt = g * c4 if sig == 0.0 else (sig + (1.0 - sig) * g) * c4
+            fw[i, 0] = vn
+            fv[i, 0] = (d[i] + l2 * c - wn + tau) + gt
         else:
             for q in range(P):
                 fw[i, q] = 0.0
                 fv[i, q] = 0.0
-    for n in range(P):
-        for i in range(m):
-            if not slip[i]:
-                continue
+    for n in range(1, P):
+        for t in range(ns):
+            i = idx[t]
             lf, rt = left[i], right[i]
-            if n == 0:
-                wn, vn = w[i], v[i]
-                c = (selfc[i] - 2.0) * wn
-                if lf >= 0:
-                    c += w[lf]
-                if rt >= 0:
-                    c += w[rt]
-                xs = c3 * vn
-                g = xs / (1.0 + xs)
-                gt = g * c4 if sig == 0.0 else (sig + (1.0 - sig) * g) * c4
-                ld = d[i] + l2 * c - wn + tau
-            else:
-                wn, vn = fw[i, n - 1], fv[i, n - 1]
-                c = (selfc[i] - 2.0) * wn
-                if lf >= 0:
-                    c += fw[lf, n - 1]
-                if rt >= 0:
-                    c += fw[rt, n - 1]
-                # Σ_{j=1..n} v_j r_{n−j}, one chain (four partial sums measured 15 % slower: the step is bound by
-                # the chain from v_n to v_{n+1}, which v_n joins last here)
-                acc_ = 0.0
-                for j in range(1, n + 1):
-                    acc_ += fv[i, j - 1] * cr[i, n - j]
-                rn = -(c3 * acc_) * cr[i, 0]
-                cr[i, n] = rn
-                gt = -rn * amp
-                ld = l2 * c - wn
-                if n == 1:
-                    ld += 1.0
+            wn, vn = fw[i, n - 1], fv[i, n - 1]
+            c = (selfc[i] - 2.0) * wn
+            if lf >= 0:
+                c += fw[lf, n - 1]
+            if rt >= 0:
+                c += fw[rt, n - 1]
+            # Σ_{j=1..n} v_j r_{n−j}, one chain (four partial sums measured 15 % slower: the step is bound by
+            # the chain from v_n to v_{n+1}, which v_n joins last here)
+            acc_ = 0.0
+            for j in range(1, n + 1):
+                acc_ += fv[i, j - 1] * cr[i, n - j]
+            rn = -(c3 * acc_) * cr[i, 0]
+            cr[i, n] = rn
+            gt = -rn * amp
+            ld = l2 * c - wn
+            if n == 1:
+                ld += 1.0
             fw[i, n] = vn / (n + 1)
             fv[i, n] = (ld + gt) / (n + 1)
     a_1, a_0 = 0.0, 0.0      # the largest scaled last and next-to-last coefficients (one pow each)
@@ -383,7 +386,7 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
     return 0.9 * h
 
 
-@_jit
+@_inline
 def _taylor_step(m, h, win, kv):
     """Scale the coefficients to θ = τ/h (F[i, k − 1] = c_k h^k), the state at the step's end (win.w1/v1),
     the accelerations at its ends (kv[i, 0], kv[i, 12]) as DOP853's first and last stages. Returns
@@ -465,19 +468,19 @@ def _dense_prepare(m, h, tau, win, law, gfun, fr, l2):
 def _event_value(kind, i, th, win, tau, h, l2, nu, target):
     """The event function of slot i at θ on the dense output: kind 0 stop (v), 1 start ((σ − 1)/ν),
     2 switch (v − v_break)."""
-    if kind == 1:
+    if kind == 1:     # (a stuck slot's dense output is its start value: zero rows, no polynomial to evaluate)
         lf, rt = win.left[i], win.right[i]
-        wi = _dense(win.fw, win.w, i, th)
+        wi = _dense(win.fw, win.w, i, th) if win.slip[i] else win.w[i]
         c = (win.selfc[i] - 2.0) * wi
         if lf >= 0:
-            c += _dense(win.fw, win.w, lf, th)
+            c += _dense(win.fw, win.w, lf, th) if win.slip[lf] else win.w[lf]
         if rt >= 0:
-            c += _dense(win.fw, win.w, rt, th)
+            c += _dense(win.fw, win.w, rt, th) if win.slip[rt] else win.w[rt]
         return win.dn[i] + l2 * c - wi + (tau + th * h)
     return _dense(win.fv, win.v, i, th) - target
 
 
-@_jit
+@_inline   # (a call copies the window's arrays: 3 % per event at N = 64)
 def _root(kind, i, win, tau, h, l2, nu, target, f0, f1):
     """θ in (0, 1] past the sign change of the event function (f0 at 0, f1 at 1), to rounding
     (Illinois regula falsi, bisection as a fallback)."""
@@ -620,45 +623,59 @@ def _slope(F, i, th):
     return y
 
 
-@_jit
+@_inline
 def _vmax_in(i, win, lim):
     """Largest v of slot i on the dense output over θ ∈ [0, lim] (``_vmax_at``'s value)."""
     return _vmax_at(i, win, lim)[0]
 
 
+@_inline
+def _slope2(F, i, th):
+    """(d/dθ, d²/dθ²) of a Taylor step's dense output of slot i at θ, in one Horner pass."""
+    kk = F.shape[1]
+    y = kk * F[i, kk - 1]
+    dy = 0.0
+    for q in range(kk - 2, -1, -1):
+        dy = dy * th + y
+        y = y * th + (q + 1) * F[i, q]
+    return y, dy
+
+
 @_jit
 def _vmax_at(i, win, lim):
     """(largest v of slot i on the dense output over θ ∈ [0, lim], its θ) by golden section; on a Taylor
-    step whose slope falls from > 0 to < 0 over [0, lim], the slope's root (regula falsi, Illinois): the
-    golden section's ~57 evaluations of the order-20 polynomial were 15 % of the run (perf, N = 64)."""
+    step whose slope falls from > 0 to < 0 over [0, lim], the slope's root by Newton's method (the second
+    derivative from the same Horner pass) kept inside the bracket. The maximum's value is flat in θ: a θ
+    within 1e-10 of the root moves v by ~|v''| 1e-20, so Newton stops there (3–4 evaluations; the Illinois
+    iteration to rounding it replaces took ~15, 4.5 % of the run at N = 64, and golden section ~57)."""
     F = win.fv
     if F.shape[1] != 7:
         a, b = 0.0, lim
         fa, fb = _slope(F, i, a), _slope(F, i, b)
         if fa > 0.0 and fb < 0.0:
-            side = 0
+            x = a + (b - a) * (fa / (fa - fb))
+            if not (a < x < b):
+                x = 0.5 * (a + b)
             for _ in range(100):
-                if b - a <= 4.4e-16 * b:
+                s, ds = _slope2(F, i, x)
+                if s == 0.0:
                     break
-                c = (a * fb - b * fa) / (fb - fa)
-                if not (a < c < b):
-                    c = 0.5 * (a + b)
-                fc = _slope(F, i, c)
-                if fc == 0.0:
-                    a = b = c
-                    break
-                if fc > 0.0:
-                    a, fa = c, fc
-                    if side == -1:
-                        fb *= 0.5
-                    side = -1
+                if s > 0.0:
+                    a = x
                 else:
-                    b, fb = c, fc
-                    if side == 1:
-                        fa *= 0.5
-                    side = 1
-            th = 0.5 * (a + b)
-            return _dense(F, win.v, i, th), th
+                    b = x
+                xn = x - s / ds if ds < 0.0 else 0.5 * (a + b)
+                if not (a < xn < b):
+                    xn = 0.5 * (a + b)
+                done = abs(xn - x) <= 1e-10 * lim or b - a <= 1e-10 * lim
+                x = xn
+                if done:
+                    break
+            return _dense(F, win.v, i, x), x
+        if fa > 0.0 and fb >= 0.0:
+            # rising up to lim (a cut before the maximum): the largest v is v(lim), where golden section's ~57
+            # evaluations converged to within 1e-12 (v a part in ~1e-12 low)
+            return _dense(F, win.v, i, lim), lim
     g = 0.6180339887498949
     a, b = 0.0, lim
     c = b - g * (b - a)
@@ -913,7 +930,7 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above)
         hnext = hh * fac
         # sign changes of the event functions over the step
         best, kind_b, slot_b, brk_b = 2.0, -1, -1, -1
-        dense = False
+        dense = taylor     # a Taylor step's polynomial is its dense output (and a call copies the window's arrays)
         interior = False
         for i in range(m):
             if slip[i]:
@@ -1056,9 +1073,13 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above)
                 v[i] = v1[i]
             tau = t_end if last else tau + hh
         else:
-            for i in range(m):     # both from the step's start state, then written
-                tw[i] = _dense(fw, w, i, best)
-                tv_[i] = _dense(fv, v, i, best)
+            for i in range(m):     # both from the step's start state, then written (a stuck slot's: its state)
+                if slip[i]:
+                    tw[i] = _dense(fw, w, i, best)
+                    tv_[i] = _dense(fv, v, i, best)
+                else:
+                    tw[i] = w[i]
+                    tv_[i] = v[i]
             for i in range(m):
                 w[i] = tw[i]
                 v[i] = tv_[i] if slip[i] else 0.0
@@ -1208,7 +1229,7 @@ def _lone_state(lone, a, b, kind, th0, th, acc):
     return wv - _lone_w(lone, a, b, th0), vv, lone.piece[st], False
 
 
-@_jit
+@_inline
 def _lone_segment(m, win, lone, l2, tau_far, t_left, acc):
     """A segment in which every slipping block is a lone block on the stored trajectory (started from
     rest among stuck neighbours, ``win.lt`` its time since then; no two of them neighbours, no stuck
@@ -1427,7 +1448,8 @@ _Glob = namedtuple("_Glob", "s u tv ti p slot mem pend touched evid cnt")
 #: 6.7e-13, 1.2e-11, 1.1e-10 at tol 1e-12, 1e-11, 1e-10; docs/chain.md, "Engines")
 TOL = 1e-11
 #: about what compiling ``run_events`` for one law kind costs with a cold disk cache, for the CLI's notice
-#: (8–17 s of CPU measured on 2 loaded cores, 40 s of wall time under load; docs/chain.md, "Engines")
+#: (8–17 s of CPU measured on 2 loaded cores, 40 s of wall time under load; ~20 % more with the Taylor step's
+#: helpers inlined; docs/chain.md, "Engines")
 COMPILE_SECONDS = 15
 
 
