@@ -6,6 +6,7 @@ import contextlib
 
 import click
 
+from ..bounds import CHAIN_EVENT_WORK, CHAIN_MAX_N_EVENTS, CHAIN_RUN_WORK
 from ..errors import InputError
 from ._common import echo_json, examples, number
 
@@ -24,15 +25,16 @@ def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None)
     """The chain's values against the bounds its workflows obey (the model's axes), and the CLI's cap on
     events, before anything is computed."""
     from ..models import get_model
+    from ..models.chain._validate import check_n_events
 
     axes = {axis.name: axis for axis in get_model("chain").axes}
     if events is not None and events > MAX_EVENTS:
         raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
                          "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
-    if events is not None and n is not None and 1 <= n <= (1 << 20) and n * events > MAX_N_EVENTS:
-        raise InputError("--events", events, f"with --n {n} is N × events = {n * events:.3g} > {MAX_N_EVENTS:.0e}, "
-                         "the most one `bifurcation chain` run computes (each event costs O(N))",
-                         f"give --events <= {MAX_N_EVENTS // n} at this N; {_STUDY}")
+    if events is not None and n is not None and 1 <= n <= (1 << 20):
+        check_n_events(n, events, n_key="--n", events_key="--events", what="one `bifurcation chain` run",
+                       more="; for more, run a study of several runs (seeds) through `bifurcation submit`, each "
+                            "within the same bound (workflows/chain-study.toml, docs/chain.md)")
     given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events, "sigma": sigma,
              "v_threshold": v_threshold}
     for name, value in given.items():
@@ -45,20 +47,9 @@ def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None)
                              "workflows' too: bifurcation.models.chain)", f"give a value in [{low}, {high}]")
 
 
-#: The most work one event of a ``bifurcation chain`` run may take, in block-steps (Taylor steps × the width
-#: of the window integrated; the compiled engine: DOP853 steps × N), per engine and precision: about 4 min
-#: of CPU each on the development machine (measured: 2.5 µs a block-step exact in double, 110 µs in quad, at
-#: N = 2000 and 25000; compiled 1.4 ms a step at N = 25000). An event ends only when every block is stuck;
-#: at N·ν ≥ 1 blocks fail faster than events end and one may never end (N = 25000, ν = 1e-3 slid for hours
-#: before this bound). Beyond it the run stops with status no-stop, keeping the events before. A legitimate
-#: event spanning N = 1024 blocks took 1.7e7 (compiled); longer events are studies (the workflow's max_steps).
-MAX_WORK = {("exact", "double"): 10**8, ("exact", "quad"): 2 * 10**6, ("compiled", "double"): 10**9}
-#: The same for all the events of one run together (exact engine; ~20 min of CPU here): many events that end,
-#: each near MAX_WORK (N = 2^20 at a published ν = 0.01), would otherwise add up to hours.
-MAX_RUN_WORK = {("exact", "double"): 5 * 10**8, ("exact", "quad"): 10**7}
-#: The most N × events of one run: each event also costs O(N) outside its window (the next hypocentre, the
-#: quiescent load): measured 66 events/s at N = 2^20 (ν = 1e-9), so 1e10 is about 2.5 min of it.
-MAX_N_EVENTS = 10**10
+#: The chain's work bounds (one definition, bifurcation.bounds; chain workflows obey them too): per event
+#: and per run in block-steps, and N × events.
+MAX_WORK, MAX_RUN_WORK, MAX_N_EVENTS = CHAIN_EVENT_WORK, CHAIN_RUN_WORK, CHAIN_MAX_N_EVENTS
 
 #: Seconds within one event (no event finished) before a line says it is still running, and between them.
 STILL_RUNNING_SECONDS = 30.0

@@ -72,6 +72,16 @@ CHAIN_OUTPUTS = (
 )
 
 
+def check_grid(workflow) -> None:
+    """A workflow's largest run within the chain's bounds (``bounds.CHAIN_MAX_N_EVENTS``, as ``bifurcation
+    chain``): the grid is a product, so its largest N and its most events are one run."""
+    from ._validate import check_n_events
+
+    check_n_events(max(workflow.axes["n"]), max(workflow.axes["events"]), n_key="grid.n", events_key="grid.events",
+                   what="one chain run of a workflow",
+                   more=", or a smaller grid.n (a larger study is several runs: more seeds, or several workflows)")
+
+
 def _ints(values) -> np.ndarray:
     return np.asarray(values, dtype=np.int64)
 
@@ -86,6 +96,7 @@ def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps
     catalogs (object arrays of per-run arrays), and messages (point index → text) for runs that
     stopped early.
     """
+    from ...bounds import CHAIN_EVENT_WORK
     from ...laws import resolve_law
     from ._loop import ChainLoop
     from ._validate import check_initial
@@ -105,7 +116,8 @@ def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps
         sigma = float(points["sigma"][i]) if "sigma" in points else 0.0
         v_th = float(points["v_threshold"][i]) if "v_threshold" in points else 0.0
         loop = ChainLoop(law, n, ell, float(points["nu"][i]), float(points["nu_f"][i]), ends, u,
-                         precision=precision, t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_th)
+                         precision=precision, t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_th,
+                         max_work=CHAIN_EVENT_WORK["exact", precision])   # as `bifurcation chain`: hours otherwise
         cat = {name: [] for name in (*catalogs, "steps")}
         status, message, resumed = ChainStatus.COMPLETE, "", 0
         saved = checkpoints.load(i) if checkpoints is not None else None
@@ -174,7 +186,8 @@ CHAIN = Model(
                 commands="bifurcation.cli._chain:COMMANDS",
                 presets="bifurcation.models.chain.presets:workflow_preset",
                 study="bifurcation.cli._chain_study:chain_study_cmd",
-                workflow="bifurcation.models.chain.model:REPORT_WORKFLOW"),
+                workflow="bifurcation.models.chain.model:REPORT_WORKFLOW",
+                check_grid="bifurcation.models.chain.model:check_grid"),
     units_note=BLOCK_UNITS,
 )
 
