@@ -56,18 +56,17 @@ STILL_RUNNING_SECONDS = 30.0
 
 
 def _progress(started: float):
-    """A line on stderr about every 10 s of a long run: events done, the chain's time, the elapsed time."""
+    """A line on stderr about every 10 s of a long run: events done, the chain's time, the elapsed time
+    (``run.progress.event_lines``, as the runs of ``study chain``)."""
     import time
 
-    last = [started]
+    from ..run.progress import event_lines
+
+    line = event_lines("chain", started)
 
     def report(done: int, events: int, t: float) -> None:
-        now = time.perf_counter()
-        report.done, report.last_event = done, now
-        if now - last[0] >= 10.0:
-            last[0] = now
-            click.echo(f"bifurcation: chain: {done} of {events} events, t = {t:.6g}, {now - started:.0f} s",
-                       err=True)
+        report.done, report.last_event = done, time.perf_counter()
+        line(done, events, t)
 
     report.done, report.last_event = 0, started
     return report
