@@ -8,7 +8,7 @@ import click
 
 from ..bounds import CHAIN_EVENT_WORK, CHAIN_MAX_N_EVENTS, CHAIN_RUN_WORK
 from ..errors import InputError
-from ._common import echo_json, examples, number
+from ._common import Whole, echo_json, examples, number
 
 __all__ = ["COMMANDS", "MAX_EVENTS"]
 
@@ -132,8 +132,8 @@ def _u0(ctx, param, value):
     try:   # each keeps its decimal text: --precision quad reads it in real128
         return [Text(x) for x in value.split(",")]
     except ValueError:
-        raise click.BadParameter(f"{value!r} is not a comma-separated list of numbers; give e.g. 0,-0.1,0.05",
-                                 param_hint="--u0") from None
+        raise click.BadParameter(f"{value!r} is not a comma-separated list of numbers (ASCII digits, no '_'); "
+                                 "give e.g. 0,-0.1,0.05", param_hint="--u0") from None
 
 
 @click.command("chain", epilog=examples(
@@ -142,15 +142,15 @@ def _u0(ctx, param, value):
 @click.option("--preset", help="A published parameter set (carlson-langer-1991, mori-kawamura-2006, vasconcelos-1996; "
                                "docs/chain.md): fills --law, --n, --ell, --nu, --nu-f, --sigma, --ends where not given.")
 @click.option("--law", help="Law name (see `bifurcation laws`) or formula in x.")
-@click.option("--n", "n", type=int, help="Number of blocks N ≥ 1.")
+@click.option("--n", "n", type=Whole(example="16"), help="Number of blocks N ≥ 1.")
 @click.option("--ell", callback=number("--ell", "1"), help="Coupling ℓ ≥ 0.")
 @click.option("--nu", callback=number("--nu", "1e-6"), help="Pulling speed ν > 0.")
 @click.option("--nu-f", "nu_f", callback=number("--nu-f", "0.3"), help="Friction velocity ν_f > 0.")
 @click.option("--ends", help="Boundary condition: free (default) or periodic.")
 @click.option("--u0", callback=_u0, help="Initial displacements u_1,...,u_N (comma-separated).")
 @click.option("--amplitude", callback=number("--amplitude", "0.1"), help="Random start: amplitude A ≥ 0.")
-@click.option("--seed", type=int, help="Random start: seed of numpy's default_rng.")
-@click.option("--events", required=True, type=int, help="Number of events K ≥ 1.")
+@click.option("--seed", type=Whole(example="1"), help="Random start: seed of numpy's default_rng.")
+@click.option("--events", required=True, type=Whole(example="100"), help="Number of events K ≥ 1.")
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
 @click.option("--sigma", callback=number("--sigma", "0.01"),
               help="Friction drop 0 ≤ σ ≤ 0.99 (the model's bounds): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 (default) is the seed's model (docs/chain.md).")
@@ -168,6 +168,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
     """The first K events of a chain of N blocks: t_start, hypocentre, n_blocks, potency, duration,
     max_velocity per event, and the final state."""
     from ..models.chain import CATALOG_FIELDS, chain
+    from ..engine._exact import Text
     from ..models.chain._validate import check_sigma, check_size, check_v_threshold
 
     import time
@@ -196,7 +197,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
         raise InputError("--sigma", sigma, exc.problem, exc.fix) from None
     if v_threshold is not None and v_threshold != "default":
         try:
-            v_threshold = float(v_threshold)
+            v_threshold = float(Text(v_threshold))   # (float() alone reads '1_0')
         except ValueError:
             raise InputError("--v-threshold", v_threshold, "is not a number",
                              "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None

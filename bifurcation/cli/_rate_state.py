@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._common import echo_json, examples, number
+from ._common import Whole, _not_a_number, echo_json, examples, number
 
 __all__ = ["COMMANDS", "MAX_OUTPUTS"]
 
@@ -67,12 +67,21 @@ def _time_scale(spec, velocities) -> tuple[float, str]:
 
 
 def _check_mass(spec, velocities) -> None:
-    """--mass so small that its relaxation time overflows the Taylor steps: refused, not run to a NaN."""
+    """--mass (or --dc) so small that its time scale overflows the Taylor steps: refused, not run to a NaN."""
     from ..errors import InputError
 
-    if spec.mass is None or not any(float(v) > 0 for v in velocities):
+    if not any(float(v) > 0 for v in velocities):
         return
     tau, option = _time_scale(spec, velocities)
+    # Dc/V_lp alike (measured at --t-end 1000 Dc: Dc = 1e-15 ended unbounded after 45 steps, 1e-17 nonfinite
+    # at step 0, 1e-20 at t = nan): named as --dc, not as the --t-end that no value could fix (issue 21)
+    if option == "--dc" and tau < MIN_INERTIAL_TIME:
+        dc = min(float(d) for d in spec.dc)
+        raise InputError("--dc", dc, f"gives a state-evolution time Dc/V_lp = {tau:.3g} (at the fastest --v-lp), "
+                         f"below {MIN_INERTIAL_TIME:g}, where the Taylor steps overflow",
+                         f"give a larger --dc, at least {MIN_INERTIAL_TIME * dc / tau:.3g} here (e.g. 0.01)")
+    if spec.mass is None:
+        return
     if option == "--mass" and tau < MIN_INERTIAL_TIME:
         raise InputError("--mass", spec.mass, f"gives an inertial relaxation time M/(a/V_lp + η) = {tau:.3g}, "
                          f"below {MIN_INERTIAL_TIME:g}, where the Taylor steps overflow",
@@ -87,9 +96,9 @@ def _check_length(spec, velocities, t_end) -> None:
     if t_end / tau > MAX_TIME_SCALES:
         what = "Dc/V_lp" if option == "--dc" else "M/(a/V_lp + η)"
         raise InputError("--t-end", t_end, f"spans {t_end / tau:.3g} times the slider's shortest time scale "
-                         f"{what} = {tau:.3g}; at most {MAX_TIME_SCALES:g} run within the step bound",
-                         f"give --t-end <= {MAX_TIME_SCALES * tau:.3g}, or --cycle for the attracting cycle"
-                         + (", or a larger --mass" if option == "--mass" else "")
+                         f"{what} = {tau:.3g} (set by {option}); at most {MAX_TIME_SCALES:g} run within the step "
+                         f"bound", f"give --t-end <= {MAX_TIME_SCALES * tau:.3g}, or a larger {option}, or --cycle "
+                         "for the attracting cycle"
                          + "; longer runs: the Python API bifurcation.rate_state (max_steps bounds it)")
 
 
@@ -104,8 +113,7 @@ def _floats(name: str, example: str):
             try:   # keeps its decimal text: --precision quad reads it in real128
                 out.append(Text(part))
             except ValueError:
-                raise click.BadParameter(f"{part!r} is not a number; give e.g. {example}",
-                                         param_hint=name) from None
+                raise click.BadParameter(_not_a_number(part, example), param_hint=name) from None
         return out
     return convert
 
@@ -153,7 +161,7 @@ def hopf_cmd(state_law, a, b, dc, v_lp, mass, damping, as_json) -> None:
               help="Times of the velocity steps, comma-separated, increasing (one fewer than --v-lp).")
 @click.option("--t-end", "t_end", default=None, callback=number("--t-end", "40"),
               help="End time (required, except with --cycle, which takes none).")
-@click.option("--outputs", default=41, show_default=True, help="Number of evenly spaced output times.")
+@click.option("--outputs", default=41, show_default=True, type=Whole(example="41"), help="Number of evenly spaced output times.")
 @click.option("--mass", default=None, callback=number("--mass", "1e-3"), help="Mass M > 0 (inertial).")
 @click.option("--damping", default=None, callback=number("--damping", "0.002"),
               help="Radiation damping ETA >= 0, friction per unit slip rate (k(V_lp t - δ) - ETA V = μ - μ0); "
