@@ -52,3 +52,16 @@ def test_study_waiting_for_a_run_says_how_many_are_done(monkeypatch, capsys):
         assert [study._waiting(f, futures, t0) for _, f in futures] == [1, 2]
     lines = capsys.readouterr().err.splitlines()
     assert lines and all(l.startswith("bifurcation: study chain: 1 of 2 runs done, ") for l in lines), lines
+
+
+def test_continue_prints_bautin_points_as_a_line_with_names_and_units():
+    """`continue` printed them as a raw dict ({'aging': 0.41, 'slip': nan, ...}) (issue 21 walk)."""
+    import math
+
+    from bifurcation.models.rate_state.study import bautin_line
+
+    line = bautin_line({"aging": 0.123456789, "slip": math.nan, "prz": 1.5})
+    assert "{" not in line and "nan" not in line, line
+    assert "η = M V_lp²/(a Dc) (dimensionless" in line and "aging 0.123457" in line and "prz 1.5" in line
+    assert "slip none (l1 keeps its sign" in line
+    assert bautin_line({}) == "  Bautin points: not computed ([hopf] bautin = false)"
