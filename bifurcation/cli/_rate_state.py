@@ -208,12 +208,18 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
     if len(laws) == 1 and len(b) > 1:
         laws = laws * len(b)
     damping = 0.0 if damping is None else damping
+    for name, given in (("--dc", [getattr(x, "text", str(x)) for x in dc]), ("--state-law", laws)):   # (was named dc/state_law)
+        if len(given) != len(b):
+            raise InputError(name, ",".join(given), f"has {len(given)} value(s) for the {len(b)} state variable(s) "
+                             "of --b", "give one --dc and one --state-law per value of --b, e.g. --b 0.015,0.005 "
+                             "--dc 0.01,0.1 --state-law aging (one law: the same for both)")
     spec = SliderSpec(a=a, b=b, dc=dc, state_law=laws, k=k, mass=mass, damping=damping)   # checks before work
     try:
         history = load_history(v_lp, at=at or [])
-    except InputError as exc:   # the step times are --at here
-        raise InputError("--at" if exc.argument == "v_lp at" else exc.argument, exc.value, exc.problem,
-                         exc.fix) from None
+    except InputError as exc:   # the step times are --at here (their check names them v_lp at / v_lp times)
+        if exc.argument in ("v_lp at", "v_lp times"):
+            raise InputError("--at", ",".join(f"{float(x):g}" for x in at or []), exc.problem, exc.fix) from None
+        raise
     _check_mass(spec, history.velocities)
     if cycle:
         _cycle(spec, history, precision, as_json)
