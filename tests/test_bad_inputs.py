@@ -1282,8 +1282,10 @@ def test_bad_scheduler_address_in_the_environment(address, needle, env, tmp_path
 
 def _run_batch(cases, env, tmp_path, monkeypatch) -> None:
     """Each row of ``cases`` checked as ``test_bad_input_is_one_line_exit_2_and_writes_nothing`` does, in one
-    test: fresh working, output and new-store directories per row, the fixtures compared once at the end."""
-    root, paths, built = env
+    test: fresh working, output and new-store directories per row, the fixtures compared once at the end (with
+    their state when the batch starts: the study's fixture adds files to the same root when it runs first)."""
+    root, paths, _ = env
+    built = _snapshot(root)
     failures = []
     for k, case in enumerate(cases):
         argv_text, needle = _split(case)
