@@ -132,3 +132,33 @@ def test_study_chain_workflow_n_times_events_is_bounded(tmp_path):
     (tmp_path / "w.toml").write_text(bad)
     with pytest.raises(InputError, match=r"presets\.run\[0\]\.events"):
         load_report_workflow(tmp_path / "w.toml")
+
+
+def test_workflow_runner_holds_its_catalog_as_arrays(monkeypatch):
+    """A workflow run's catalog grows as arrays per piece of <= 1000 events (48 bytes an event), not as Python
+    lists of the whole run: traced peak per added event 319 bytes before, 83 after (measured in a process of
+    its own, N = 4, 5000 and 80000 events; not here, where the numba warm-up thread allocates beside it). A run
+    of 10^9 events at N <= 10 is within the workflow's bounds. Checked here by what the loop is asked to run
+    and keeps: pieces of at most 1000 events, no per-event timings piling up, the same catalog."""
+    import bifurcation as bf
+    from bifurcation.models import get_model
+    from bifurcation.models.chain._loop import ChainLoop
+    from bifurcation.models.chain.model import run_chains
+
+    asked, kept = [], []
+    run = ChainLoop.run
+
+    def spy(self, k):
+        asked.append(k)
+        kept.append(len(self.wall))
+        return run(self, k)
+
+    monkeypatch.setattr(ChainLoop, "run", spy)
+    pts = {"n": np.array([4]), "ell": np.array([1.0]), "nu": np.array([1e-3]), "nu_f": np.array([0.3]),
+           "amplitude": np.array([0.1]), "seed": np.array([1]), "events": np.array([2500]), "periodic": np.array([0])}
+    out, _ = run_chains(get_model("chain"), "carlson-langer", pts)
+    assert asked == [1000, 1000, 500] and max(kept) == 0, (asked, kept)
+    monkeypatch.setattr(ChainLoop, "run", run)
+    whole = bf.chain("carlson-langer", n=4, ell=1.0, nu=1e-3, nu_f=0.3, amplitude=0.1, seed=1, events=2500)
+    for name in ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity"):
+        assert np.array_equal(out[name][0], getattr(whole, name)), name   # pieces change nothing
