@@ -306,7 +306,7 @@ CASES = [
     *_values(RATE, "--v-lp", ["1,-10", "1,nan", "", "1,x"]),
     f"{_set(RATE, '--v-lp', '1')} ## --at",                                        # 1 velocity, 1 step
     *_values(RATE, "--state-law", ["foo", ""]),
-    f"{_set(RATE, '--state-law', 'aging,slip,prz')} ## state_law",
+    f"{_set(RATE, '--state-law', 'aging,slip,prz')} ## --state-law='aging,slip,prz'",   # was named state_law
     *_values(RATE, "--a", ["-0.005", "nan", "0", "x"], "--a"),
     *_values(RATE, "--b", ["-0.01", "0.01,0.02", "nan"], "b"),
     *_values(RATE, "--dc", ["0", "-1", "inf"], "dc"),
@@ -530,7 +530,7 @@ CASES = [
     *[f"rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 {rest} --cycle --json ## {needle}" for rest, needle in [
         ("--v-lp 1e-3 --damping inf", "--damping=inf"), ("--v-lp 1e-3 --damping ''", "--damping"),
         ("--v-lp 0 --damping 1", "--v-lp"), ("--v-lp 1e-3 --damping 1 --at 5", "--at")]],
-    "rate-state --state-law slip,aging --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json ## state_law",
+    "rate-state --state-law slip,aging --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json ## --state-law='slip,aging'",   # was state_law
     "bench --suite rs-chain --points 5 ## --points=5: does not apply to --suite rs-chain",
     "bench --suite rs-chain --subset 3 ## --subset=3: does not apply to --suite rs-chain",
     "bench --suite chain,rate-state ## --suite",
@@ -845,6 +845,149 @@ CASES += [
     "reproduce --scheduler tcp://127.0.0.1:70000 ## has port 70000",
 ]
 
+# -- walk 2 (issue 21, helper walk): underscores and non-ASCII digits (float()/int() read '1_0', '١'), empty
+#    values (shown as '.'), a rate-state time scale named by its option, chain N × events in workflows, and
+#    more of every command. Rows marked "# fixed" failed before (accepted, a traceback, or the wrong name).
+def _two(template: str, first: tuple, second: tuple) -> tuple:
+    """A WORKFLOWS entry with two edits: ``first`` applied here, ``second`` by build_env."""
+    return (_edit(template, *first), *second)
+
+
+WORKFLOWS.update({
+    "wk2_chain_big": _two(CHAIN, ("values = [4]", "values = [1048576]"), ("values = [20]", "values = [1000000000]")),
+    "wk2_chain_list_big": _two(CHAIN, ("values = [4]", "values = [4, 64]"),
+                               ("values = [20]", "values = [20, 1000000000]")),
+    "wk2_chain_preset_big": _two(CHAIN, ('[engine]\nlaws = ["carlson-langer"]\n[grid.n]\nvalues = [4]\n[grid.ell]\n'
+                                  'values = [1.0]\n[grid.nu]\nvalues = [1e-3]\n[grid.nu_f]\nvalues = [0.2]\n',
+                                  'preset = "carlson-langer-1991"\n'), ("values = [20]", "values = [100000000]")),
+    "wk2_chain_quad_steps0": (CHAIN, 'laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nprecision = "quad"\n'
+                              'max_steps = 0'),
+    "wk2_chain_tmax0": (CHAIN, 'laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nt_max = 0.0'),
+    "wk2_chain_vth_big": (CHAIN, "[tiles]", "[grid.v_threshold]\nvalues = [1e300]\n[tiles]"),
+    "wk2_chain_sigma_big": (CHAIN, "[tiles]", "[grid.sigma]\nvalues = [0.995]\n[tiles]"),
+    "wk2_chain_n_range": _two(CHAIN, ("[grid.n]\nvalues = [4]", "[grid.n]\nranges = [{ start = 1, stop = 1048576, num = 3 }]"),
+                              ("values = [20]", "values = [100]")),
+    "wk2_chain_catalog_big": (CHAIN, "catalog = 10", "catalog = 1048577"),
+    "wk2_chain_events_float": (CHAIN, "values = [20]", "values = [20.5]"),
+    "wk2_fig_nul": (FIG, 'name = "bad-input"', 'name = "bad\x00input"'),
+    "wk2_fig_dupkey": (FIG, 'name = "bad-input"', 'name = "bad-input"\nname = "again"'),
+    "wk2_fig_unicode": (FIG, 'name = "bad-input"', 'name = "étude"'),
+    "wk2_fig_deep": (FIG, "values = [1e-6, 1e-9]", "values = " + "[" * 3000 + "1" + "]" * 3000),
+    "wk2_rs_points0": (RS, "points = 4", "points = 0"),
+    "wk2_rs_points_huge": (RS, "points = 4", "points = 1000000000"),
+    "wk2_rs_maxstep_neg": (RS, "max_step = 0.5", "max_step = -0.5"),
+    "wk2_rs_label_empty": (RS, 'label = "prz"', 'label = ""'),
+    "wk2_rs_vlp_str": (RS, "v_lp = 1.0", 'v_lp = "1.0"'),
+    "wk2_rs_eta_neg": (RS, "eta = [0.0]", "eta = [-1.0]"),
+    "wk2_rs_boa_huge": (RS, "b_over_a = [2.0]", "b_over_a = [1e300]"),
+})
+CASES_WK2 = [   # run batched (one test, one fixture check): ~5 ms a row instead of ~25 ms
+    *_values(SLIP, "--nu", ["1_0e-9", "1e-9_", "٠.٠٠١", "0x1p-30"]),                                  # fixed: '_'
+    *_values(SLIP, "--nu-f", ["0_.4", "０.4"]),                                                        # fixed
+    *_values(SLIP, "--law", ["x", "1", "x^1000000", "1/(1+x)+0*y", "piecewise(1 - x, 1)", "piecewise(1 - x, -1, 0)"]),
+    *_values(CHAIN_CLI, "--events", ["1_0", "٣", "-1"]),                                  # fixed: 1_0
+    *_values(CHAIN_CLI, "--seed", ["1_0"]),                                # fixed: 1_0
+    *_values(CHAIN_CLI, "--n", ["1_6", "１6", "+-4"]),                                                 # fixed
+    *_values(CHAIN_CLI, "--v-threshold", ["1_0"]),                                          # fixed: 1_0
+    *_values(CHAIN_CLI, "--amplitude", ["1_0"]),
+    *_values(CHAIN_CLI, "--ell", ["1e300"]),
+    "chain --law carlson-langer --n 3 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 0,0,1_0 --events 3 ## --u0",   # fixed
+    "chain --law carlson-langer --n 3 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 ' , , ' --events 3 ## --u0",
+    "chain --law carlson-langer --n 3 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 0,0,1e400 --events 3 ## --u0",
+    "chain --law carlson-langer --n 3 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 0,0,2 --events 3 ## --u0",
+    "chain --law carlson-langer --n 65536 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 200000 ## --events=200000: with --n 65536",
+    "chain --preset carlson-langer-1991 --amplitude 0.1 --seed 1 --events 10000001 ## --events",
+    *_values(RATE, "--outputs", ["4_1", "1000001"]),                                                   # fixed: 4_1
+    *_values(RATE, "--dc", ["1e-300", "1_0"], "--dc"),                            # fixed: 1e-300 named --t-end
+    *_values(RATE, "--k", ["1e300", "1e12"]),                                # fixed: 1e300 NaN rows, exit 0
+    *_values(RATE, "--damping", ["1_0"]),
+    f"{_set(RATE, '--v-lp', '1,1e300')} ## with --v-lp 1e+300",                 # fixed: named --t-end
+    f"{_set(RATE, '--v-lp', '1,1_0')} ## --v-lp",                                                      # fixed
+    f"{_set(_set(RATE, '--v-lp', '1,2,3'), '--at', '10,10')} ## --at='10,10'",    # fixed: named v_lp times
+    f"{_set(_set(RATE, '--v-lp', '1,2'), '--at', '-5')} ## --at",
+    f"{_set(RATE, '--state-law', 'aging,aging')} ## --state-law='aging,aging'",   # fixed: named dc/state_law
+    f"{_set(RATE, '--t-end', '1e-320')} ## --at",
+    "rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1 --cycle --t-end 40 ## --t-end",
+    f"{_set(RATE, '--mass', '1e-20')} --precision quad ## --mass",
+    "hopf --state-law slip --a 0.01 --b 0.01 --dc 0.01 --v-lp 1 ## --b",
+    "hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 --damping 1e300 ## --damping",
+    "hopf --state-law prz --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 --mass 1e-300 ## --mass",
+    "hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01 --v-lp 1_0 ## --v-lp",                         # fixed
+    "limit --law carlson-langer --nu-f 0.3 --precision quad --precision double ## --precision is given twice",
+    "limit --law carlson-langer --nu-f 3_0 ## --nu-f",                                                 # fixed
+    "laws --law x ## --law",
+    "query --store {sb} --law carlson-langer --nearest --nu -1 ## --nu=-1.0: is outside",           # fixed: exit 0
+    "query --store {sb} --law carlson-langer --nearest --nu 1e300 ## --nu=1e+300: is outside",      # fixed: exit 0
+    "query --store {sb} --law carlson-langer --nearest --nu nan ## --nu",
+    "query --store {sb} --law carlson-langer --nu 1_0e-9 ## --nu",                                     # fixed
+    "query --store {sb} --law carlson-langer --nu 1e-7 ## --nu=1e-07",
+    "query --store {sb} --law carlson-langer --format xml ## --format",
+    "query --store {sb} --law '' ## --law='': is empty",
+    "query --store {chain} --law carlson-langer --n 4.5 ## --n=4.5",
+    "query --store {chain} --law carlson-langer --periodic 2 ## --periodic",
+    "query --store {chain} --law carlson-langer --periodic closed ## --periodic",
+    "query --store {chain} --law carlson-langer --catalog --nu-f 0.2 --events 1_0 ## --events",       # fixed
+    "export --store=' ' --out {outdir}/x.nc ## --store=' ': is empty",                                # fixed: '.'
+    "export --store= --out {outdir}/x.nc ## --store='': is empty",                                   # fixed: '.'
+    "submit {wf_fig} --store= ## --store='': is empty",                                                # fixed: '.'
+    "submit ' ' ## WORKFLOW=' ': is empty",                                                            # fixed: ' '
+    "continue ' ' ## WORKFLOW=' ': is empty",                                                          # fixed: ' '
+    f"{_set(_set(RATE, '--b', '0.01,0.02'), '--state-law', 'aging')} ## --dc='10': has 1 value(s)",   # fixed: dc/state_law
+    "export --store {sb} --out {outdir}/sub/x.nc ## --out",
+    "export --store {sb} --out {sb}/x.nc ## --out",
+    "export --store {sb} --out {outdir}/x.nc --format netcdf4 ## --format",
+    "export --store {adir} --out {outdir}/x.nc ## --store",
+    "status --store {sb}/done ## --store",
+    "status --store {sb} --json --wait ## --wait",
+    "status --store {sb} --json extra ## extra",
+    "verify --store {sb}/delta ## --store",
+    "verify --store {sb} --store {sb} ## --store is given twice",
+    "report --store {sb} --store {sb} --out {outdir} ## is given twice",
+    "report --store {sb} --out {sb}/sub ## --out",
+    "report --store {adir} --out {outdir} ## --store",
+    "report --store '' --out {outdir} ## --store='': is empty",                                     # fixed: '.'
+    "reproduce --workers 1_0 ## --workers",                                                          # fixed
+    "submit {wf_fig} --store {newstore} --workers 1_0 ## --workers",                                 # fixed
+    "submit {wf_fig} --store {newstore} --workers-timeout 1_0 ## --workers-timeout",                 # fixed
+    "submit {wf_fig} --store {newstore} --workers-timeout nan ## --workers-timeout",
+    "submit {wf_fig} --store {sb}/sub.zarr ## --store",
+    *[f"submit {{wf_{name}}} --store {{newstore}} ## {needle}" for name, needle in [
+        ("wk2_chain_big", "grid.events=1000000000: with grid.n 1048576 is N × events"),               # fixed
+        ("wk2_chain_list_big", "grid.events=1000000000: with grid.n 64"),                             # fixed
+        ("wk2_chain_preset_big", "grid.events=100000000: with grid.n 1000"),                          # fixed
+        ("wk2_chain_quad_steps0", "engine.max_steps"), ("wk2_chain_tmax0", "engine.t_max"),
+        ("wk2_chain_vth_big", "grid.v_threshold"), ("wk2_chain_sigma_big", "grid.sigma"),
+        ("wk2_chain_n_range", "grid.n"), ("wk2_chain_catalog_big", "tiles.catalog"),
+        ("wk2_chain_events_float", "grid.events"), ("wk2_fig_nul", "WORKFLOW"), ("wk2_fig_dupkey", "WORKFLOW"),
+        ("wk2_fig_unicode", "study.name"), ("wk2_fig_deep", "nested too deeply")]],
+    "study chain {wf_wk2_fig_deep} ## nested too deeply",
+    "continue {wf_wk2_fig_deep} --out {newdir} ## nested too deeply",
+    "status --store {wf_wk2_chain_big} ## --store",
+    *[f"continue {{wf_{name}}} --out {{newdir}} ## {needle}" for name, needle in [
+        ("wk2_rs_points0", "branch[0].points"), ("wk2_rs_points_huge", "branch[0].points"),
+        ("wk2_rs_maxstep_neg", "branch[0].max_step"), ("wk2_rs_label_empty", "branch[0].label"),
+        ("wk2_rs_vlp_str", "slider.v_lp"), ("wk2_rs_eta_neg", "hopf.eta[0]"), ("wk2_rs_boa_huge", "hopf.b_over_a[0]")]],
+    "continue {sb} --out {newdir} ## WORKFLOW",
+    "continue {wf_rs} --out {sb} ## --out",
+    "continue {wf_rs} --out {newdir} --damping 1_0 ## --damping",                                    # fixed
+    "bench --points 1_0 ## --points",                                                                # fixed
+    "bench --subset 1_2 ## --subset",                                                                # fixed
+    "bench --pipeline 1_0 ## --pipeline",                                                            # fixed
+    "bench --points 20001 ## --points",
+    "bench --suite chain --pipeline 10 ## --pipeline",
+    "extrapolate --store {sb} --law nope --nu-f 0.3 ## --law",
+    "extrapolate --store {sb} --law carlson-langer --nu-f 3_0 ## --nu-f",                            # fixed
+    "fit-period --store {sb} --law carlson-langer --nu-f 0.7 ## --nu-f",
+    "fit-period --store {sb} --law carlson-langer --nu-f 0.3 ## --store",
+    "fit-period --store {chain} --law carlson-langer --nu-f 0.2 ## --store",
+]
+STUDY_WORKFLOWS_WK2 = {   # N × events of one study run (fixed: accepted before)
+    "wk2_catalog_big": ("events = [3000, 2000]", "events = [3000, 200000000]"),
+    "wk2_preset_n_big": ('preset = "vasconcelos-1996"\nevents = 1000000',
+                         'preset = "vasconcelos-1996"\nevents = 1000000\nn = 100000'),
+    "wk2_published_big": ("events = 1000000     # the target", "events = 100000000     # the target"),
+}
+
 def _split(case: str) -> tuple[str, str]:
     argv, _, needle = case.partition(" ## ")
     return argv, needle
@@ -1063,6 +1206,16 @@ STUDY_CASES = [
 ]
 
 
+STUDY_WORKFLOWS.update(STUDY_WORKFLOWS_WK2)
+STUDY_CASES_WK2 = [   # walk 2 (issue 21): see the block of that name above; batched as CASES_WK2
+    "study chain {study_wk2_catalog_big} ## catalog.events[1]=200000000: with N = 256",
+    "study chain {study_wk2_preset_n_big} ## presets.run[0].events=1000000: with N = 100000",
+    "study chain {study_wk2_published_big} ## published_nu.events=100000000: with N = 1000",
+    "study chain {study} --out {newdir} --catalogs-only ## --catalogs-only",
+    "study chain {study} --out {newdir} --published-nu-only ## --published-nu-only",
+    "study chain {study} --out {newdir} --from-data --catalogs-only ## --published-nu-only",
+    "study chain ' ' ## WORKFLOW=' ': is empty",
+]
 STUDY_CASES += [   # walk (issue 21): see the block of that name above
     'continue {study} --out {newdir} ## study chain',
     'study chain {study} --out {sb} ## --out',
@@ -1130,3 +1283,49 @@ def test_bad_scheduler_address_in_the_environment(address, needle, env, tmp_path
     lines = result.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"bifurcation: error: DASK_SCHEDULER_ADDRESS='{address}'"), lines
     assert needle in lines[0] and not (tmp_path / "new").exists()
+
+
+def _run_batch(cases, env, tmp_path, monkeypatch) -> None:
+    """Each row of ``cases`` checked as ``test_bad_input_is_one_line_exit_2_and_writes_nothing`` does, in one
+    test: fresh working, output and new-store directories per row, the fixtures compared once at the end (with
+    their state when the batch starts: the study's fixture adds files to the same root when it runs first)."""
+    root, paths, _ = env
+    built = _snapshot(root)
+    failures = []
+    for k, case in enumerate(cases):
+        argv_text, needle = _split(case)
+        base = tmp_path / str(k)
+        outdir, cwd = base / "out", base / "cwd"
+        outdir.mkdir(parents=True)
+        cwd.mkdir()
+        values = {**paths, "newstore": str(base / "new" / "s.zarr"), "newdir": str(base / "new"),
+                  "outdir": str(outdir)}
+        monkeypatch.chdir(cwd)
+        started = time.perf_counter()
+        result = CliRunner().invoke(cli, [word.format(**values) for word in shlex.split(argv_text)])
+        lines = result.stderr.splitlines()
+        problems = [why for why, bad in (
+            (f"{time.perf_counter() - started:.1f} s", time.perf_counter() - started >= 60),
+            (repr(result.exception), result.exception is not None and not isinstance(result.exception, SystemExit)),
+            ("traceback", "Traceback" in result.output), (f"exit {result.exit_code}", result.exit_code != 2),
+            (f"{len(lines)} lines", not (len(lines) == 1 and lines[0].startswith("bifurcation: error: "))),
+            (f"needle {needle!r} not in the line", not any(needle.format(**values) in l for l in lines[:1])),
+            ("stdout", result.stdout != ""), ("wrote into the working directory", any(cwd.iterdir())),
+            ("an output was created", (base / "new").exists() or any(outdir.iterdir())))
+            if bad]
+        if problems:
+            failures.append(f"{case}: {'; '.join(problems)}: {result.output[:300]!r}")
+    assert not failures, "\n".join(failures)
+    assert _snapshot(root) == built, "a fixture was changed"
+
+
+def test_walk2_bad_inputs(env, tmp_path, monkeypatch):
+    argvs = [_split(c)[0] for c in CASES + CASES_WK2]
+    assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
+    _run_batch(CASES_WK2, env, tmp_path, monkeypatch)
+
+
+def test_walk2_bad_study_inputs(study_env, tmp_path, monkeypatch):
+    argvs = [_split(c)[0] for c in STUDY_CASES + STUDY_CASES_WK2]
+    assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
+    _run_batch(STUDY_CASES_WK2, study_env, tmp_path, monkeypatch)

@@ -150,7 +150,7 @@ BAD = [
     (["--v-lp", "1,10,3", "--at", "10,10"], "are not strictly increasing"),
     (["--v-lp", "1,10,3", "--at", "10,5"], "are not strictly increasing"),
     (["--v-lp", "1,10"], "needs 1 step times for 2 velocities"),
-    (["--v-lp", ""], "Invalid value for --v-lp"),
+    (["--v-lp", ""], "--v-lp='': is empty"),   # refused before parsing (issue 21: empty values named as '')
     (["--v-lp", "-1"], "--v-lp=-1.0: must be >= 0"),
     (["--mass", "0"], "mass=0.0: must be > 0"),
 ]

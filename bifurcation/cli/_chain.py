@@ -6,8 +6,9 @@ import contextlib
 
 import click
 
+from ..bounds import CHAIN_EVENT_WORK, CHAIN_MAX_N_EVENTS, CHAIN_RUN_WORK
 from ..errors import InputError
-from ._common import echo_json, examples, number
+from ._common import Whole, echo_json, examples, number
 
 __all__ = ["COMMANDS", "MAX_EVENTS"]
 
@@ -24,15 +25,16 @@ def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None)
     """The chain's values against the bounds its workflows obey (the model's axes), and the CLI's cap on
     events, before anything is computed."""
     from ..models import get_model
+    from ..models.chain._validate import check_n_events
 
     axes = {axis.name: axis for axis in get_model("chain").axes}
     if events is not None and events > MAX_EVENTS:
         raise InputError("--events", events, f"is more than {MAX_EVENTS}, the most one `bifurcation chain` run "
                          "computes", f"give at most {MAX_EVENTS}; {_STUDY}")
-    if events is not None and n is not None and 1 <= n <= (1 << 20) and n * events > MAX_N_EVENTS:
-        raise InputError("--events", events, f"with --n {n} is N × events = {n * events:.3g} > {MAX_N_EVENTS:.0e}, "
-                         "the most one `bifurcation chain` run computes (each event costs O(N))",
-                         f"give --events <= {MAX_N_EVENTS // n} at this N; {_STUDY}")
+    if events is not None and n is not None and 1 <= n <= (1 << 20):
+        check_n_events(n, events, n_key="--n", events_key="--events", what="one `bifurcation chain` run",
+                       more="; for more, run a study of several runs (seeds) through `bifurcation submit`, each "
+                            "within the same bound (workflows/chain-study.toml, docs/chain.md)")
     given = {"n": n, "ell": ell, "amplitude": amplitude, "seed": seed, "events": events, "sigma": sigma,
              "v_threshold": v_threshold}
     for name, value in given.items():
@@ -45,38 +47,26 @@ def _check_bounds(n, ell, amplitude, seed, events, sigma=None, v_threshold=None)
                              "workflows' too: bifurcation.models.chain)", f"give a value in [{low}, {high}]")
 
 
-#: The most work one event of a ``bifurcation chain`` run may take, in block-steps (Taylor steps × the width
-#: of the window integrated; the compiled engine: DOP853 steps × N), per engine and precision: about 4 min
-#: of CPU each on the development machine (measured: 2.5 µs a block-step exact in double, 110 µs in quad, at
-#: N = 2000 and 25000; compiled 1.4 ms a step at N = 25000). An event ends only when every block is stuck;
-#: at N·ν ≥ 1 blocks fail faster than events end and one may never end (N = 25000, ν = 1e-3 slid for hours
-#: before this bound). Beyond it the run stops with status no-stop, keeping the events before. A legitimate
-#: event spanning N = 1024 blocks took 1.7e7 (compiled); longer events are studies (the workflow's max_steps).
-MAX_WORK = {("exact", "double"): 10**8, ("exact", "quad"): 2 * 10**6, ("compiled", "double"): 10**9}
-#: The same for all the events of one run together (exact engine; ~20 min of CPU here): many events that end,
-#: each near MAX_WORK (N = 2^20 at a published ν = 0.01), would otherwise add up to hours.
-MAX_RUN_WORK = {("exact", "double"): 5 * 10**8, ("exact", "quad"): 10**7}
-#: The most N × events of one run: each event also costs O(N) outside its window (the next hypocentre, the
-#: quiescent load): measured 66 events/s at N = 2^20 (ν = 1e-9), so 1e10 is about 2.5 min of it.
-MAX_N_EVENTS = 10**10
+#: The chain's work bounds (one definition, bifurcation.bounds; chain workflows obey them too): per event
+#: and per run in block-steps, and N × events.
+MAX_WORK, MAX_RUN_WORK, MAX_N_EVENTS = CHAIN_EVENT_WORK, CHAIN_RUN_WORK, CHAIN_MAX_N_EVENTS
 
 #: Seconds within one event (no event finished) before a line says it is still running, and between them.
 STILL_RUNNING_SECONDS = 30.0
 
 
 def _progress(started: float):
-    """A line on stderr about every 10 s of a long run: events done, the chain's time, the elapsed time."""
+    """A line on stderr about every 10 s of a long run: events done, the chain's time, the elapsed time
+    (``run.progress.event_lines``, as the runs of ``study chain``)."""
     import time
 
-    last = [started]
+    from ..run.progress import event_lines
+
+    line = event_lines("chain", started)
 
     def report(done: int, events: int, t: float) -> None:
-        now = time.perf_counter()
-        report.done, report.last_event = done, now
-        if now - last[0] >= 10.0:
-            last[0] = now
-            click.echo(f"bifurcation: chain: {done} of {events} events, t = {t:.6g}, {now - started:.0f} s",
-                       err=True)
+        report.done, report.last_event = done, time.perf_counter()
+        line(done, events, t)
 
     report.done, report.last_event = 0, started
     return report
@@ -142,8 +132,8 @@ def _u0(ctx, param, value):
     try:   # each keeps its decimal text: --precision quad reads it in real128
         return [Text(x) for x in value.split(",")]
     except ValueError:
-        raise click.BadParameter(f"{value!r} is not a comma-separated list of numbers; give e.g. 0,-0.1,0.05",
-                                 param_hint="--u0") from None
+        raise click.BadParameter(f"{value!r} is not a comma-separated list of numbers (ASCII digits, no '_'); "
+                                 "give e.g. 0,-0.1,0.05", param_hint="--u0") from None
 
 
 @click.command("chain", epilog=examples(
@@ -152,15 +142,15 @@ def _u0(ctx, param, value):
 @click.option("--preset", help="A published parameter set (carlson-langer-1991, mori-kawamura-2006, vasconcelos-1996; "
                                "docs/chain.md): fills --law, --n, --ell, --nu, --nu-f, --sigma, --ends where not given.")
 @click.option("--law", help="Law name (see `bifurcation laws`) or formula in x.")
-@click.option("--n", "n", type=int, help="Number of blocks N ≥ 1.")
+@click.option("--n", "n", type=Whole(example="16"), help="Number of blocks N ≥ 1.")
 @click.option("--ell", callback=number("--ell", "1"), help="Coupling ℓ ≥ 0.")
 @click.option("--nu", callback=number("--nu", "1e-6"), help="Pulling speed ν > 0.")
 @click.option("--nu-f", "nu_f", callback=number("--nu-f", "0.3"), help="Friction velocity ν_f > 0.")
 @click.option("--ends", help="Boundary condition: free (default) or periodic.")
 @click.option("--u0", callback=_u0, help="Initial displacements u_1,...,u_N (comma-separated).")
 @click.option("--amplitude", callback=number("--amplitude", "0.1"), help="Random start: amplitude A ≥ 0.")
-@click.option("--seed", type=int, help="Random start: seed of numpy's default_rng.")
-@click.option("--events", required=True, type=int, help="Number of events K ≥ 1.")
+@click.option("--seed", type=Whole(example="1"), help="Random start: seed of numpy's default_rng.")
+@click.option("--events", required=True, type=Whole(example="100"), help="Number of events K ≥ 1.")
 @click.option("--precision", type=click.Choice(["double", "quad"]), default="double", show_default=True)
 @click.option("--sigma", callback=number("--sigma", "0.01"),
               help="Friction drop 0 ≤ σ ≤ 0.99 (the model's bounds): Φ_σ(x) = (1 − σ)Φ(x/(1 − σ)); 0 (default) is the seed's model (docs/chain.md).")
@@ -178,6 +168,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
     """The first K events of a chain of N blocks: t_start, hypocentre, n_blocks, potency, duration,
     max_velocity per event, and the final state."""
     from ..models.chain import CATALOG_FIELDS, chain
+    from ..engine._exact import Text
     from ..models.chain._validate import check_sigma, check_size, check_v_threshold
 
     import time
@@ -206,7 +197,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
         raise InputError("--sigma", sigma, exc.problem, exc.fix) from None
     if v_threshold is not None and v_threshold != "default":
         try:
-            v_threshold = float(v_threshold)
+            v_threshold = float(Text(v_threshold))   # (float() alone reads '1_0')
         except ValueError:
             raise InputError("--v-threshold", v_threshold, "is not a number",
                              "give a slip velocity > 0 such as 0.01, or 'default' for 10·ν") from None

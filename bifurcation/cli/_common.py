@@ -55,6 +55,34 @@ def _repeated_option(command: click.Command, args: list[str]) -> str | None:
     return None
 
 
+def _empty_value(command: click.Command, args: list[str], prefix: str = "") -> str | None:
+    """An empty (or blank) value given to an option or argument of ``command``, named as typed with '' (a
+    path made of it reads as '.', the working directory: `export --store ''` said --store='.')."""
+    if isinstance(command, click.Group):   # `study chain ''`: the subcommand's own arguments
+        sub = command.commands.get(args[0]) if args else None
+        return _empty_value(sub, args[1:], f"{prefix}{command.name} ") if sub is not None else None
+    takes = {opt: p for p in command.params if isinstance(p, click.Option) and not p.is_flag for opt in p.opts}
+    positional = [p for p in command.params if isinstance(p, click.Argument)]
+    i, position = 0, 0
+    while i < len(args):
+        arg = args[i]
+        opt, eq, value = arg.partition("=")
+        if opt in takes and eq:
+            name = opt
+        elif arg in takes:
+            i += 1
+            name, value = arg, args[i] if i < len(args) else None
+        elif arg.startswith("-") and arg.strip("-"):
+            name, value = None, None   # a flag (or an unknown option: click's own message)
+        else:
+            name = positional[min(position, len(positional) - 1)].human_readable_name if positional else None
+            position, value = position + 1, arg
+        if name is not None and value is not None and not value.strip():
+            return f"{name}={value!r}: is empty; give a value (`bifurcation {prefix}{command.name} --help` says which)"
+        i += 1
+    return None
+
+
 def _stdout_closed() -> bool:
     """Whether standard output is a pipe whose reader has gone (poll reports POLLERR on it)."""
     import select
@@ -80,7 +108,7 @@ class Group(click.Group):
         name, command, rest = super().resolve_command(ctx, args)
         self._command = command
         if command is not None:
-            problem = _repeated_option(command, rest)
+            problem = _repeated_option(command, rest) or _empty_value(command, rest)
             if problem:
                 raise click.UsageError(problem)
         return name, command, rest
@@ -223,6 +251,57 @@ def echo_json(obj) -> None:
     click.echo(json.dumps(_clean(obj), indent=2, allow_nan=False))
 
 
+def _not_a_number(value, example: str) -> str:
+    """Why ``value`` is not a number (``Text``'s rules), and an example."""
+    text = str(value)
+    why = ("has an underscore: write the digits without '_'" if "_" in text else
+           "has characters that are not ASCII" if not text.isascii() else "is not a number")
+    return f"{text!r} {why}; give e.g. {example}"
+
+
+class Whole(click.ParamType):
+    """An integer option in ASCII digits (click's int() also reads '1_000' and '１'), in [low, high]."""
+
+    name = "integer"
+
+    def __init__(self, low: int | None = None, high: int | None = None, example: str = "10") -> None:
+        self.low, self.high, self.example = low, high, example
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, int) and not isinstance(value, bool):
+            out = value
+        else:
+            text = str(value).strip()
+            digits = text[1:] if text[:1] in "+-" else text
+            if not (digits.isascii() and digits.isdigit()):
+                why = _not_a_number(value, self.example).replace("is not a number", "is not a whole number")
+                self.fail(why, param, ctx)
+            out = int(text)
+        if (self.low is not None and out < self.low) or (self.high is not None and out > self.high):
+            self.fail(f"{out} is not in [{self.low if self.low is not None else '-inf'}, "
+                      f"{self.high if self.high is not None else 'inf'}]; give e.g. {self.example}", param, ctx)
+        return out
+
+
+class Real(click.ParamType):
+    """A float option with ``Text``'s rules (ASCII, no '_')."""
+
+    name = "number"
+
+    def __init__(self, example: str = "1") -> None:
+        self.example = example
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, float):
+            return value
+        from ..engine._exact import Text
+
+        try:
+            return float(Text(str(value)))
+        except ValueError:
+            self.fail(_not_a_number(value, self.example), param, ctx)
+
+
 def number(name: str, example: str = "0.5"):
     """A click callback that parses a float itself, so a bad value gets our one-line message."""
 
@@ -234,8 +313,7 @@ def number(name: str, example: str = "0.5"):
         try:   # a float that keeps its text: a "quad" run reads the decimal in real128 (engine._exact)
             return Text(value)
         except ValueError:
-            raise click.BadParameter(f"{value!r} is not a number; give e.g. {example}",
-                                     param_hint=name) from None
+            raise click.BadParameter(_not_a_number(value, example), param_hint=name) from None
 
     return convert
 

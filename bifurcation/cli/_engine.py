@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from . import _options as O
-from ._common import echo_json, examples, format_value
+from ._common import Whole, echo_json, examples, format_value
 
 __all__ = ["COMMANDS"]
 
@@ -77,11 +77,11 @@ def _suites() -> list[str]:
 
 @click.command("bench", epilog=examples(
     'bifurcation bench --points 200 --subset 2'))
-@click.option("--points", default=2000, show_default=True, type=click.IntRange(1, 20_000),
+@click.option("--points", default=2000, show_default=True, type=Whole(1, 20_000, "2000"),
               help="Grid points for the engine timing (1 to 20000: a benchmark is seconds, not a study).")
-@click.option("--subset", default=12, show_default=True, type=click.IntRange(1, 1000),
+@click.option("--subset", default=12, show_default=True, type=Whole(1, 1000, "12"),
               help="Points for the slow baselines (DOP853), 1 to 1000.")
-@click.option("--pipeline", "pipeline_points", default=0, show_default=True, type=click.IntRange(0, 1_000_000),
+@click.option("--pipeline", "pipeline_points", default=0, show_default=True, type=Whole(0, 1_000_000, "0"),
               help="Also time the Dask pipeline on this many points (0: skip; at most 10^6).")
 @click.option("--suite", type=click.Choice(["engine", *_suites()]), default="engine", show_default=True,
               help="A model whose declaration has a bench hook; engine (the single block): the engine vs "

@@ -8,7 +8,7 @@ import click
 from ..engine._validate import PRECISIONS
 from ..run.submission import WRITERS
 from ..store.query import FORMATS
-from ._common import number
+from ._common import Whole, number
 
 __all__ = ["FORMAT", "JSON", "LAW", "NEAREST", "NU", "NU_F", "PRECISION", "SCHEDULER", "STORE", "WORKERS",
            "WRITE_FROM"]
@@ -28,7 +28,7 @@ SCHEDULER = click.option("--scheduler", metavar="ADDRESS|SCHEDULER_FILE", defaul
                          help="Dask scheduler (tcp://host:8786) or scheduler file. Default: "
                               "$DASK_SCHEDULER_ADDRESS, else this process, joined by an embedded local cluster "
                               "when the work left is worth one.")
-WORKERS = click.option("--workers", type=int, default=None,
+WORKERS = click.option("--workers", type=Whole(example="2"), default=None,
                        help="Embedded: processes that compute, this one included (default: cores; 1: no "
                             "cluster). With --scheduler: wait for N workers.")
 WRITE_FROM = click.option("--write-from", "writer", type=click.Choice(WRITERS), default=WRITERS[0],

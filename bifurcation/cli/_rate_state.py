@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import math
+
 import click
 
-from ._common import echo_json, examples, number
+from ._common import Whole, _not_a_number, echo_json, examples, number
 
 __all__ = ["COMMANDS", "MAX_OUTPUTS"]
 
@@ -67,12 +69,31 @@ def _time_scale(spec, velocities) -> tuple[float, str]:
 
 
 def _check_mass(spec, velocities) -> None:
-    """--mass so small that its relaxation time overflows the Taylor steps: refused, not run to a NaN."""
+    """--mass (or --dc) so small that its time scale overflows the Taylor steps: refused, not run to a NaN."""
     from ..errors import InputError
 
-    if spec.mass is None or not any(float(v) > 0 for v in velocities):
+    if not any(float(v) > 0 for v in velocities):
         return
     tau, option = _time_scale(spec, velocities)
+    # Dc/V_lp alike (measured at --t-end 1000 Dc: Dc = 1e-15 ended unbounded after 45 steps, 1e-17 nonfinite
+    # at step 0, 1e-20 at t = nan): named as --dc, not as the --t-end that no value could fix (issue 21)
+    if option == "--dc" and tau < MIN_INERTIAL_TIME:
+        dc = min(float(d) for d in spec.dc)
+        fastest = max(float(v) for v in velocities)
+        raise InputError("--dc", dc, f"with --v-lp {fastest:g} gives a state-evolution time Dc/V_lp = {tau:.3g}, "
+                         f"below {MIN_INERTIAL_TIME:g}, where the Taylor steps stall or overflow",
+                         f"give --dc >= {MIN_INERTIAL_TIME * dc / tau:.3g} (e.g. 0.01), or a smaller --v-lp")
+    # the spring's time a/(k V_lp) alike (measured at a = 0.005, V_lp = 10: k = 1e12 crawled, 3 % of t = 2e-6 in
+    # 1.7e6 steps; 1e15 stalled at step 0;
+    # k = 1e300 ended nonfinite with NaN rows)
+    fastest = max(float(v) for v in velocities)
+    elastic = float(spec.a) / (float(spec.k) * fastest) if float(spec.k) > 0 else math.inf
+    if elastic < MIN_INERTIAL_TIME:
+        raise InputError("--k", spec.k, f"with --v-lp {fastest:g} gives an elastic time a/(k V_lp) = {elastic:.3g}, "
+                         f"below {MIN_INERTIAL_TIME:g}, where the Taylor steps stall or overflow",
+                         f"give --k <= {float(spec.k) * elastic / MIN_INERTIAL_TIME:.3g} (e.g. 1e-3)")
+    if spec.mass is None:
+        return
     if option == "--mass" and tau < MIN_INERTIAL_TIME:
         raise InputError("--mass", spec.mass, f"gives an inertial relaxation time M/(a/V_lp + η) = {tau:.3g}, "
                          f"below {MIN_INERTIAL_TIME:g}, where the Taylor steps overflow",
@@ -87,9 +108,9 @@ def _check_length(spec, velocities, t_end) -> None:
     if t_end / tau > MAX_TIME_SCALES:
         what = "Dc/V_lp" if option == "--dc" else "M/(a/V_lp + η)"
         raise InputError("--t-end", t_end, f"spans {t_end / tau:.3g} times the slider's shortest time scale "
-                         f"{what} = {tau:.3g}; at most {MAX_TIME_SCALES:g} run within the step bound",
-                         f"give --t-end <= {MAX_TIME_SCALES * tau:.3g}, or --cycle for the attracting cycle"
-                         + (", or a larger --mass" if option == "--mass" else "")
+                         f"{what} = {tau:.3g} (set by {option}); at most {MAX_TIME_SCALES:g} run within the step "
+                         f"bound", f"give --t-end <= {MAX_TIME_SCALES * tau:.3g}, or a larger {option}, or --cycle "
+                         "for the attracting cycle"
                          + "; longer runs: the Python API bifurcation.rate_state (max_steps bounds it)")
 
 
@@ -104,8 +125,7 @@ def _floats(name: str, example: str):
             try:   # keeps its decimal text: --precision quad reads it in real128
                 out.append(Text(part))
             except ValueError:
-                raise click.BadParameter(f"{part!r} is not a number; give e.g. {example}",
-                                         param_hint=name) from None
+                raise click.BadParameter(_not_a_number(part, example), param_hint=name) from None
         return out
     return convert
 
@@ -153,7 +173,7 @@ def hopf_cmd(state_law, a, b, dc, v_lp, mass, damping, as_json) -> None:
               help="Times of the velocity steps, comma-separated, increasing (one fewer than --v-lp).")
 @click.option("--t-end", "t_end", default=None, callback=number("--t-end", "40"),
               help="End time (required, except with --cycle, which takes none).")
-@click.option("--outputs", default=41, show_default=True, help="Number of evenly spaced output times.")
+@click.option("--outputs", default=41, show_default=True, type=Whole(example="41"), help="Number of evenly spaced output times.")
 @click.option("--mass", default=None, callback=number("--mass", "1e-3"), help="Mass M > 0 (inertial).")
 @click.option("--damping", default=None, callback=number("--damping", "0.002"),
               help="Radiation damping ETA >= 0, friction per unit slip rate (k(V_lp t - δ) - ETA V = μ - μ0); "
@@ -188,12 +208,18 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
     if len(laws) == 1 and len(b) > 1:
         laws = laws * len(b)
     damping = 0.0 if damping is None else damping
+    for name, given in (("--dc", [getattr(x, "text", str(x)) for x in dc]), ("--state-law", laws)):   # (was named dc/state_law)
+        if len(given) != len(b):
+            raise InputError(name, ",".join(given), f"has {len(given)} value(s) for the {len(b)} state variable(s) "
+                             "of --b", "give one --dc and one --state-law per value of --b, e.g. --b 0.015,0.005 "
+                             "--dc 0.01,0.1 --state-law aging (one law: the same for both)")
     spec = SliderSpec(a=a, b=b, dc=dc, state_law=laws, k=k, mass=mass, damping=damping)   # checks before work
     try:
         history = load_history(v_lp, at=at or [])
-    except InputError as exc:   # the step times are --at here
-        raise InputError("--at" if exc.argument == "v_lp at" else exc.argument, exc.value, exc.problem,
-                         exc.fix) from None
+    except InputError as exc:   # the step times are --at here (their check names them v_lp at / v_lp times)
+        if exc.argument in ("v_lp at", "v_lp times"):
+            raise InputError("--at", ",".join(f"{float(x):g}" for x in at or []), exc.problem, exc.fix) from None
+        raise
     _check_mass(spec, history.velocities)
     if cycle:
         _cycle(spec, history, precision, as_json)

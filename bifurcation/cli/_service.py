@@ -7,7 +7,7 @@ import sys
 import click
 
 from . import _options as O
-from ._common import echo_json, examples, fail, number
+from ._common import Real, echo_json, examples, fail, number
 
 __all__ = ["COMMANDS"]
 
@@ -33,7 +33,7 @@ def _numbers(name: str, words: tuple = ()):
               help="Zarr store (default: results/<study name>.zarr). Resumed if it holds this workflow.")
 @O.SCHEDULER
 @O.WORKERS
-@click.option("--workers-timeout", type=float, default=None, metavar="SECONDS",
+@click.option("--workers-timeout", type=Real(example="120"), default=None, metavar="SECONDS",
               help="With --scheduler and --workers N: how long to wait for N workers (default 120).")
 @click.option("--new-store", is_flag=True, help="Replace an existing store that holds another workflow.")
 @O.WRITE_FROM

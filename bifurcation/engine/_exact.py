@@ -19,6 +19,9 @@ class Text(float):
     text: str
 
     def __new__(cls, text: str):
+        # Python's float() also reads '1_0e-10' and non-ASCII digits ('１'): not numbers a user typed on purpose
+        if "_" in str(text) or not str(text).isascii():
+            raise ValueError(f"{text!r}: write the number in ASCII digits without '_'")
         value = super().__new__(cls, text)
         value.text = str(text).strip()
         return value

@@ -279,6 +279,8 @@ class Hooks:
     - ``workflow``: a ``bifurcation.workflow.validate.WorkflowKind`` (or a tuple of them): the model's own
       workflows besides ``submit``'s (rate-state's ``continue``), so that every command names the right
       one when given another's file; the model reads them with that module's ``read_toml`` and ``Table``.
+    - ``check_grid(workflow)``: the model's own bounds across a workflow's axes, checked when the workflow
+      is built (before any work): raises ``InputError`` naming the ``grid.*`` key (the chain's N × events).
     """
 
     describe_label: str = ""
@@ -289,9 +291,10 @@ class Hooks:
     presets: str = ""
     study: str = ""
     workflow: str = ""
+    check_grid: str = ""
 
     def __post_init__(self) -> None:
-        for name in ("describe_label", "report", "bench", "commands", "presets", "study", "workflow"):
+        for name in ("describe_label", "report", "bench", "commands", "presets", "study", "workflow", "check_grid"):
             value = getattr(self, name)
             module, _, attribute = value.partition(":")
             if value and not (module and attribute.isidentifier()

@@ -168,6 +168,25 @@ def _single_block_fits(ds, law: str):
     return extrapolations, fits, skipped, not_applicable
 
 
+def _being_written(ds) -> str:
+    """A sentence when the store is still being written (a submit holds its lock), or when points are missing:
+    the report is then a snapshot of the points done so far, not the study (issue 21: `export` and `report`
+    of a store being written read as complete)."""
+    from ..store.lock import holder
+
+    path = ds.attrs.get("store_path")
+    done = np.asarray(ds["done"].values) if "done" in ds else None
+    counts = f"{int(done.sum())} of {done.size} points done" if done is not None else "points still missing"
+    found = holder(path) if path else None
+    if found is not None:
+        return (f"**Still being written** by {found.describe()} when this report was made ({counts}): it shows "
+                "the points done so far, not the complete study; make the report again when the submit has ended.")
+    if done is not None and not done.all():
+        return (f"**Incomplete**: {counts}; the points not done are missing from every table and figure "
+                f"(submit the same workflow again to compute them).")
+    return ""
+
+
 def _store_section(ds, out: Path, figures: list, stem: str) -> Section:
     """One store's section: what every store has, then the model's own blocks (its ``report`` hook)."""
     from ..models import get_model
@@ -178,6 +197,9 @@ def _store_section(ds, out: Path, figures: list, stem: str) -> Section:
     a = ds.attrs
     laws = _labels(ds, model.labels.name)
     b: list = [Paragraph(f"Model {model.name}: {model.title}. {model.description}. Source: {model.source}.")]
+    being = _being_written(ds)
+    if being:
+        b.insert(0, Paragraph(being))
     describe = model.hook("describe_label")
     label = model.labels.name   # the first column holds the store's labels: laws, or rate-state's branches
     rows = []

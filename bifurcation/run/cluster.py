@@ -158,6 +158,23 @@ def wait_for_workers(client, workers: int, where: str, timeout: float | None = N
                          f"{max(connected, 1)} (or --workers-timeout longer)") from None
 
 
+def _close_half_built(exc: BaseException) -> None:
+    """Close the ``Client`` whose constructor raised ``exc`` (found in its traceback), with a short timeout:
+    left to its ``__del__``, its close waits 20 s and prints an ignored TimeoutError."""
+    import contextlib
+
+    from distributed import Client
+
+    tb = exc.__traceback__
+    while tb is not None:
+        half = tb.tb_frame.f_locals.get("self")
+        if isinstance(half, Client):
+            with contextlib.suppress(Exception):
+                half.close(timeout=2)
+            return
+        tb = tb.tb_next
+
+
 @contextmanager
 def connect(target, workers: int | None = None, timeout: float | None = None, *, dashboard: bool = False):
     """A ``distributed.Client`` for ``target`` (from ``check_scheduler``); closes what it started.
@@ -199,6 +216,13 @@ def connect(target, workers: int | None = None, timeout: float | None = None, *,
     except (OSError, TimeoutError) as exc:
         raise InputError(source, where, f"cannot connect ({type(exc).__name__}: {exc})",
                          "start `dask scheduler` there or check the address / scheduler file") from None
+    except Exception as exc:   # noqa: BLE001 — something answered, not a dask scheduler (an HTTP server such
+        # as the dashboard's port 8787: distributed read its reply as a 3 EiB frame, a MemoryError traceback,
+        # then waited 20 s in the half-built Client's __del__): closed here, quickly, and said in one line
+        _close_half_built(exc)
+        raise InputError(source, where, f"answered, but not as a dask scheduler ({type(exc).__name__})",
+                         "give the scheduler's own address (tcp://HOST:8786 by default; 8787 is its dashboard)"
+                         ) from None
     try:
         if workers:
             wait_for_workers(client, workers, where, timeout)

@@ -12,10 +12,29 @@ import time
 
 from ..store.status import format_eta, format_rate
 
-__all__ = ["Progress", "format_eta"]
+__all__ = ["EVENT_INTERVAL", "Progress", "event_lines", "format_eta"]
 
 #: Seconds between two plain progress lines when stderr is not a terminal.
 LOG_INTERVAL = 30.0
+#: Seconds between two lines of a long event-by-event run (``bifurcation chain``, ``study chain``'s runs).
+EVENT_INTERVAL = 10.0
+
+
+def event_lines(label: str, started: float | None = None, interval: float | None = None, stream=None):
+    """A progress callback ``(done, planned, t)`` of an event-by-event run: a line on stderr at most every
+    ``interval`` seconds (``EVENT_INTERVAL``), "bifurcation: LABEL: DONE of PLANNED events, t = T, S s"."""
+    started = time.perf_counter() if started is None else started
+    last = [started]
+
+    def report(done: int, planned: int, t: float) -> None:
+        now = time.perf_counter()
+        if now - last[0] >= (EVENT_INTERVAL if interval is None else interval):
+            last[0] = now
+            out = stream or sys.stderr
+            out.write(f"bifurcation: {label}: {done} of {planned} events, t = {t:.6g}, {now - started:.0f} s\n")
+            out.flush()
+
+    return report
 
 
 class Progress:

@@ -52,6 +52,19 @@ def _as_list(value) -> list | None:
     return list(value)
 
 
+def _within_bounds(axis, value, nearest: bool) -> None:
+    """With ``nearest``, a value outside the model's bounds of ``axis`` is refused: ``--nearest --nu -1`` (or
+    1e300) took the store's nearest ν and printed its rows as if asked for (issue 21 walk)."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        return   # (match_value names it)
+    low, high = axis.bounds
+    if nearest and math.isfinite(x) and not low <= x <= high:
+        raise InputError(axis.name, value, f"is outside [{low:g}, {high:g}], the model's bounds of {axis.symbol}: "
+                         "no label is near it", "give a value within them (--nearest takes the label nearest it)")
+
+
 def _selection(model, labels: dict, law, axes: dict, nearest: bool, notes) -> dict[str, list[int]]:
     """Selected indices per dimension (all when not given), matched by ``store.labels``."""
     unknown = [k for k in axes if k not in model.dims[1:]]
@@ -73,6 +86,7 @@ def _selection(model, labels: dict, law, axes: dict, nearest: bool, notes) -> di
         chosen = set()
         for value in values:   # one value at a time: an error shows that value
             value = axis.parse(value)
+            _within_bounds(axis, value, nearest)
             m = match_value(axis.name, axis_labels, value, nearest=nearest, scale=axis.scale,
                             show=axis.shown)
             chosen.add(m.index)

@@ -106,12 +106,33 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
                              "xarray.open_zarr(PATH, consolidated=False)")
         raise InputError(argument, str(path), "is not a bifurcation store (or of another format)",
                          "give the path of a store written by `bifurcation submit`, or another path")
+    _check_axes(path, attrs, argument)
     if workflow is not None and attrs.get("workflow_fingerprint") != workflow.fingerprint:
         raise InputError(argument, str(path),
                          f"holds another workflow (study {attrs.get('title')!r}, fingerprint "
                          f"{str(attrs.get('workflow_fingerprint'))[:12]} ≠ {workflow.fingerprint[:12]})",
                          "pass --new-store to replace it, or choose another --store path")
     return attrs
+
+
+def _check_axes(path, attrs: dict, argument: str) -> None:
+    """The store has a coordinate array for every axis of its model: a store written by an older version,
+    before an axis was added (the chain's sigma, v_threshold), made query and report fail with KeyError
+    'sigma' (issue 21 walk)."""
+    from ..models import get_model
+    from .layout import store_model
+
+    try:
+        model = get_model(store_model(attrs))
+    except InputError:
+        return   # (an unknown model is named by the command that reads it)
+    missing = [a.name for a in model.axes if not (Path(path) / a.name / "zarr.json").is_file()]
+    if missing:
+        raise InputError(argument, str(path), f"was written by an older version of bifurcation "
+                         f"({attrs.get('version_bifurcation', '?')}, {attrs.get('created_utc', '?')}): it has no axis "
+                         f"{', '.join(missing)} of the model {model.name!r}",
+                         "submit its workflow again into a new store (--store NEW.zarr, or --new-store); "
+                         "xarray.open_zarr(PATH, consolidated=False) still reads it as it is")
 
 
 def _is_branch_store(path) -> bool:

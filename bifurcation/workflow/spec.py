@@ -167,6 +167,8 @@ class Workflow:
                                  f"add a table [grid.{axis.name}] ({axis.long_name})")
             grid.append((axis.name, _check_axis(f"grid.{axis.name}", points[axis.name], axis)))
         _set(self, "grid", tuple(grid))
+        if (check_grid := spec.hook("check_grid")) is not None:   # the model's bounds across axes
+            check_grid(self)
         _set(self, "tiles", _check_tiles(spec, tiles))
         if self.n_points > MAX_POINTS:
             raise InputError("grid", self.shape, f"has {self.n_points} points, more than {MAX_POINTS}",

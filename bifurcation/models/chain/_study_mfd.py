@@ -25,6 +25,7 @@ def _budgeted_catalog(args) -> dict:
     Per kept event also its connected slip patches (``scaling.slip_clusters`` of U(end) − U(start)):
     ``c_size``, ``c_potency`` and ``c_event`` (the index of their event)."""
     from ...laws import resolve_law
+    from ...run.progress import event_lines
     from ._loop import ChainLoop
     from ._validate import check_initial
 
@@ -35,7 +36,9 @@ def _budgeted_catalog(args) -> dict:
     keys = ("t_start", "potency", "n_blocks", "hypocentre", "duration")
     cat = {k: [] for k in (*keys, "c_size", "c_potency", "c_event")}
     t_first, cut, message = None, "events", ""
+    line = event_lines(f"study chain: near ν_f = 1/2, N = {n}, ν = {nu:g}, ν_f = {nu_f:g}")
     while len(cat["potency"]) < nh["events"]:
+        line(len(cat["potency"]), nh["events"], float(loop.t))
         if time.process_time() - c0 > nh["cpu"]:
             cut = "cpu"
             break

@@ -46,6 +46,7 @@ def preset_jobs(cfg) -> list:
 
 def _preset_catalog(args):
     from .clauset import clauset_fit
+    from ...run.progress import event_lines
     from .presets import get_preset
     from .simulate import chain
 
@@ -55,7 +56,8 @@ def _preset_catalog(args):
     par = dict(pre.parameters(), **over)
     c0 = time.process_time()
     r = chain(preset=pre.name, events=int(run["events"]), amplitude=run.get("amplitude", 0.1), seed=run.get("seed", 1),
-              engine="compiled", t_max=float(run.get("t_max", 1e4)), verify=float(p.get("verify", 0.0)), **over)
+              engine="compiled", t_max=float(run.get("t_max", 1e4)), verify=float(p.get("verify", 0.0)),
+              progress=event_lines(f"study chain: preset {pre.name}"), **over)
     cpu_run = time.process_time() - c0
     t, pot, nb = np.asarray(r.t_start), np.asarray(r.potency), np.asarray(r.n_blocks)
     cycles = par["nu"] * (t - t[0]) if t.size else t

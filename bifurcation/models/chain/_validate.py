@@ -8,8 +8,8 @@ import numpy as np
 
 from ...errors import InputError
 
-__all__ = ["DEFAULT_V_THRESHOLD", "ENDS", "ENGINES", "check_engine", "check_events", "check_initial", "check_sigma",
-           "check_size", "check_v_threshold", "check_verify"]
+__all__ = ["DEFAULT_V_THRESHOLD", "ENDS", "ENGINES", "check_engine", "check_events", "check_initial",
+           "check_n_events", "check_sigma", "check_size", "check_v_threshold", "check_verify"]
 
 ENDS = ("free", "periodic")
 ENGINES = ("exact", "compiled")
@@ -28,6 +28,18 @@ def _nonnegative(name: str, value, fix: str) -> float:
     if not math.isfinite(out) or out < 0:
         raise InputError(name, value, "must be finite and ≥ 0", fix)
     return out
+
+
+def check_n_events(n: int, events: int, *, n_key: str, events_key: str, what: str, more: str) -> None:
+    """N × events of one run within ``bounds.CHAIN_MAX_N_EVENTS`` (each event costs O(N) outside its window):
+    the same one-line error for ``bifurcation chain`` (``--events``) and a chain workflow (``grid.events``);
+    ``what`` names the run, ``more`` (after the fix) says where longer runs go."""
+    from ...bounds import CHAIN_MAX_N_EVENTS
+
+    if n * events > CHAIN_MAX_N_EVENTS:
+        raise InputError(events_key, events, f"with {n_key} {n} is N × events = {n * events:.3g} > "
+                         f"{CHAIN_MAX_N_EVENTS:.0e}, the most {what} computes (each event costs O(N); "
+                         "bifurcation.bounds)", f"give {events_key} <= {CHAIN_MAX_N_EVENTS // n} at this N{more}")
 
 
 def check_size(n, ell, ends) -> tuple[int, float, str]:

@@ -72,6 +72,16 @@ CHAIN_OUTPUTS = (
 )
 
 
+def check_grid(workflow) -> None:
+    """A workflow's largest run within the chain's bounds (``bounds.CHAIN_MAX_N_EVENTS``, as ``bifurcation
+    chain``): the grid is a product, so its largest N and its most events are one run."""
+    from ._validate import check_n_events
+
+    check_n_events(max(workflow.axes["n"]), max(workflow.axes["events"]), n_key="grid.n", events_key="grid.events",
+                   what="one chain run of a workflow",
+                   more=", or a smaller grid.n (a larger study is several runs: more seeds, or several workflows)")
+
+
 def _ints(values) -> np.ndarray:
     return np.asarray(values, dtype=np.int64)
 
@@ -86,6 +96,7 @@ def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps
     catalogs (object arrays of per-run arrays), and messages (point index → text) for runs that
     stopped early.
     """
+    from ...bounds import CHAIN_EVENT_WORK
     from ...laws import resolve_law
     from ._loop import ChainLoop
     from ._validate import check_initial
@@ -105,40 +116,51 @@ def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps
         sigma = float(points["sigma"][i]) if "sigma" in points else 0.0
         v_th = float(points["v_threshold"][i]) if "v_threshold" in points else 0.0
         loop = ChainLoop(law, n, ell, float(points["nu"][i]), float(points["nu_f"][i]), ends, u,
-                         precision=precision, t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_th)
-        cat = {name: [] for name in (*catalogs, "steps")}
+                         precision=precision, t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_th,
+                         max_work=CHAIN_EVENT_WORK["exact", precision])   # as `bifurcation chain`: hours otherwise
+        # the catalog as arrays per chunk (48 bytes an event), not Python lists of the whole run (~315 bytes an
+        # event measured: a workflow's run of 10^9 events at N <= 10 is within its bounds)
+        cat = {name: [] for name in catalogs}
+        done = steps = 0
         status, message, resumed = ChainStatus.COMPLETE, "", 0
         saved = checkpoints.load(i) if checkpoints is not None else None
         if saved is not None:
             restore(loop, saved["state"])
             for name in catalogs:
-                cat[name] = list(saved["catalog"][name])
-            cat["steps"] = [int(saved["steps"])]      # the steps so far, as one entry
-            resumed = len(cat["t_start"])
-        while len(cat["t_start"]) < events:
-            done = len(cat["t_start"])
-            chunk = events - done if every is None else min(every - done % every, events - done)
+                cat[name] = [_as_array(name, saved["catalog"][name])]
+            steps = int(saved["steps"])      # the steps so far
+            done = resumed = len(cat["t_start"][0])
+        while done < events:
+            chunk = min(_PIECE, events - done) if every is None else min(every - done % every, events - done)
             out = loop.run(chunk)
-            for name in cat:
-                cat[name].extend(out["catalog"][name])
+            loop.wall.clear()      # (per-event timings of the benchmarks: they grew with the run)
+            loop.widest.clear()
+            for name in catalogs:
+                cat[name].append(_as_array(name, out["catalog"][name]))
+            steps += int(sum(out["catalog"]["steps"]))
+            done += len(out["catalog"]["t_start"])
             if out["status"] != ChainStatus.COMPLETE:
                 status, message = out["status"], out["message"]
                 break
-            done = len(cat["t_start"])
             if every is not None and done % every == 0 and done < events:
-                checkpoints.save(i, snapshot(loop), {k: _as_array(k, cat[k]) for k in catalogs},
-                                 steps=int(sum(cat["steps"])))
+                for name in catalogs:   # one array each, so the pieces never pile up
+                    cat[name] = [np.concatenate(cat[name])]
+                checkpoints.save(i, snapshot(loop), {k: cat[k][0] for k in catalogs}, steps=steps)
         for name in catalogs:
-            catalogs[name][i] = _as_array(name, cat[name])
+            catalogs[name][i] = np.concatenate(cat[name]) if cat[name] else _as_array(name, [])
         per_run["status"][i] = int(status)
-        per_run["events_done"][i] = len(cat["t_start"])
+        per_run["events_done"][i] = done
         # a run that stopped early stopped inside an event: no time at which all blocks are stuck
         per_run["t_end"][i] = float(loop.t) if status == ChainStatus.COMPLETE else np.nan
-        per_run["steps"][i] = int(sum(cat["steps"]))
+        per_run["steps"][i] = steps
         per_run["resumed"][i] = resumed
         if message:
             messages[i] = message
     return {**per_run, **catalogs}, messages
+
+
+#: Events per piece of a run without checkpoints (its lists of Python numbers stay this short)
+_PIECE = 1000
 
 
 def _as_array(name: str, values) -> np.ndarray:
@@ -174,7 +196,8 @@ CHAIN = Model(
                 commands="bifurcation.cli._chain:COMMANDS",
                 presets="bifurcation.models.chain.presets:workflow_preset",
                 study="bifurcation.cli._chain_study:chain_study_cmd",
-                workflow="bifurcation.models.chain.model:REPORT_WORKFLOW"),
+                workflow="bifurcation.models.chain.model:REPORT_WORKFLOW",
+                check_grid="bifurcation.models.chain.model:check_grid"),
     units_note=BLOCK_UNITS,
 )
 

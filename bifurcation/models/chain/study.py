@@ -64,12 +64,15 @@ def _sweep(args):
 
 
 def _catalog(args):
+    from ...bounds import CHAIN_EVENT_WORK
+    from ...run.progress import event_lines
     from .simulate import chain
 
     c, cat, n, nu_f, events = args
     t0, c0 = time.perf_counter(), time.process_time()
     r = chain(c["law"], n=n, ell=c["ell"], nu=c["nu"], nu_f=nu_f, ends=c["ends"], amplitude=c["amplitude"],
-              seed=cat["seed"], events=events)
+              seed=cat["seed"], events=events, max_work=CHAIN_EVENT_WORK["exact", "double"],
+              progress=event_lines(f"study chain: catalog N = {n}, ν_f = {nu_f:g}"))
     s = cat["skip"]
     one = _one_block(c["law"], n, c["ell"], c["nu"], nu_f, c["ends"], r.potency[s:], r.n_blocks[s:], r.hypocentre[s:])
     return {"n": n, "nu_f": nu_f, "seconds": time.perf_counter() - t0, "cpu": time.process_time() - c0,
@@ -108,6 +111,22 @@ def _jobs(cfg):
 
     jobs += preset_jobs(cfg)
     return sorted(jobs, key=lambda j: -j[2])      # the longest first: two workers stay busy to the end
+
+
+#: Seconds between two lines saying how many runs are done while the study waits for one (its runs say
+#: their own events every 10 s where they count them: catalogs, presets)
+HEARTBEAT_SECONDS = 30.0
+
+
+def _waiting(fut, futures, t0: float):
+    """``fut.result()``, with a line on stderr every HEARTBEAT_SECONDS while it runs: runs done of planned."""
+    while True:
+        try:
+            return fut.result(timeout=HEARTBEAT_SECONDS)
+        except TimeoutError:
+            done = sum(f.done() for _, f in futures)
+            print(f"bifurcation: study chain: {done} of {len(futures)} runs done, "
+                  f"{time.perf_counter() - t0:.0f} s", file=sys.stderr, flush=True)
 
 
 def main(argv=None) -> None:
@@ -211,7 +230,7 @@ def main(argv=None) -> None:
         results = {"_sweep": [], "_catalog": [], "_threshold": [], "_budgeted_catalog": [], "_sweep_small_nu": [],
                    "_preset_catalog": []}
         for name, fut in futures:
-            results[name].append(fut.result())
+            results[name].append(_waiting(fut, futures, t0))
             r = results[name][-1]
             print(f"{time.perf_counter() - t0:6.0f} s  {name[1:]} N = {r.get('n', '-')} seed/ν_f/ℓ = "
                   f"{r.get('seed', r.get('nu_f', r.get('ell')))}: {r['cpu']:.0f} cpu s", file=sys.stderr, flush=True)

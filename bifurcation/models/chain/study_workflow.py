@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ...errors import InputError
 from ...workflow.validate import Table, as_number, check_range, read_toml
-from ._validate import ENDS
+from ._validate import ENDS, check_n_events
 from .model import CHAIN, REPORT_WORKFLOW
 
 __all__ = ["load_report_workflow"]
@@ -21,6 +21,13 @@ _SWEEP = ("sizes", "seeds", "nu_f", "nu_f_max", "cycles_per_step", "transient_cy
           "longest_event")
 #: Runs per N, steps, events: a typo such as 1e9 is refused here rather than run for days.
 _MOST_LIST = 1000
+
+
+def _n_events(table: Table, n: int, events: int, events_key: str = "events") -> None:
+    """One run of the study within the chain's N × events bound (``bounds.CHAIN_MAX_N_EVENTS``, as
+    ``bifurcation chain`` and ``submit``)."""
+    check_n_events(n, events, n_key="N =", events_key=table.path(events_key), what="one chain run of the study",
+                   more=" (the study runs each catalog whole, in one process)")
 
 
 def _axis(name: str) -> dict:
@@ -89,6 +96,8 @@ def load_report_workflow(path) -> dict:
     catalog = root.table("catalog", ("sizes", "events", "nu_f", "seed", "skip"))
     events = catalog.integers("events", most=_MOST_LIST, **_axis("events"))
     _same_length(catalog, ("sizes", "events"), (catalog.integers("sizes", most=_MOST_LIST, **_axis("n")), events))
+    for i, (n, k) in enumerate(zip(catalog.integers("sizes"), events)):
+        _n_events(catalog, n, k, f"events[{i}]")
     catalog.numbers("nu_f", most=_MOST_LIST, **_axis("nu_f"))
     catalog.integer("seed", **_axis("seed"))
     skip = catalog.integer("skip", low=0)
@@ -119,6 +128,7 @@ def load_report_workflow(path) -> dict:
         else:
             near.number("transient_cycles", low=0)
         near.integer("events", **_axis("events"))
+        _n_events(near, max(max(row) for row in sizes), near.integer("events"))
         near.number("longest_event", above=0)
         near.number("cpu", above=0)
         near.integer("seed", **_axis("seed"))
@@ -146,10 +156,10 @@ def load_report_workflow(path) -> dict:
 
 
 def _published_nu(table: Table) -> None:
-    from .presets import preset_names
+    from .presets import get_preset, preset_names
 
     table.number("v_threshold", 0.1, above=0)
-    table.integer("events", 10**6, **_axis("events"))
+    events = table.integer("events", 10**6, **_axis("events"))
     table.number("cpu", 600.0, above=0, high=86400)     # CPU s per catalog: a day at most, a typo refused
     table.integer("bootstrap", 100, low=0, high=10_000)
     table.number("transient_cycles", 1.0, low=0)
@@ -159,10 +169,11 @@ def _published_nu(table: Table) -> None:
                              f"use one of {', '.join(preset_names())}")
         if run.has("nu_f"):
             run.number("nu_f", **_axis("nu_f"))
+        _n_events(table, get_preset(run.string("preset")).n, events)
 
 
 def _presets(table: Table) -> None:
-    from .presets import preset_names
+    from .presets import get_preset, preset_names
 
     table.number("transient_cycles", 1.0, low=0)
     table.integer("bootstrap", 10, low=1, high=10_000)
@@ -178,8 +189,8 @@ def _presets(table: Table) -> None:
         for name in ("nu", "nu_f", "ell", "sigma", "amplitude"):
             if run.has(name):
                 run.number(name, **_axis(name))
-        if run.has("n"):
-            run.integer("n", **_axis("n"))
+        n = run.integer("n", **_axis("n")) if run.has("n") else get_preset(run.string("preset")).n
+        _n_events(run, n, run.integer("events", 10**5))
         if run.has("seed"):
             run.integer("seed", **_axis("seed"))
         if run.has("ends") and run.string("ends") not in ENDS:

@@ -238,6 +238,17 @@ def _bautin(law: str, a=0.01, b=0.015, dc=0.01, v=1.0):
     return math.nan
 
 
+def bautin_line(bautin: dict) -> str:
+    """The Bautin points as one readable line: per state law η = M V_lp²/(a Dc) (dimensionless) where the
+    first Lyapunov coefficient l1 changes sign, at _bautin's a = 0.01, b = 0.015, Dc = 0.01, V_lp = 1."""
+    if not bautin:
+        return "  Bautin points: not computed ([hopf] bautin = false)"
+    cells = [f"{law} {eta:.6g}" if math.isfinite(eta) else f"{law} none (l1 keeps its sign for η in [1e-3, 3])"
+             for law, eta in bautin.items()]
+    return ("  Bautin points (l1 = 0) at η = M V_lp²/(a Dc) (dimensionless; a = 0.01, b = 0.015, Dc = 0.01, "
+            "V_lp = 1): " + ", ".join(cells))
+
+
 def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
     """Run the workflow at ``path``; write ``<out>/branches.zarr``, ``REPORT.md`` and the figure.
 
@@ -260,7 +271,7 @@ def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
     echo(f"study {spec.name}: {len(spec.branches)} branches")
     sweep = _closed_form_sweep(spec, echo)
     bautin = {law: _bautin(law) for law in ("aging", "slip", "prz")} if spec.bautin else {}
-    echo(f"  Bautin points (l1 = 0) in eta: {bautin}")
+    echo(bautin_line(bautin))
     results = []
     for br in spec.branches:
         t0 = time.perf_counter()
