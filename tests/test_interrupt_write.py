@@ -1,0 +1,90 @@
+"""Ctrl-C (SIGINT) in the middle of a tile's write waits for the write's end, like SIGTERM
+(tests/test_terminate.py): found at review, a KeyboardInterrupt raised between the tile's data chunks and
+its ``done`` chunk left data without ``done``, which ``verify`` reports as damage ("unfinished")."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import numpy as np
+import pytest
+
+from bifurcation.cli import cli
+from bifurcation.run.repair import verify
+from bifurcation.store import read_done
+from bifurcation.store.lock import LOCK_NAME
+
+# 2 laws × 8 ν_f × 32 ν in 8 tiles of 4 × 16: small, so the in-process submit takes about a second
+TOML = """
+[study]
+name = "interrupted-write"
+
+[engine]
+laws = ["piecewise-linear", "carlson-langer"]
+
+[grid.nu]
+log = { start = 1e-3, stop = 1e-15, num = 32 }
+
+[grid.nu_f]
+ranges = [{ start = 0.02, stop = 0.96, num = 8 }]
+
+[tiles]
+nu_f = 4
+nu = 16
+"""
+
+
+def test_ctrl_c_inside_a_tile_write_waits_for_its_end(tmp_path, monkeypatch, capsys):
+    """A real SIGINT, sent to this process right after the second tile's first data chunk is written:
+    the command still ends with 130 and the interrupted line, but only once that tile is whole (its
+    ``done`` written), so ``verify`` finds no damage and the lock is gone."""
+    import zarr
+
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler   # Python's own: Ctrl-C raises
+    store = tmp_path / "s.zarr"
+    writes = []   # (array name) of every chunk write, in order
+    setitem = zarr.Array.__setitem__
+
+    def write(self, key, value):
+        setitem(self, key, value)
+        name = self.basename
+        writes.append(name)
+        if name != "done" and writes.count("done") == 1 and writes[-2] == "done":   # the 2nd tile's first chunk
+            os.kill(os.getpid(), signal.SIGINT)   # the handler runs here, at the next bytecode
+
+    monkeypatch.setattr(zarr.Array, "__setitem__", write)
+    (tmp_path / "w.toml").write_text(TOML)
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["submit", str(tmp_path / "w.toml"), "--store", str(store), "--workers", "1"])
+    assert exc.value.code == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith("bifurcation: interrupted. A submit keeps every finished tile"), err
+    assert writes.count("done") == 2, writes   # the second tile was finished, no third one started
+    assert writes[-1] == "done"
+    monkeypatch.undo()
+    assert not (store / LOCK_NAME).exists()
+    report = verify(store)
+    assert report.damage == () and report.ok, str(report)
+    done = read_done(store)
+    assert np.count_nonzero(done) == 2 * 4 * 16   # two whole tiles
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler   # restored
+
+
+def test_a_deferred_ctrl_c_is_a_keyboard_interrupt():
+    """``errors.stop`` with SIGINT: KeyboardInterrupt (the CLI's status 130 and line), at once outside a
+    write and at the end of the outermost ``uninterrupted`` block inside one."""
+    from bifurcation.errors import stop, uninterrupted
+
+    written = []
+    with pytest.raises(KeyboardInterrupt):
+        with uninterrupted():
+            with uninterrupted():
+                stop(signal.SIGINT)
+                written.append("data")
+            written.append("done")
+    assert written == ["data", "done"]
+    with pytest.raises(KeyboardInterrupt):
+        stop(signal.SIGINT)
+    with uninterrupted():   # nothing pending is left over from above
+        pass
