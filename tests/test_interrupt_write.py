@@ -125,3 +125,47 @@ def test_ctrl_c_at_random_times_leaves_a_store_verify_accepts(tmp_path):
         assert not (store / LOCK_NAME).exists(), where
         report = verify(store)
         assert report.damage == () and report.ok, (where, str(report))
+
+
+@pytest.mark.parametrize("suffix", [".nc", ".csv"])
+def test_ctrl_c_inside_an_export_leaves_no_file_under_its_name(tmp_path, monkeypatch, capsys, suffix):
+    """A real SIGINT while `export` is half way through writing its file (the writer patched to write part
+    of it, then be interrupted): status 130, nothing under the final name, an earlier file replaced with
+    --force kept as it was, no partial file left beside it (export writes ``.NAME.part-PID`` and renames)."""
+    import xarray as xr
+
+    from bifurcation.store import query as query_module
+
+    def half_then_ctrl_c(target):
+        with open(target, "wb") as fh:
+            fh.write(b"half a file")
+        os.kill(os.getpid(), signal.SIGINT)   # Python's handler raises KeyboardInterrupt at the next bytecode
+
+    if suffix == ".nc":
+        monkeypatch.setattr(xr.Dataset, "to_netcdf", lambda self, target, **kw: half_then_ctrl_c(target))
+    else:
+        monkeypatch.setattr(query_module, "write_records",
+                            lambda records, fmt, fh: (fh.write("law,nu\n"), fh.flush(), half_then_ctrl_c(fh.name)))
+    store = _export_store(tmp_path)
+    out, earlier = tmp_path / f"e{suffix}", tmp_path / f"earlier{suffix}"
+    earlier.write_bytes(b"an earlier export")
+    for target, extra in ((out, []), (earlier, ["--force"])):
+        with pytest.raises(SystemExit) as exc:
+            cli.main(["export", "--store", str(store), "--out", str(target), *extra])
+        assert exc.value.code == 130
+        assert capsys.readouterr().err.strip().splitlines()[-1].startswith("bifurcation: interrupted.")
+    assert not out.exists()
+    assert earlier.read_bytes() == b"an earlier export"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["earlier" + suffix, "s.zarr", "w.toml"]
+
+
+def _export_store(tmp_path):
+    """A small finished store (2 tiles of TOML's grid, in process)."""
+    from bifurcation.run import submit
+    from bifurcation.workflow import load_workflow
+
+    (tmp_path / "w.toml").write_text(TOML.replace("num = 32", "num = 16").replace("num = 8", "num = 4"))
+    store = tmp_path / "s.zarr"
+    summary = submit(load_workflow(tmp_path / "w.toml"), store, workers=1, progress=False)
+    assert summary.complete
+    return store
