@@ -169,3 +169,35 @@ def _export_store(tmp_path):
     summary = submit(load_workflow(tmp_path / "w.toml"), store, workers=1, progress=False)
     assert summary.complete
     return store
+
+
+def test_a_study_stopped_while_writing_data_json_keeps_the_earlier_one(tmp_path, monkeypatch):
+    """`study chain` writes data.json at its end (and `--presets-only`, `--catalogs-only`,
+    `--published-nu-only` rewrite an existing one, the record of hours of runs). A stop inside that write
+    (here: half the text written, then KeyboardInterrupt) leaves the earlier data.json whole and no partial
+    file; the control shows what the in-place ``write_text`` it replaces left: a truncated file."""
+    import json
+    from pathlib import Path
+
+    from bifurcation.models.chain.study import _write_data
+
+    write_text = Path.write_text
+
+    def half_then_stop(self, text, *args, **kwargs):
+        write_text(self, text[: len(text) // 2], *args, **kwargs)
+        raise KeyboardInterrupt
+
+    earlier = {"workflow": "earlier", "runs": list(range(100))}
+    (tmp_path / "data.json").write_text(json.dumps(earlier))
+    monkeypatch.setattr(Path, "write_text", half_then_stop)
+    with pytest.raises(KeyboardInterrupt):
+        _write_data(tmp_path, {"workflow": "new", "runs": list(range(1000))})
+    with pytest.raises(KeyboardInterrupt):   # control: the in-place write of before
+        (tmp_path / "control.json").write_text(json.dumps(earlier))
+    monkeypatch.undo()
+    assert json.loads((tmp_path / "data.json").read_text()) == earlier
+    with pytest.raises(json.JSONDecodeError):
+        json.loads((tmp_path / "control.json").read_text())
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["control.json", "data.json"]
+    _write_data(tmp_path, {"workflow": "new"})   # and unpatched it replaces the file
+    assert json.loads((tmp_path / "data.json").read_text()) == {"workflow": "new"}
