@@ -14,11 +14,15 @@ import numpy as np
 import pytest
 
 from bifurcation.cli import cli
+from bifurcation.run import submit
 from bifurcation.run.repair import verify
+from bifurcation.run.tiles import compute_serial
 from bifurcation.store import read_done
 from bifurcation.store.lock import LOCK_NAME
+from bifurcation.workflow import load_workflow
 
 from _proc import bifurcation, running, wait_until
+from _store_helpers import assert_store_equals
 
 # 2 laws × 8 ν_f × 32 ν in 8 tiles of 4 × 16: small, so the in-process submit takes about a second
 TOML = """
@@ -125,6 +129,13 @@ def test_ctrl_c_at_random_times_leaves_a_store_verify_accepts(tmp_path):
         assert not (store / LOCK_NAME).exists(), where
         report = verify(store)
         assert report.damage == () and report.ok, (where, str(report))
+    # the last one resumed: only its missing points, and the store equals an uninterrupted run bit for bit
+    done = read_done(store)
+    assert 0 < np.count_nonzero(done) < done.size
+    workflow = load_workflow(tmp_path / "w.toml")
+    summary = submit(workflow, store, workers=1, progress=False)
+    assert summary.failed == 0 and summary.skipped == np.count_nonzero(done)
+    assert_store_equals(store, compute_serial(workflow))
 
 
 @pytest.mark.parametrize("suffix", [".nc", ".csv"])
@@ -161,9 +172,6 @@ def test_ctrl_c_inside_an_export_leaves_no_file_under_its_name(tmp_path, monkeyp
 
 def _export_store(tmp_path):
     """A small finished store (2 tiles of TOML's grid, in process)."""
-    from bifurcation.run import submit
-    from bifurcation.workflow import load_workflow
-
     (tmp_path / "w.toml").write_text(TOML.replace("num = 32", "num = 16").replace("num = 8", "num = 4"))
     store = tmp_path / "s.zarr"
     summary = submit(load_workflow(tmp_path / "w.toml"), store, workers=1, progress=False)
