@@ -38,10 +38,19 @@ class _Stop:
 
 
 def stop(signum: int) -> None:
-    """Raise ``Terminated(signum)`` now, or at the end of the open ``uninterrupted`` block."""
+    """Raise ``Terminated(signum)`` now, or at the end of the open ``uninterrupted`` block (for SIGINT,
+    Ctrl-C, a ``KeyboardInterrupt``: click and the CLI treat it as an interruption, status 130)."""
     if _Stop.depth:
         _Stop.pending = signum
         return
+    _raise(signum)
+
+
+def _raise(signum: int):
+    import signal
+
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise Terminated(signum)
 
 
@@ -49,7 +58,7 @@ def stop(signum: int) -> None:
 def uninterrupted():
     """A stop signal that arrives inside waits until the block ends: a tile's write (its data, then
     ``done``, its checkpoints) is never cut in two by a SIGTERM (found: a submit terminated mid-write left
-    data without ``done``, which ``verify`` reports as damage)."""
+    data without ``done``, which ``verify`` reports as damage; a Ctrl-C likewise, tests/test_interrupt_write.py)."""
     _Stop.depth += 1
     try:
         yield
@@ -57,4 +66,4 @@ def uninterrupted():
         _Stop.depth -= 1
     if not _Stop.depth and _Stop.pending is not None:
         signum, _Stop.pending = _Stop.pending, None
-        raise Terminated(signum)
+        _raise(signum)

@@ -13,7 +13,6 @@ import json
 import os
 import signal
 import textwrap
-import time
 from pathlib import Path
 
 import numpy as np
@@ -308,37 +307,34 @@ def test_a_dask_worker_killed_mid_run_resumes_from_its_checkpoint_bit_identical(
     first checkpoint is in the store. The scheduler hands the task to the restarted worker, which resumes
     from the last checkpoint; the stored catalog equals an uninterrupted in-process run bit for bit."""
     from distributed import Client
-    from test_distributed import BIN, _free_port, _start, _stop
+    from _proc import BIN, bifurcation, free_port, start, stop, wait_until
 
     wf = tmp_path / "kill.toml"
     wf.write_text(KILL)
     store = tmp_path / "kill.zarr"
-    port = _free_port()
+    port = free_port()
     address = f"tcp://127.0.0.1:{port}"
-    procs = [_start([str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
-                    tmp_path, "scheduler")]
+    procs = [start([str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+                   tmp_path, "scheduler")]
     try:
-        procs.append(_start([str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--host",
-                             "127.0.0.1", "--no-dashboard", "--death-timeout", "60"], tmp_path, "worker"))
+        procs.append(start([str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--host",
+                            "127.0.0.1", "--no-dashboard", "--death-timeout", "60"], tmp_path, "worker"))
         with Client(address, timeout="60s", set_as_default=False) as client:
             client.wait_for_workers(1, timeout=90)
             (victim,) = client.run(os.getpid).values()
-            submit = _start([str(BIN / "bifurcation"), "submit", str(wf), "--scheduler", address, "--store",
-                             str(store), "--json"], tmp_path, "submit")
+            submit = start(bifurcation("submit", wf, "--scheduler", address, "--store", store, "--json"), tmp_path,
+                           "submit")
             procs.append(submit)
             checkpoint = store / "checkpoints" / "0.npz"
-            deadline = time.monotonic() + 120
-            while not checkpoint.exists():
-                assert submit.poll() is None, (tmp_path / "submit.log").read_text()
-                assert time.monotonic() < deadline, "no checkpoint within 120 s"
-                time.sleep(0.01)
+            wait_until(checkpoint.exists, 120, "the first checkpoint", proc=submit,
+                       detail=lambda: (tmp_path / "submit.log").read_text())
             os.kill(victim, signal.SIGKILL)
             assert submit.wait(300) == 0, (tmp_path / "submit.log").read_text()
         with pytest.raises(ProcessLookupError):
             os.kill(victim, 0)
     finally:
         for proc in reversed(procs):
-            _stop(proc)
+            stop(proc)
     log = (tmp_path / "submit.log").read_text()
     summary = json.loads(log[log.index("{"):log.rindex("}") + 1])
     assert (summary["computed"], summary["failed"]) == (1, 0)
@@ -538,23 +534,19 @@ def test_a_killed_submit_is_resumed_by_the_next_from_the_checkpoint(tmp_path):
     """`bifurcation submit` on its embedded cluster killed (-9, the whole process group: submitter and its
     workers) after the run's first checkpoint; the next submit of the same workflow finds the checkpoint,
     resumes the run from it, and the catalog equals the uninterrupted run bit for bit."""
-    from test_distributed import BIN, _start, _stop
+    from _proc import bifurcation, start, stop, wait_until
 
     wf = tmp_path / "kill.toml"
     wf.write_text(KILL)
     store = tmp_path / "killed.zarr"
-    proc = _start([str(BIN / "bifurcation"), "submit", str(wf), "--store", str(store), "--workers", "1"],
-                  tmp_path, "submit")
+    proc = start(bifurcation("submit", wf, "--store", store, "--workers", "1"), tmp_path, "submit")
     try:
-        deadline = time.monotonic() + 120
-        while not (store / "checkpoints" / "0.npz").exists():
-            assert proc.poll() is None, (tmp_path / "submit.log").read_text()
-            assert time.monotonic() < deadline, "no checkpoint within 120 s"
-            time.sleep(0.01)
+        wait_until(lambda: (store / "checkpoints" / "0.npz").exists(), 120, "the first checkpoint", proc=proc,
+                   detail=lambda: (tmp_path / "submit.log").read_text())
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait(10)
     finally:
-        _stop(proc)
+        stop(proc)
     assert not open_store(store)["done"].values.any()
     result = CliRunner().invoke(cli, ["submit", str(wf), "--store", str(store), "--workers", "1", "--json"])
     assert result.exit_code == 0, result.output

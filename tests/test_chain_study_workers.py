@@ -11,6 +11,8 @@ import time
 
 import pytest
 
+from _proc import alive as _alive
+
 SCRIPT = """
 import sys, time
 from bifurcation.models.chain.study import _pool
@@ -19,14 +21,6 @@ list(pool.map(time.sleep, [0.2, 0.2]))           # both workers started
 print(*pool._processes, flush=True)
 time.sleep(120)
 """
-
-
-def _alive(pid: int) -> bool:
-    try:
-        with open(f"/proc/{pid}/stat") as fh:
-            return fh.read().split(")")[-1].split()[0] != "Z"   # a zombie has ended
-    except FileNotFoundError:
-        return False
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")

@@ -1,7 +1,7 @@
 """Real processes: `dask scheduler` + two `dask worker`s on loopback, a worker killed with -9 mid-run, the
 submitting process killed mid-run. Every store must equal the serial in-process engine bit for bit.
 
-Processes are started in their own sessions and killed (whole process group) by the fixtures' finalizers.
+Processes are started in their own sessions and killed (whole process group) in ``finally`` blocks (``_proc``).
 """
 
 from __future__ import annotations
@@ -9,11 +9,8 @@ from __future__ import annotations
 import json
 import os
 import signal
-import socket
 import subprocess
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,6 +19,7 @@ from bifurcation.run import submit
 from bifurcation.store import read_done
 from bifurcation.run.tiles import OUTPUTS, compute_serial
 
+from _proc import BIN, env, free_port, start, stop, wait_until
 from _store_helpers import assert_store_equals
 
 pytestmark = pytest.mark.distributed
@@ -44,41 +42,6 @@ ranges = [{ start = 0.02, stop = 0.96, num = 48 }]
 nu_f = 16
 nu = 64
 """
-BIN = Path(sys.executable).parent
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def _env() -> dict:
-    env = {k: v for k, v in os.environ.items() if not k.startswith("DASK_")}
-    env["PYTHONUNBUFFERED"] = "1"
-    return env
-
-
-def _start(args, tmp: Path, name: str) -> subprocess.Popen:
-    log = open(tmp / f"{name}.log", "wb")
-    return subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT, cwd=tmp, env=_env(), start_new_session=True)
-
-
-def _stop(proc: subprocess.Popen) -> None:
-    for sig, wait in ((signal.SIGTERM, 10), (signal.SIGKILL, 10)):
-        try:
-            os.killpg(proc.pid, sig)
-        except ProcessLookupError:
-            break
-        try:
-            proc.wait(wait)
-            break
-        except subprocess.TimeoutExpired:
-            continue
-    try:   # children (nanny → worker) left in the group
-        os.killpg(proc.pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
 
 
 @pytest.fixture(scope="module")
@@ -103,23 +66,23 @@ def dask_cluster(tmp_path_factory):
     from distributed import Client
 
     tmp = tmp_path_factory.mktemp("cluster")
-    port = _free_port()
+    port = free_port()
     address = f"tcp://127.0.0.1:{port}"
     scheduler_file = tmp / "scheduler.json"
     procs = []
     try:
-        procs.append(_start([str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port),
-                             "--no-dashboard", "--scheduler-file", str(scheduler_file)], tmp, "scheduler"))
+        procs.append(start([str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port),
+                            "--no-dashboard", "--scheduler-file", str(scheduler_file)], tmp, "scheduler"))
         for i in range(2):
-            procs.append(_start([str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1",
-                                 "--host", "127.0.0.1", "--no-dashboard", "--name", f"w{i}",
-                                 "--death-timeout", "60"], tmp, f"worker{i}"))
+            procs.append(start([str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1",
+                                "--host", "127.0.0.1", "--no-dashboard", "--name", f"w{i}",
+                                "--death-timeout", "60"], tmp, f"worker{i}"))
         with Client(address, timeout="60s", set_as_default=False) as client:
             client.wait_for_workers(2, timeout=90)
         yield address, scheduler_file
     finally:
         for proc in reversed(procs):
-            _stop(proc)
+            stop(proc)
 
 
 def test_real_scheduler_and_workers_equal_serial(dask_cluster, workflow_file, reference, tmp_path):
@@ -128,7 +91,7 @@ def test_real_scheduler_and_workers_equal_serial(dask_cluster, workflow_file, re
     store = tmp_path / "real.zarr"
     out = subprocess.run([str(BIN / "bifurcation"), "submit", str(workflow_file), "--scheduler", address,
                           "--workers", "2", "--store", str(store), "--json"],
-                         capture_output=True, text=True, timeout=120, env=_env(), cwd=tmp_path)
+                         capture_output=True, text=True, timeout=120, env=env(), cwd=tmp_path)
     assert out.returncode == 0, out.stderr
     summary = json.loads(out.stdout)
     assert (summary["computed"], summary["failed"], summary["tiles"]) == (w.n_points, 0, 24)
@@ -198,20 +161,17 @@ def test_submitting_process_killed_mid_run_then_resumed(dask_cluster, reference,
     assert (w.laws, w.nu_f, w.nu, w.tiles) == (grid.laws, grid.nu_f, grid.nu, (8, 32))
     store = tmp_path / "client.zarr"
     # the embedded default: no --scheduler, no DASK_SCHEDULER_ADDRESS → a local cluster in that process
-    proc = _start([str(BIN / "bifurcation"), "submit", str(workflow_file), "--store", str(store), "--workers", "1"],
-                  tmp_path, "submit")
+    proc = start([str(BIN / "bifurcation"), "submit", str(workflow_file), "--store", str(store), "--workers", "1"],
+                 tmp_path, "submit")
     try:
-        deadline = time.monotonic() + 90
         done_chunks = store / "done" / "c"
-        while time.monotonic() < deadline and proc.poll() is None:
-            if done_chunks.exists() and sum(1 for p in done_chunks.rglob("*") if p.is_file()) >= 2:
-                break
-            time.sleep(0.01)
+        wait_until(lambda: done_chunks.exists() and sum(1 for p in done_chunks.rglob("*") if p.is_file()) >= 2, 90,
+                   "two finished tiles (the submit finished before it could be killed?)", proc=proc)
         assert proc.poll() is None, "the submit finished before it could be killed"
         os.kill(proc.pid, signal.SIGKILL)
         proc.wait(10)
     finally:
-        _stop(proc)   # and its orphaned worker processes
+        stop(proc)   # and its orphaned worker processes
     done = read_done(store)
     n_done = int(done.sum())
     assert 0 < n_done < w.n_points
@@ -248,13 +208,6 @@ def _tile_done(done: np.ndarray, tiles, tile) -> bool:
     return bool(done[_tile_region(tiles, tile)].all())
 
 
-def _wait_until(predicate, timeout: float, what: str) -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        assert time.monotonic() < deadline, f"timed out after {timeout} s waiting for {what}"
-        time.sleep(0.5)
-
-
 @pytest.mark.slow   # 3-6 s each; real scheduler = serial and a killed worker stay fast
 def test_detached_submit_completes_after_the_client_is_killed(dask_cluster, reference, workflow_file, tmp_path):
     """`submit --detach` to a real scheduler, the client killed (-9) right after it hands the run over:
@@ -271,22 +224,16 @@ def test_detached_submit_completes_after_the_client_is_killed(dask_cluster, refe
     w, expected = reference
     store = tmp_path / "detached.zarr"
     log = tmp_path / "client.log"
-    with open(log, "wb") as out:
-        client = subprocess.Popen([str(BIN / "bifurcation"), "submit", str(workflow_file), "--scheduler", address,
-                                   "--store", str(store), "--detach"], stdout=out, stderr=subprocess.STDOUT,
-                                  cwd=tmp_path, env=_env(), start_new_session=True)
-        try:
-            _wait_until(lambda: b"detached:" in log.read_bytes() or client.poll() is not None, 120,
-                        "the client to hand the run over")
-            assert b"detached:" in log.read_bytes(), log.read_text()
-        finally:
-            try:
-                os.killpg(client.pid, signal.SIGKILL)   # killed right after (or as) it returns
-            except ProcessLookupError:
-                pass
-            client.wait(10)
-    _wait_until(lambda: study_status(store).complete and not lock_path(store).exists(), 300,
-                "the detached run to finish")
+    client = start([str(BIN / "bifurcation"), "submit", str(workflow_file), "--scheduler", address,
+                    "--store", str(store), "--detach"], tmp_path, "client")
+    try:
+        wait_until(lambda: b"detached:" in log.read_bytes() or client.poll() is not None, 120,
+                   "the client to hand the run over", interval=0.5)
+        assert b"detached:" in log.read_bytes(), log.read_text()
+    finally:
+        stop(client, signal.SIGKILL)   # killed (-9, the group) right after (or as) it returns
+    wait_until(lambda: study_status(store).complete and not lock_path(store).exists(), 300,
+               "the detached run to finish", interval=0.5)
     assert_store_equals(store, expected)
     [entry] = read_attrs(store)["submits"]
     assert entry["computed"] == w.n_points and entry["failed"] == 0
@@ -315,8 +262,8 @@ def test_a_submit_joins_a_live_detached_run(dask_cluster, reference, workflow_fi
     key = "bifurcation-finalize-test-join"
     with Client(address, timeout="60s", set_as_default=False) as c:
         fire_and_forget(c.submit(time.sleep, 4.0, key=key, pure=False))
-        _wait_until(lambda: c.run_on_scheduler(lambda dask_scheduler: key in dask_scheduler.tasks), 30,
-                    "the stand-in run")
+        wait_until(lambda: c.run_on_scheduler(lambda dask_scheduler: key in dask_scheduler.tasks), 30,
+                   "the stand-in run", interval=0.5)
     lock_path(store).write_text(_json.dumps({
         "run": "stand-in", "host": _socket.gethostname(), "pid": -2, "process_start": 0.0,
         "since": "2026-01-01T00:00:00+00:00", "command": "test", "token": "t", "scheduler": address,

@@ -5,12 +5,10 @@ from __future__ import annotations
 
 import json
 import os
-import signal
 import socket
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,9 +21,9 @@ from bifurcation.store.zarr_store import StoreReplacedError
 from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles
 from bifurcation.workflow import Workflow
 
+from _proc import bifurcation, running, wait_until
 from _store_helpers import assert_store_equals
 
-BIN = Path(sys.executable).parent
 W = Workflow(name="lock-test", laws=("carlson-langer",), nu=(1e-3, 1e-6), nu_f=(0.3, 0.4, 0.6), tiles=(2, 1))
 
 
@@ -113,26 +111,19 @@ def test_two_real_submits_on_one_store(tmp_path):
     """A second `submit` and a `--new-store` while the first runs: both refused in one line naming it."""
     (tmp_path / "w.toml").write_text(TOML)
     (tmp_path / "b.toml").write_text(TOML.replace('"two-writers"', '"other"').replace("num = 48", "num = 12"))
-    env = {k: v for k, v in os.environ.items() if not k.startswith("DASK_")}
     store = tmp_path / "s.zarr"
-    first = subprocess.Popen([str(BIN / "bifurcation"), "submit", "w.toml", "--store", str(store), "--workers", "1",
-                              "--json"], cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True, start_new_session=True)
-    try:
+    with running(bifurcation("submit", "w.toml", "--store", store, "--workers", "1", "--json"), tmp_path,
+                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as first:
         # the lock is taken before the cluster starts; then ~50 000 points (several seconds of one
         # core) are computed: both others start (concurrently) well inside that window
-        deadline = time.monotonic() + 120
-        while not (store / LOCK_NAME).exists() and time.monotonic() < deadline and first.poll() is None:
-            time.sleep(0.01)
+        wait_until(lambda: (store / LOCK_NAME).exists(), 120, "the first submit's lock", proc=first)
         assert first.poll() is None, "the first submit ended before the others could start"
-        others = [subprocess.Popen([str(BIN / "bifurcation"), "submit", *args, "--store", str(store), "--workers",
-                                    "1"], cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                   text=True) for args in (["w.toml"], ["b.toml", "--new-store"])]
-        runs = [subprocess.CompletedProcess(p.args, p.wait(120), *p.communicate()) for p in others]
+        with running(bifurcation("submit", "w.toml", "--store", store, "--workers", "1"), tmp_path,
+                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as second, \
+                running(bifurcation("submit", "b.toml", "--new-store", "--store", store, "--workers", "1"), tmp_path,
+                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as third:
+            runs = [subprocess.CompletedProcess(p.args, p.wait(120), *p.communicate()) for p in (second, third)]
         out, err = first.communicate(timeout=600)
-    finally:
-        if first.poll() is None:
-            os.killpg(first.pid, signal.SIGKILL)
     assert first.returncode == 0, err
     summary = json.loads(out)
     assert (summary["computed"], summary["failed"]) == (2 * 256 * 96, 0)

@@ -8,7 +8,6 @@ import dataclasses
 import os
 import signal
 import textwrap
-import time
 
 import numpy as np
 import pytest
@@ -180,23 +179,19 @@ def test_a_killed_submit_is_resumed_by_the_next_from_the_checkpoint(tmp_path):
     """`bifurcation submit` (embedded cluster) killed -9 with its process group after the run's first
     checkpoint (a 6000-event N = 4 run, C = 500); the next submit resumes from the checkpoint and the
     stored catalog equals the uninterrupted in-process run bit for bit."""
-    from test_distributed import BIN, _start, _stop
+    from _proc import bifurcation, start, stop, wait_until
 
     wf = tmp_path / "kill.toml"
     wf.write_text(KILL)
     store = tmp_path / "killed.zarr"
-    proc = _start([str(BIN / "bifurcation"), "submit", str(wf), "--store", str(store), "--workers", "1"],
-                  tmp_path, "submit")
+    proc = start(bifurcation("submit", wf, "--store", store, "--workers", "1"), tmp_path, "submit")
     try:
-        deadline = time.monotonic() + 120
-        while not (store / "checkpoints" / "0.npz").exists():
-            assert proc.poll() is None, (tmp_path / "submit.log").read_text()
-            assert time.monotonic() < deadline, "no checkpoint within 120 s"
-            time.sleep(0.01)
+        wait_until(lambda: (store / "checkpoints" / "0.npz").exists(), 120, "the first checkpoint", proc=proc,
+                   detail=lambda: (tmp_path / "submit.log").read_text())
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait(10)
     finally:
-        _stop(proc)
+        stop(proc)
     assert not open_store(store)["done"].values.any()
     result = CliRunner().invoke(cli, ["submit", str(wf), "--store", str(store), "--workers", "1", "--json"])
     assert result.exit_code == 0, result.output

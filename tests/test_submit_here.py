@@ -168,6 +168,8 @@ def test_a_helper_exits_when_its_submitting_process_is_killed(tmp_path):
     import sys
     import time
 
+    import _proc
+
     script = tmp_path / "parent.py"
     script.write_text(_ORPHAN.format(store=str(tmp_path / "o.zarr")))
     env = {k: v for k, v in os.environ.items() if not k.startswith("DASK_")}
@@ -202,8 +204,7 @@ def test_a_helper_exits_when_its_submitting_process_is_killed(tmp_path):
         alive = pids
         while alive and time.monotonic() < deadline:
             time.sleep(0.1)
-            alive = [pid for pid in pids if os.path.exists(f"/proc/{pid}") and
-                     open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"]
+            alive = [pid for pid in pids if _proc.alive(pid)]
         assert not alive, f"helper(s) {alive} still running 30 s after their submitting process was killed"
     finally:
         if parent.poll() is None:

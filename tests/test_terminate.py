@@ -8,9 +8,7 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,9 +21,8 @@ from bifurcation.store import read_done
 from bifurcation.store.lock import LOCK_NAME
 from bifurcation.workflow import load_workflow
 
+from _proc import bifurcation, group_alive, running, wait_until
 from _store_helpers import assert_store_equals
-
-BIN = Path(sys.executable).parent
 
 # 1536 points in 24 tiles of 64: each tile takes a few tens of ms, so the signal lands between the first
 # finished tile and the last one
@@ -53,22 +50,13 @@ nu = 16
 def test_a_terminated_submit_releases_its_lock_and_resumes_bit_for_bit(tmp_path, signum):
     (tmp_path / "w.toml").write_text(TOML)
     store = tmp_path / "s.zarr"
-    env = {k: v for k, v in os.environ.items() if not k.startswith("DASK_")}
-    run = subprocess.Popen([str(BIN / "bifurcation"), "submit", "w.toml", "--store", str(store), "--workers", "1"],
-                           cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
+    with running(bifurcation("submit", "w.toml", "--store", store, "--workers", "1"), tmp_path,
+                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as run:
         # mid-run: the lock is held and the first tile's done chunk is written
-        deadline = time.monotonic() + 60
-        while not any((store / "done").rglob("c/*")):
-            assert run.poll() is None, "the submit ended before a tile was written"
-            assert time.monotonic() < deadline, "no tile within 60 s"
-            time.sleep(0.01)
+        wait_until(lambda: any((store / "done").rglob("c/*")), 60, "a tile (the submit ended first?)", proc=run)
         assert (store / LOCK_NAME).exists()
         run.send_signal(signum)
         out, err = run.communicate(timeout=60)
-    finally:
-        if run.poll() is None:
-            run.kill()
     # 128 + signal (a run that had finished would exit 0: the check cannot pass by a late signal)
     assert run.returncode == 128 + signum, err
     assert err.strip().splitlines()[-1] == (
@@ -134,11 +122,8 @@ def test_a_batch_jobs_sigterm_to_every_process_leaves_no_damage(tmp_path):
             .replace("nu = 16", "nu = 64").replace("nu_f = 4", "nu_f = 8"))
     (tmp_path / "w.toml").write_text(text)
     store = tmp_path / "s.zarr"
-    env = {k: v for k, v in os.environ.items() if not k.startswith("DASK_")}
-    run = subprocess.Popen([str(BIN / "bifurcation"), "submit", "w.toml", "--store", str(store), "--workers", "2"],
-                           cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                           start_new_session=True)
-    try:
+    with running(bifurcation("submit", "w.toml", "--store", store, "--workers", "2"), tmp_path,
+                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as run:
         deadline = time.monotonic() + 120
         err = ""
         while "helper process(es)" not in err:   # the note is printed as the helper starts
@@ -148,14 +133,11 @@ def test_a_batch_jobs_sigterm_to_every_process_leaves_no_damage(tmp_path):
         time.sleep(3.0)   # the helper is importing or in its first tiles
         os.killpg(run.pid, signal.SIGTERM)
         out, rest = run.communicate(timeout=120)
-    finally:
-        if run.poll() is None:
-            os.killpg(run.pid, signal.SIGKILL)
+        time.sleep(1.0)
+        left = group_alive(run.pid)   # checked before `running` ends the group
     assert run.returncode == 143, err + rest
     assert "Traceback" not in rest and "terminated by SIGTERM" in rest
     assert not (store / LOCK_NAME).exists()
     report = verify(store)
     assert report.damage == () and report.ok, str(report)
-    time.sleep(1.0)
-    with pytest.raises(ProcessLookupError):   # the whole group is gone: no helper lives on
-        os.killpg(run.pid, 0)
+    assert not left, "a process of the submit's group lived on"   # no helper lives on

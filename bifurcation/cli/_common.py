@@ -169,19 +169,28 @@ def _raise_terminated(signum, frame):
     stop(signum)   # raises Terminated now, or once the tile being written is whole (errors.uninterrupted)
 
 
+def _raise_interrupt(signum, frame):
+    stop(signum)   # KeyboardInterrupt now, or once the tile being written is whole (a second Ctrl-C: the same)
+
+
 @contextmanager
 def _stop_on_signals():
     """SIGTERM and SIGHUP raise ``Terminated`` while a command runs (without a handler the process died
     at once and left its store's lock behind, which a submit from another node may not break). A signal
     that is ignored (``nohup``) stays ignored; off the main thread (signal handlers cannot be set there)
-    nothing changes. The previous handlers are restored afterwards."""
+    nothing changes. The previous handlers are restored afterwards. Ctrl-C (SIGINT) still raises
+    KeyboardInterrupt, but one inside a tile's write waits for its end too (when Python's own handler is
+    in place: another one, a caller's, is left alone)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = {s: signal.getsignal(s) for s in _STOP_SIGNALS}
+    previous = {s: signal.getsignal(s) for s in (*_STOP_SIGNALS, signal.SIGINT)}
     try:
         for s, handler in previous.items():
-            if handler is not signal.SIG_IGN:
+            if s == signal.SIGINT:
+                if handler is signal.default_int_handler:
+                    signal.signal(s, _raise_interrupt)
+            elif handler is not signal.SIG_IGN:
                 signal.signal(s, _raise_terminated)
         yield
     finally:

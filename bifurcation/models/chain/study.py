@@ -181,7 +181,7 @@ def main(argv=None) -> None:
         data["presets_cfg"] = {k: v for k, v in cfg["presets"].items() if k != "run"}
         data["presets_wall_seconds"] = time.perf_counter() - t0
         data["workflow"] = path.read_text()
-        (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+        _write_data(out, data)
         data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
         _extra_stats(out, cfg, data, None)
         _render(out, cfg, path, data)
@@ -193,7 +193,7 @@ def main(argv=None) -> None:
         with _pool(cfg["study"].get("workers", 2)) as pool:
             cats = list(pool.map(_catalog, args))
         _save_catalogs(out, cats)
-        (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+        _write_data(out, data)
         _render(out, cfg, path, saved_data(out, cfg))
         return
     if "--published-nu-only" in argv[1:]:   # the [published_nu] catalogs into subevents_*.json, then re-render
@@ -217,7 +217,7 @@ def main(argv=None) -> None:
         from .subevent_study import write_report
 
         data["workflow"] = path.read_text()      # only its [published_nu] table may have changed (checked above)
-        (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+        _write_data(out, data)
         write_report(out)
         _render(out, cfg, path, saved_data(out, cfg))
         return
@@ -250,9 +250,22 @@ def main(argv=None) -> None:
     import os
 
     data["load_average"] = os.getloadavg()[1]     # 5-minute load at the end: the machine is shared
-    (out / "data.json").write_text(json.dumps(data, indent=1, default=float))
+    _write_data(out, data)
     _render(out, cfg, path, data)
     print(f"wrote {out}/REPORT.md in {wall:.0f} s")
+
+
+def _write_data(out: Path, data: dict) -> None:
+    """``out/data.json``, written beside it and renamed into place: a study stopped in the write (Ctrl-C,
+    SIGTERM, kill) leaves the earlier data.json whole, not a truncated one that ``--from-data`` and the
+    ``--*-only`` runs cannot read (tests/test_interrupt_write.py)."""
+    text = json.dumps(data, indent=1, default=float)
+    tmp = out / f".data.json.part-{os.getpid()}"
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, out / "data.json")
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _render(out: Path, cfg, path: Path, data) -> None:
