@@ -75,7 +75,8 @@ def main() -> None:
             merged = longest > MERGED_CYCLES
             mean[merged] = np.nan
             hc = locate(grid, mean, se)["half"]
-            left_out = f"; left out (merged): ν_f = {', '.join(f'{v:g}' for v in grid[merged])}" if merged.any() else ""
+            gone = ", ".join(f"{v:g}" for v in grid[merged])
+            left_out = f"; left out (merged): ν_f = {gone}" if merged.any() else ""
             points.append((n, hc["value"], hc["sigma"]))
             print(f"sigma={sigma} N={n}: D = {np.array2string(mean, precision=4)} ± max {se.max():.2g}; "
                   f"half-way crossing {hc['value']:.4f} ± {hc['sigma']:.4f} ({hc['status']}{left_out}) "
