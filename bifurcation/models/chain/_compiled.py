@@ -355,8 +355,9 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
                 c += fw[lf, n - 1]
             if rt >= 0:
                 c += fw[rt, n - 1]
-            # Σ_{j=1..n} v_j r_{n−j}, one chain (four partial sums measured 15 % slower: the step is bound by
-            # the chain from v_n to v_{n+1}, which v_n joins last here)
+            # Σ_{j=1..n} v_j r_{n−j} in one accumulator: four partial sums were measured 15 % slower, and
+            # shortening the order-to-order dependency chain (r_(n+1) = A + B r_n) did not speed the step
+            # either (docs/chain.md, "Engines"), so that chain is not what bounds it
             acc_ = 0.0
             for j in range(1, n + 1):
                 acc_ += fv[i, j - 1] * cr[i, n - j]
@@ -1447,10 +1448,11 @@ _Glob = namedtuple("_Glob", "s u tv ti p slot mem pend touched evid cnt")
 #: ``--verify`` finds times and potencies within ~tol of the heyoka engine's (measured at N = 256, nu = 1e-4:
 #: 6.7e-13, 1.2e-11, 1.1e-10 at tol 1e-12, 1e-11, 1e-10; docs/chain.md, "Engines")
 TOL = 1e-11
-#: about what compiling ``run_events`` for one law kind costs with a cold disk cache, for the CLI's notice
-#: (8–17 s of CPU measured on 2 loaded cores, 40 s of wall time under load; ~20 % more with the Taylor step's
-#: helpers inlined; docs/chain.md, "Engines")
-COMPILE_SECONDS = 15
+#: CPU seconds of compiling ``run_events`` for one law kind with a cold disk cache, for the CLI's notice:
+#: a 10-event `bifurcation chain --engine compiled` (N = 16) took 43.0–44.8 s of CPU with NUMBA_CACHE_DIR
+#: an empty directory and 1.1–1.5 s with it filled, Carlson–Langer and exp(−x) alike (2026-11-26; wall time
+#: 55–88 s at load 4–5 on 2 cores; docs/chain.md, "Engines")
+COMPILE_SECONDS = 42
 
 
 class CompiledChain:

@@ -13,10 +13,11 @@ the transition is located by two definitions that do not depend on which grid in
 
 Errors: a seeded parametric bootstrap over D's error bars (each D_i drawn from N(D_i, se_i²), the
 location recomputed; σ is the draws' standard deviation); for ν_½ the interpolation's own error (the same
-bracket interpolated in ln D, as transition.py does) is added in quadrature. transition.py locates a
-half-jump crossing with plateaus from the grid's first and last two points; here the lower plateau is found
-from the data (at N ≥ 64 the last grid points are the chain's slides, where D rises again) and steps left
-out (NaN) are skipped. With the location, the transition's
+bracket interpolated in ln D) is added in quadrature. A fall from D at the smallest ν_f to the plateau's
+mean within 2σ of their errors is no transition (no ν_½). The lower plateau is found from the data, not
+taken as the grid's last points (at N ≥ 64 the last grid points are the chain's slides, where D rises
+again), and steps left out (NaN) are skipped. This is the project's one half-way crossing (transition.py's
+small study and the chain report both use it). With the location, the transition's
 **width** W = (drop)/(largest −dD/dν_f): the ν_f range a straight ramp of the same steepest slope needs
 (W = grid spacing for a step the grid does not resolve).
 """
@@ -40,6 +41,20 @@ def _valid(x, y):
     return x[ok], y[ok]
 
 
+def _lower_plateau(y) -> tuple[np.ndarray | None, str]:
+    """The mask of the lower plateau of a falling y with no NaN (see half_crossing), or (None, why not)."""
+    if y.size < 3:
+        return None, "too few points"
+    hi, i_lo = y[0], int(np.argmin(y))
+    drop = hi - y[i_lo]
+    if not drop > 0 or i_lo == 0:
+        return None, "no drop"
+    plateau = (y <= y[i_lo] + PLATEAU_FRACTION * drop) & (np.arange(y.size) >= np.argmax(y < hi - drop / 2))
+    if plateau.sum() < 2:
+        return None, "no lower plateau on the grid"
+    return plateau, "ok"
+
+
 def half_crossing(x, y) -> tuple[float, str]:
     """(ν_½, status) of a falling curve y(x) on an ascending grid; NaN values (steps left out) skipped.
 
@@ -47,18 +62,12 @@ def half_crossing(x, y) -> tuple[float, str]:
     the half-way fall lie within PLATEAU_FRACTION of the drop above the minimum), "too few points",
     "no drop" (the curve does not fall)."""
     x, y = _valid(x, y)
-    if x.size < 3:
-        return math.nan, "too few points"
-    hi, i_lo = y[0], int(np.argmin(y))
-    drop = hi - y[i_lo]
-    if not drop > 0 or i_lo == 0:
-        return math.nan, "no drop"
-    plateau = (y <= y[i_lo] + PLATEAU_FRACTION * drop) & (np.arange(x.size) >= np.argmax(y < hi - drop / 2))
-    if plateau.sum() < 2:
-        return math.nan, "no lower plateau on the grid"
+    plateau, status = _lower_plateau(y)
+    if plateau is None:
+        return math.nan, status
     lo = float(y[plateau].mean())
-    level = 0.5 * (hi + lo)
-    i = _bracket(y, level, i_lo)
+    level = 0.5 * (y[0] + lo)
+    i = _bracket(y, level, int(np.argmin(y)))
     return float(x[i] + (y[i] - level) / (y[i] - y[i + 1]) * (x[i + 1] - x[i])), "ok"
 
 
@@ -69,7 +78,7 @@ def _bracket(y, level, i_lo) -> int:
 
 def grid_error(x, y) -> float:
     """The interpolation's own error of ν_½: the same bracket interpolated in ln y instead of y (D falls by
-    a factor across a coarse bracket, so neither is exact; transition.py's measure); NaN without a crossing."""
+    a factor across a coarse bracket, so neither is exact); NaN without a crossing."""
     c = half_crossing(x, y)[0]
     x, y = _valid(x, y)
     if not math.isfinite(c) or not np.all(y > 0):
@@ -133,6 +142,13 @@ def locate(x, y, se, *, samples: int = 2000, seed: int = 1) -> dict:
     boot = np.array([_measures(x, v) for v in draws]).reshape(samples, 4)
     data = _measures(x, y) if x.size >= 3 else (math.nan,) * 4
     status = {"half": half_crossing(x, y)[1], "peak": slope_peak(x, y)[2]}
+    plateau = _lower_plateau(y)[0]
+    if plateau is not None:     # a fall within 2σ of D's errors is no transition: no ν_½, W or window
+        fall = y[0] - y[plateau].mean()
+        fall_sigma = math.hypot(se[0], math.sqrt(np.sum(se[plateau] ** 2)) / plateau.sum())
+        if not fall > 2 * fall_sigma:
+            status["half"] = f"no drop beyond 2σ ({fall:.3g} ± {fall_sigma:.3g})"
+            data = (math.nan, data[1], math.nan, math.nan)
     out = {}
     for k, name in enumerate(("half", "peak", "width", "window")):
         b = boot[:, k][np.isfinite(boot[:, k])]
@@ -140,7 +156,7 @@ def locate(x, y, se, *, samples: int = 2000, seed: int = 1) -> dict:
                      "sigma": float(b.std(ddof=1)) if b.size > 1 and math.isfinite(data[k]) else math.nan}
         if name in status:
             out[name]["status"] = status[name]
-    g = grid_error(x, y) if x.size >= 3 else math.nan
+    g = grid_error(x, y) if x.size >= 3 and math.isfinite(data[0]) else math.nan
     if math.isfinite(g):     # ν_½: the draws' spread and the interpolation's error in quadrature
         out["half"].update(statistical=out["half"]["sigma"], grid=g, sigma=math.hypot(out["half"]["sigma"], g))
     out["drop"] = float(y[0] - y.min()) if y.size else math.nan

@@ -214,7 +214,8 @@ def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max
         from ._compiled import _CACHE, COMPILE_SECONDS
 
         when = "first run only" if _CACHE else "every run: numba has no writable cache directory, see NUMBA_CACHE_DIR"
-        print(f"bifurcation: chain: compiling the chain engine for {law.name} ({when}, ~{COMPILE_SECONDS} s)",
+        print(f"bifurcation: chain: compiling the chain engine for {law.name} ({when}; ~{COMPILE_SECONDS} s of CPU, "
+              "longer in wall time on a busy machine)",
               file=sys.stderr, flush=True)
     report = None
     if verify > 0:
