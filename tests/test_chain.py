@@ -63,7 +63,10 @@ def test_uncoupled_blocks_are_independent(ends):
     assert list(r.hypocentre) == list(np.tile(np.arange(5), 3)[order])
 
 
-@pytest.mark.parametrize("law", ["carlson-langer", "piecewise-linear"])
+# piecewise-linear is slow: its energy integrators (M = 1..16) serve this test alone, ~2.7 s of CPU to
+# compile on an empty heyoka cache; energy across switch events stays in the fast suite through the
+# three-piece law of tests/test_chain_adversarial.py::test_energy_balance_for_formula_laws
+@pytest.mark.parametrize("law", ["carlson-langer", pytest.param("piecewise-linear", marks=pytest.mark.slow)])
 @pytest.mark.parametrize("ends", ["free", "periodic"])
 @pytest.mark.parametrize("nu", [pytest.param(1e-2, marks=pytest.mark.slow),   # 2-3 s each: long events
                                 1e-6, 1e-10])
@@ -130,16 +133,19 @@ def test_live_reference_small_chain():
         assert max(abs(float(a / b - 1)) for a, b in zip(r[key], ref[key])) <= 1e-13, key
 
 
-@pytest.mark.parametrize("law,ends", [("piecewise-linear", "periodic"), ("carlson-langer", "free")])
-def test_windows_equal_whole_chain(law, ends):
+# N = 12 and 16: the windows (M = 4..16) and whole chains are those the σ = 0 golden runs of
+# tests/test_chain_sigma.py compile for these laws, so an empty heyoka cache compiles little anew
+# (at N = 24 the whole chain and M = 32 were this test's alone); every path is still taken
+@pytest.mark.parametrize("law,ends,n", [("piecewise-linear", "periodic", 12), ("carlson-langer", "free", 16)])
+def test_windows_equal_whole_chain(law, ends, n):
     """Integrating only the window of slipping blocks (with far failures in closed form) gives the same
     catalog as integrating the whole chain every event: identical events, and times and potencies to
     1e-12 over the first events (before the chain's chaos amplifies the rounding of the two orders of
     summation; it grows ~10× per large event, see test_double_against_golden_reference)."""
-    u = check_initial(24, 1.0, ends, None, 0.3, 7)
+    u = check_initial(n, 1.0, ends, None, 0.3, 7)
     runs = []
     for full in (False, True):
-        loop = ChainLoop(resolve_law(law), 24, 1.0, 1e-2, 0.3, ends, u, full_window=full)
+        loop = ChainLoop(resolve_law(law), n, 1.0, 1e-2, 0.3, ends, u, full_window=full)
         runs.append((loop.run(12)["catalog"], loop.counts))
     (win, counts), (whole, _) = runs
     assert counts["grow"] > 0 and counts["far"] > 0 and counts["window"] > 0   # every path taken
