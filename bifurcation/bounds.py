@@ -17,11 +17,15 @@ refused with the same message everywhere, never computed into a plausible-lookin
   run time (the run stops with no-stop, keeping the events before); ``CHAIN_RUN_WORK`` bounds the
   block-steps of one CLI run (a workflow's run is checkpointed and resumable, and its whole run is
   bounded by N × events and the per-event work instead).
+* Rate-and-state chains (``[model] name = "rs-chain"`` workflows, ``models.rs_chain.model.check_grid``):
+  N × events ≤ ``RS_CHAIN_MAX_N_EVENTS`` per run, refused up front, and ``RS_CHAIN_EVENT_WORK``
+  block-steps per event at run time (a Taylor step costs ~1 µs a block; the run stops with no-stop).
 """
 
 from __future__ import annotations
 
-__all__ = ["CHAIN_EVENT_WORK", "CHAIN_MAX_N_EVENTS", "CHAIN_RUN_WORK", "MAX_STEPS_MAX", "NU_BOUNDS", "NU_F_BOUNDS", "T_MAX_MAX", "check_max_steps", "check_t_max",
+__all__ = ["CHAIN_EVENT_WORK", "CHAIN_MAX_N_EVENTS", "CHAIN_RUN_WORK", "MAX_STEPS_MAX", "NU_BOUNDS", "NU_F_BOUNDS",
+           "RS_CHAIN_EVENT_WORK", "RS_CHAIN_MAX_N_EVENTS", "T_MAX_MAX", "check_max_steps", "check_t_max",
            "in_bounds_fix"]
 
 NU_BOUNDS = (1e-20, 1.0)
@@ -43,6 +47,20 @@ CHAIN_RUN_WORK = {("exact", "double"): 5 * 10**8, ("exact", "quad"): 10**7}
 #: The most N × events of one chain run: each event also costs O(N) outside its window (the next
 #: hypocentre, the quiescent load): measured 66 events/s at N = 2^20 (ν = 1e-9), so 1e10 is about 2.5 min.
 CHAIN_MAX_N_EVENTS = 10**10
+
+#: The most N × events of one rate-and-state chain run (an event there is a stiff rate-and-state slip
+#: integrated by Taylor steps over all N blocks, ~10^3 times the cost of the chain's): measured (aging,
+#: ℓ = 3, η = 1e-3, k = 0.1, A = 1, seed 1, one core, process time) 0.21 ms a block-event at N = 16,
+#: 0.34 ms at N = 64, 0.14 ms at N = 256 and 2.5 ms at N = 1024 (its first 30 events, which grow out of the
+#: start: 2197 steps an event); the store's run of 10^5 events at N = 256 took ~2.4 h (0.34 ms). At the
+#: worst, 2.5 ms, 3·10^7 block-events are ~21 h of one core: the largest accepted run is about a day
+#: (10^5 events at N = 256, workflows/rs-chain-large.toml, is 2.56·10^7). Before: N = 65536 × 10^9 events
+#: was accepted.
+RS_CHAIN_MAX_N_EVENTS = 3 * 10**7
+#: The most block-steps (Taylor steps × N) of one rate-and-state chain event, or of the wait for it: a
+#: step costs 0.96–1.15 µs a block (measured at N = 16 to 1024), so 10^10 is ~3 h of one core; the
+#: workflow's ``max_steps`` alone allowed 10^7 steps × 65536 blocks (~8 days) for one event.
+RS_CHAIN_EVENT_WORK = 10**10
 
 
 def in_bounds_fix(name: str) -> str:

@@ -376,8 +376,8 @@ CASES = [
     "submit {wf_fig} --store {newstore} --scheduler tcp://127.0.0.1:1 --workers-timeout -1 ## --workers-timeout",
     "submit {wf_fig} --store {newstore} --scheduler tcp://127.0.0.1:1 --workers-timeout inf ## --workers-timeout",
     "submit {wf_fig} --store {newstore} --write-from nobody ## --write-from",
-    "submit {wf_fig} --store {newstore} --detach ## --detach",
-    "submit {wf_fig} --store {newstore} --detach --write-from client --scheduler tcp://127.0.0.1:1 ## --detach",
+    "submit {wf_fig} --store {newstore} --detach ## --detach=True: needs an existing scheduler",   # was =''""
+    "submit {wf_fig} --store {newstore} --detach --write-from client --scheduler tcp://127.0.0.1:1 ## --write-from='client': cannot be used with --detach",
     "submit ## Missing argument 'WORKFLOW'",
     "submit {wf_fig} {wf_fig} ## unexpected extra argument",
     # -- continue --------------------------------------------------------------------------------------
@@ -634,7 +634,7 @@ CASES += [
     "extrapolate --store {sb} --store {sb} --law carlson-langer --nu-f 0.4 ## is given twice",
     f"{HOPF} --mass 1e26 ## --mass=1e+26: η = M V_lp²/(a Dc) = 1e+30",   # a ZeroDivisionError traceback before
     f"{HOPF} --mass 1e40 ## --mass",
-    f"{HOPF} --mass 1e300 ## b, mass",                                   # named b alone before
+    f"{HOPF} --mass 1e300 ## --mass=1e+300: gives no loss of stability",   # named b alone, then "b, mass"
     f"{_set(RATE, '--v-lp', '0,10')} ## --v-lp='0,10': starts with a hold",   # named v0, no CLI option, before
 ]
 
@@ -881,6 +881,16 @@ WORKFLOWS.update({
     "wk2_rs_eta_neg": (RS, "eta = [0.0]", "eta = [-1.0]"),
     "wk2_rs_boa_huge": (RS, "b_over_a = [2.0]", "b_over_a = [1e300]"),
 })
+WORKFLOWS.update({   # walk 3 (issue 21): rs-chain runs within bounds.RS_CHAIN_MAX_N_EVENTS (accepted before)
+    "wk3_rsc_big": (_edit(RSC, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [65536]"), "values = [5]",
+                    "values = [1000000000]"),
+    "wk3_rsc_n4096": (_edit(RSC, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [4096]"), "values = [5]",
+                      "values = [10000]"),
+    "wk3_rsc_n1": (_edit(RSC, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [1]"), "values = [5]",
+                   "values = [1000000000]"),
+    "wk3_rsc_lists": (_edit(RSC, "[grid.n]\nvalues = [4]", "[grid.n]\nvalues = [4, 16, 65536]"), "values = [5]",
+                      "values = [5, 1000]"),     # each value alone fine; the largest N with the most events not
+})
 CASES_WK2 = [   # run batched (one test, one fixture check): ~5 ms a row instead of ~25 ms
     *_values(SLIP, "--nu", ["1_0e-9", "1e-9_", "٠.٠٠١", "0x1p-30"]),                                  # fixed: '_'
     *_values(SLIP, "--nu-f", ["0_.4", "０.4"]),                                                        # fixed
@@ -980,6 +990,22 @@ CASES_WK2 = [   # run batched (one test, one fixture check): ~5 ms a row instead
     "fit-period --store {sb} --law carlson-langer --nu-f 0.7 ## --nu-f",
     "fit-period --store {sb} --law carlson-langer --nu-f 0.3 ## --store",
     "fit-period --store {chain} --law carlson-langer --nu-f 0.2 ## --store",
+    # walk 3 (issue 21): rs-chain N × events (accepted before: N = 65536 × 10^9 events); the walk's leftovers
+    *[f"submit {{wf_{name}}} --store {{newstore}} ## {needle}" for name, needle in [
+        ("wk3_rsc_big", "grid.events=1000000000: with grid.n 65536 is N × events = 6.55e+13 > 3e+07"),
+        ("wk3_rsc_n4096", "grid.events=10000: with grid.n 4096 is N × events"),
+        ("wk3_rsc_n1", "grid.events=1000000000: with grid.n 1 is N × events"),
+        ("wk3_rsc_lists", "give grid.events <= 457 at this N")]],
+    "hopf --state-law aging --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 --mass 1e200 ## --mass=1e+200: gives no loss",
+    "hopf --state-law slip,aging --a 0.01 --b 0.015,0.001 --dc 0.01,0.1 --v-lp 1 --mass 1e300 ## --mass=1e+300",
+    "submit {wf_rsc} --store {newstore} --detach ## --detach=True: needs an existing scheduler",
+    "submit {wf_chain} --store {newstore} --detach --write-from client ## --detach=True",   # no scheduler first
+    "query --store {chain} --law carlson-langer --n 1_0 ## --n: '1_0' has an underscore: write the digits without '_'; give e.g. 16",
+    "query --store {chain} --law carlson-langer --seed 1_0 ## give e.g. 1",
+    "query --store {chain} --law carlson-langer --events x ## give e.g. 1000",
+    "query --store {chain} --law carlson-langer --ell x ## give e.g. 1",
+    "query --store {sb} --law carlson-langer --nu 1_0 ## give e.g. 1e-9",
+    "query --store {chain} --law carlson-langer --periodic x ## give e.g. free or 0",
 ]
 STUDY_WORKFLOWS_WK2 = {   # N × events of one study run (fixed: accepted before)
     "wk2_catalog_big": ("events = [3000, 2000]", "events = [3000, 200000000]"),

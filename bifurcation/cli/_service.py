@@ -12,10 +12,11 @@ from ._common import Real, echo_json, examples, fail, number
 __all__ = ["COMMANDS"]
 
 
-def _numbers(name: str, words: tuple = ()):
-    """``_common.number`` for a repeatable option: each value parsed, the same message for a bad one;
-    ``words`` (a choice axis's names, e.g. free/periodic) are taken as the index they name."""
-    one = number(name, f"{words[0]} or 0" if words else "1e-9")
+def _numbers(name: str, words: tuple = (), example: str = "1e-9"):
+    """``_common.number`` for a repeatable option: each value parsed, the same message for a bad one
+    (its example the axis's own: ``--n`` suggested 1e-9 before); ``words`` (a choice axis's names, e.g.
+    free/periodic) are taken as the index they name."""
+    one = number(name, f"{words[0]} or 0" if words else example)
 
     def convert(ctx, param, values):
         return tuple(float(words.index(v)) if v in words else one(ctx, param, value)
@@ -77,9 +78,16 @@ def _axis_options(command):
             seen.setdefault(axis.name, axis)
     for axis in reversed(list(seen.values())):
         words = f" or {'/'.join(axis.names)}" if axis.names else ""
-        command = click.option(axis.option, axis.name, multiple=True, callback=_numbers(axis.option, axis.names),
+        command = click.option(axis.option, axis.name, multiple=True, callback=_numbers(axis.option, axis.names, _example(axis)),
                                help=f"{axis.symbol}: a label of the store{words} (repeatable). Default: all.")(command)
     return command
+
+
+def _example(axis) -> str:
+    """An axis's example as a user types it: an integer for an integer axis (``--n 16``)."""
+    if axis.dtype == "int64":
+        return str(int(axis.example))
+    return f"{axis.example:g}".replace("e-0", "e-").replace("e+0", "e+")    # 1e-9, not 1e-09
 
 
 def _option_names() -> dict:

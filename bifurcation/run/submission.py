@@ -201,10 +201,13 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
         raise InputError("retries", retries, "is not a number of retries", "give an integer >= 0 such as 3")
     if writer not in WRITERS:
         raise InputError("writer", writer, "is not a writer", f"use one of {', '.join(WRITERS)}")
-    if detach and (target is None or writer != "workers"):
-        raise InputError("--detach", "", "needs an existing scheduler and workers that write the store",
-                         "pass --scheduler ADDRESS (a `dask scheduler` that outlives this process) and "
-                         "leave --write-from at workers")
+    # each names the flag at fault with its value (was "--detach=''", issue 21 walk)
+    if detach and target is None:
+        raise InputError("--detach", True, "needs an existing scheduler, and no --scheduler was given",
+                         "pass --scheduler ADDRESS (a `dask scheduler` that outlives this process), or drop --detach")
+    if detach and writer != "workers":
+        raise InputError("--write-from", writer, "cannot be used with --detach: a detached run's workers write "
+                         "the store", "leave --write-from at workers, or drop --detach")
     path = Path(store) if store is not None else workflow.default_store
     from ..store import store_kind
     from ..store.layout import command_line

@@ -100,13 +100,14 @@ class _Catalog:
     def key(self, name: str, chunk: int) -> str:
         return f"{CATALOG}/{name}/{self.arrays[name].metadata.encode_chunk_key((chunk,))}"
 
-    def write(self, run: int, values: dict, start: int = 0) -> None:
-        """Events ``start`` … of ``run`` (``start`` a multiple of the chunk), whole chunks, padded with fill."""
+    def write(self, run: int, values: dict, start: int = 0, *, first: int = 0) -> None:
+        """Events ``start`` … of ``run`` (``start`` a multiple of the chunk), whole chunks, padded with fill;
+        ``values`` hold the events from ``first`` (≤ ``start``) on."""
         from .zarr_store import _quiet
 
         with _quiet():
             for name, array in self.arrays.items():
-                data = np.asarray(values[name], dtype=array.dtype)[start:]
+                data = np.asarray(values[name], dtype=array.dtype)[start - first:]
                 if data.size == 0:
                     continue
                 padded = -(-data.size // self.chunk) * self.chunk
@@ -329,14 +330,18 @@ class Checkpoints:
         self._written[i] = events
         return {"state": blobs, "catalog": catalog, "steps": int(meta["steps"]), "events": events}
 
-    def save(self, i: int, state: dict, catalog: dict, *, steps: int) -> None:
+    def save(self, i: int, state: dict, catalog: dict, *, steps: int, first: int = 0) -> None:
+        """``catalog`` holds the run's events from ``first`` on (0: all of them; a runner that saved the
+        events before ``first`` at earlier calls passes only the new ones: no copy of the whole catalog)."""
         from .zarr_store import _check_run
 
         _check_run(str(self.path), self.run_id)   # never into a store that replaced this run's
         run = int(self.runs[i])
-        events = len(next(iter(catalog.values())))
+        events = first + len(next(iter(catalog.values())))
         start = self._written.get(i, 0)
-        self.catalog.write(run, catalog, start)
+        if first > start:
+            raise ValueError(f"checkpoint of run {run}: events {start}..{first} were never saved")
+        self.catalog.write(run, catalog, start, first=first)
         self._written[i] = events
         blobs = {name: np.ascontiguousarray(value).tobytes() for name, value in state.items()}
         crc = 0

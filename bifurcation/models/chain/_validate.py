@@ -30,16 +30,18 @@ def _nonnegative(name: str, value, fix: str) -> float:
     return out
 
 
-def check_n_events(n: int, events: int, *, n_key: str, events_key: str, what: str, more: str) -> None:
-    """N × events of one run within ``bounds.CHAIN_MAX_N_EVENTS`` (each event costs O(N) outside its window):
-    the same one-line error for ``bifurcation chain`` (``--events``) and a chain workflow (``grid.events``);
-    ``what`` names the run, ``more`` (after the fix) says where longer runs go."""
-    from ...bounds import CHAIN_MAX_N_EVENTS
+def check_n_events(n: int, events: int, *, n_key: str, events_key: str, what: str, more: str, cap: int | None = None,
+                   why: str = "each event costs O(N)") -> None:
+    """N × events of one run within ``cap`` (default ``bounds.CHAIN_MAX_N_EVENTS``: each event costs O(N)
+    outside its window): the same one-line error for ``bifurcation chain`` (``--events``) and a chain workflow
+    (``grid.events``); ``what`` names the run, ``why`` the cost, ``more`` (after the fix) where longer runs go."""
+    from ... import bounds
 
-    if n * events > CHAIN_MAX_N_EVENTS:
+    cap = bounds.CHAIN_MAX_N_EVENTS if cap is None else cap
+    if n * events > cap:
         raise InputError(events_key, events, f"with {n_key} {n} is N × events = {n * events:.3g} > "
-                         f"{CHAIN_MAX_N_EVENTS:.0e}, the most {what} computes (each event costs O(N); "
-                         "bifurcation.bounds)", f"give {events_key} <= {CHAIN_MAX_N_EVENTS // n} at this N{more}")
+                         f"{cap:.0e}, the most {what} computes ({why}; bifurcation.bounds)",
+                         f"give {events_key} <= {cap // n} at this N{more}")
 
 
 def check_size(n, ell, ends) -> tuple[int, float, str]:

@@ -119,35 +119,46 @@ def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps
                          precision=precision, t_max=t_max, max_steps=max_steps, drop=sigma, v_threshold=v_th,
                          max_work=CHAIN_EVENT_WORK["exact", precision])   # as `bifurcation chain`: hours otherwise
         # the catalog as arrays per chunk (48 bytes an event), not Python lists of the whole run (~315 bytes an
-        # event measured: a workflow's run of 10^9 events at N <= 10 is within its bounds)
+        # event measured: a workflow's run of 10^9 events at N <= 10 is within its bounds); ``new`` the pieces
+        # since the last checkpoint, the only ones a checkpoint copies and writes
         cat = {name: [] for name in catalogs}
+        new = {name: [] for name in catalogs}
         done = steps = 0
         status, message, resumed = ChainStatus.COMPLETE, "", 0
         saved = checkpoints.load(i) if checkpoints is not None else None
         if saved is not None:
             restore(loop, saved["state"])
             for name in catalogs:
-                cat[name] = [_as_array(name, saved["catalog"][name])]
+                _keep(cat[name], _as_array(name, saved["catalog"][name]))
             steps = int(saved["steps"])      # the steps so far
             done = resumed = len(cat["t_start"][0])
+        saved_upto = done
         while done < events:
             chunk = min(_PIECE, events - done) if every is None else min(every - done % every, events - done)
             out = loop.run(chunk)
             loop.wall.clear()      # (per-event timings of the benchmarks: they grew with the run)
             loop.widest.clear()
             for name in catalogs:
-                cat[name].append(_as_array(name, out["catalog"][name]))
+                new[name].append(_as_array(name, out["catalog"][name]))
             steps += int(sum(out["catalog"]["steps"]))
             done += len(out["catalog"]["t_start"])
             if out["status"] != ChainStatus.COMPLETE:
                 status, message = out["status"], out["message"]
                 break
-            if every is not None and done % every == 0 and done < events:
-                for name in catalogs:   # one array each, so the pieces never pile up
-                    cat[name] = [np.concatenate(cat[name])]
-                checkpoints.save(i, snapshot(loop), {k: cat[k][0] for k in catalogs}, steps=steps)
+            if every is None or (done % every == 0 and done < events):
+                # the new pieces joined once, kept in O(log events) arrays: the whole catalog was joined at
+                # every checkpoint before (a copy growing as events², for the same catalog bit for bit)
+                piece = {k: new[k][0] if len(new[k]) == 1 else np.concatenate(new[k]) for k in catalogs}
+                if every is not None:
+                    checkpoints.save(i, snapshot(loop), piece, steps=steps, first=saved_upto)
+                    saved_upto = done
+                for name in catalogs:
+                    _keep(cat[name], piece[name])
+                new = {name: [] for name in catalogs}
         for name in catalogs:
-            catalogs[name][i] = np.concatenate(cat[name]) if cat[name] else _as_array(name, [])
+            pieces = cat[name] + new[name]
+            catalogs[name][i] = (pieces[0] if len(pieces) == 1 else np.concatenate(pieces)) if pieces else \
+                _as_array(name, [])
         per_run["status"][i] = int(status)
         per_run["events_done"][i] = done
         # a run that stopped early stopped inside an event: no time at which all blocks are stuck
@@ -157,6 +168,15 @@ def run_chains(model, label, points, *, precision="double", t_max=1e5, max_steps
         if message:
             messages[i] = message
     return {**per_run, **catalogs}, messages
+
+
+def _keep(pieces: list, piece: np.ndarray) -> None:
+    """Append ``piece``, joining the last two pieces while the last is at least as long as the one before
+    (a binary counter): O(log n) arrays and each event copied O(log n) times, in order."""
+    pieces.append(piece)
+    while len(pieces) >= 2 and pieces[-1].size >= pieces[-2].size:
+        last = pieces.pop()
+        pieces[-1] = np.concatenate((pieces[-1], last))
 
 
 #: Events per piece of a run without checkpoints (its lists of Python numbers stay this short)

@@ -91,6 +91,18 @@ OUTPUTS = (
 )
 
 
+def check_grid(workflow) -> None:
+    """A workflow's largest run within ``bounds.RS_CHAIN_MAX_N_EVENTS`` (about a day of one core at the
+    worst measured cost a block-event): the grid is a product, so its largest N and most events are one run."""
+    from ... import bounds
+    from ..chain._validate import check_n_events
+
+    check_n_events(max(workflow.axes["n"]), max(workflow.axes["events"]), n_key="grid.n", events_key="grid.events",
+                   what="one rs-chain run of a workflow", cap=bounds.RS_CHAIN_MAX_N_EVENTS,
+                   why="~2.5 ms of CPU a block-event at worst, so about a day",
+                   more=", or a smaller grid.n (a larger study is several runs: more seeds, or several workflows)")
+
+
 def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_steps=1_000_000, batch=1,
                   checkpoints=None) -> tuple[dict, dict]:
     """The runner: one chain run per point (flat per-axis arrays in ``points``); catalogs as object arrays.
@@ -142,7 +154,12 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
                 checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto), steps=snap.steps[0])
             save = to_store
 
-        r = run(spec, state0, int(p["events"]), t_max=float(t_max), max_steps=int(max_steps), every=every,
+        # the steps of one event bounded by its work too (bounds.RS_CHAIN_EVENT_WORK, ~3 h of one core):
+        # max_steps alone allowed ~8 days for one event at N = 65536
+        from ...bounds import RS_CHAIN_EVENT_WORK
+
+        steps_cap = min(int(max_steps), max(1, RS_CHAIN_EVENT_WORK // spec.n))
+        r = run(spec, state0, int(p["events"]), t_max=float(t_max), max_steps=steps_cap, every=every,
                 save=save, resume=resume)
         per_run["resumed"][i] = len(resume.rows) if resume is not None else 0
         for name, (_, _, dtype) in _CATALOG.items():
@@ -153,7 +170,9 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
         per_run["steps"][i] = r.steps
         per_run["balance_max"][i] = float(np.max(r.balance)) if r.events else np.nan
         if r.message:
-            messages[i] = r.message
+            messages[i] = r.message + (f" (max_steps {int(max_steps)} lowered to {steps_cap} at N = {spec.n}: "
+                                       f"bounds.RS_CHAIN_EVENT_WORK = {RS_CHAIN_EVENT_WORK:.0e} block-steps an event)"
+                                       if steps_cap < int(max_steps) and r.status == RSChainStatus.NO_STOP else "")
     return {**per_run, **catalogs}, messages
 
 
@@ -180,6 +199,7 @@ RS_CHAIN = Model(
     catalog_count="events_done",
     hooks=Hooks(describe_label="bifurcation.models.rs_chain.store_report:describe_label",
                 report="bifurcation.models.rs_chain.store_report:blocks",
-                bench="bifurcation.models.rs_chain._bench:run_rs_chain_bench", bench_needs=("scipy", "numba")),
+                bench="bifurcation.models.rs_chain._bench:run_rs_chain_bench", bench_needs=("scipy", "numba"),
+                check_grid="bifurcation.models.rs_chain.model:check_grid"),
     units_note="those of the workflow's own V_lp, Dc, k (σ = 1: stresses in units of the normal stress)",
 )
