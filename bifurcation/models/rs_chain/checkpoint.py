@@ -45,9 +45,10 @@ class Snapshot:
         """The events of the last full catalog chunk (what the store keeps of the catalog)."""
         return len(self.rows) // every * every
 
-    def catalog(self, fields, upto: int) -> dict:
-        """The first ``upto`` events as catalog arrays (the store's dtypes: int64 counts, float64 else)."""
-        cols = _columns(self.rows[:upto])
+    def catalog(self, fields, upto: int, first: int = 0) -> dict:
+        """Events ``first`` … ``upto`` as catalog arrays (the store's dtypes: int64 counts, float64 else);
+        a checkpoint passes only those since the last one (``Checkpoints.save(..., first=)``)."""
+        cols = _columns(self.rows[first:upto])
         return {name: cols[name] for name in fields}
 
     def arrays(self, every: int) -> dict[str, np.ndarray]:

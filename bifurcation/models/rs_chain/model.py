@@ -149,9 +149,15 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
                 if resume is not None and np.size(resume.state) != np.size(state0):
                     resume = None
 
-            def to_store(snap, i=i, every=every):
+            # only the events since the last save (those before are in the store): the whole catalog
+            # rebuilt at each checkpoint was a cost growing as events²
+            stored = [len(saved["catalog"]["t_start"]) if resume is not None else 0]
+
+            def to_store(snap, i=i, every=every, stored=stored):
                 upto = snap.boundary(every)
-                checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto), steps=snap.steps[0])
+                checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto, stored[0]), steps=snap.steps[0],
+                                 first=stored[0])
+                stored[0] = upto
             save = to_store
 
         # the steps of one event bounded by its work too (bounds.RS_CHAIN_EVENT_WORK, ~3 h of one core):
