@@ -212,11 +212,14 @@ class _MemoryCheckpoints:
     def load(self, i):
         return self.saved
 
-    def save(self, i, state, catalog, *, steps):
+    def save(self, i, state, catalog, *, steps, first=0):
+        # ``catalog`` holds the events from ``first`` on, those before were saved earlier (as the store's)
+        before = self.saved["catalog"] if first else {k: np.array(v[:0]) for k, v in catalog.items()}
+        assert len(before["t_start"]) >= first, "events before first never saved"
+        catalog = {k: np.concatenate([before[k][:first], v]) for k, v in catalog.items()}
         self.calls.append((i, len(catalog["t_start"]), steps))
         self.saved = {"state": {k: np.ascontiguousarray(v).tobytes() for k, v in state.items()},
-                      "catalog": {k: np.array(v) for k, v in catalog.items()}, "steps": steps,
-                      "events": len(catalog["t_start"])}
+                      "catalog": catalog, "steps": steps, "events": len(catalog["t_start"])}
 
 
 def test_the_runner_saves_at_each_chunk_and_ignores_a_checkpoint_that_does_not_fit():
