@@ -3,8 +3,8 @@
 event rows and passed it to ``Checkpoints.save``: a copy growing as events² (measured in the commit that
 made this change). Catalogs and checkpoint contents must stay the same bit for bit: with checkpoints or
 without, resumed or not; the saves joined are the catalog's prefix; each save's state bytes are those the
-whole-catalog runner saved (``Snapshot.arrays`` is unchanged, so its bytes are compared to a straight run's
-snapshots taken by ``simulate.run`` itself)."""
+whole-catalog runner saved: compared with the snapshots of a straight ``simulate.run`` and, for the
+per-event stress drop and balance, with that run's own result arrays (built apart from ``Snapshot.arrays``)."""
 
 from __future__ import annotations
 
@@ -64,11 +64,15 @@ def test_checkpoints_get_only_the_new_events_and_nothing_else_changes(points):
     # the state bytes: those of the snapshots a straight run hands to save (the whole-catalog runner's)
     spec = RSChainSpec(n=4, ell=3.0, state_law="aging", **QD)
     snaps = []
-    run(spec, initial_state(spec, 1.0, 1), EVENTS, every=EVERY, save=snaps.append)
+    straight = run(spec, initial_state(spec, 1.0, 1), EVENTS, every=EVERY, save=snaps.append)
     assert len(snaps) == len(rec.saves)
     for snap, save in zip(snaps, rec.saves):
         assert {k: v.tobytes() for k, v in snap.arrays(EVERY).items()} == save["state"]
         assert save["steps"] == snap.steps[0]
+        # the per-event columns of the file: the straight run's own arrays (built apart from Snapshot.arrays)
+        done = len(snap.rows)
+        for name in ("stress_drop", "balance"):
+            assert save["state"][name] == getattr(straight, name)[:done].tobytes(), name
 
 
 def test_a_run_resumed_from_a_checkpoint_is_bit_identical(points):

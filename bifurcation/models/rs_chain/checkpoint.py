@@ -53,7 +53,9 @@ class Snapshot:
 
     def arrays(self, every: int) -> dict[str, np.ndarray]:
         """Arrays that own their data: what a checkpoint file holds besides the stored catalog chunks."""
-        cols = _columns(self.rows)
+        # only the two columns kept for every event (all eight of every row were ~5x the cost, each save)
+        cols = {name: np.array([row[c] for row in self.rows], dtype=np.float64)
+                for c, name in enumerate(ROW) if name in ("stress_drop", "balance")}
         cut = self.boundary(every)
         c = self.current
         return {
