@@ -161,19 +161,27 @@ def transition_figure(out, st: dict) -> None:
     from ._study_figures import _NO_SOFTWARE
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    drawn = [0, 0]  # points per panel: a log axis with no data has no limits (small studies locate nothing)
     for nu, mk in zip(st["nus"], ("o", "s")):
         for key, ls, name in (("half", "-", "ν_½"), ("peak", "--", "ν_χ")):
             rs = [r for r in st["rows"] if r["nu"] == nu and r["branch"] == "up" and math.isfinite(r[key]["value"])]
             ax[0].errorbar([r["n"] for r in rs], [r[key]["value"] for r in rs], yerr=[r[key]["sigma"] for r in rs],
                            fmt=mk + ls, ms=4, capsize=3, label=f"{name}, ν = {nu:g}")
+            drawn[0] += len(rs)
         rs = [r for r in st["rows"] if r["nu"] == nu and r["branch"] == "up" and math.isfinite(r["width"]["value"])]
+        drawn[1] += len(rs)
         ax[1].errorbar([r["n"] for r in rs], [r["width"]["value"] for r in rs], yerr=[r["width"]["sigma"] for r in rs],
                        fmt=mk + "-", ms=4, capsize=3, label=f"W, ν = {nu:g}")
     ax[0].axhline(st["star"], color="gray", lw=0.8, label="ν_f* = 1/(2√k)")
     ax[0].axhline(0.5, color="gray", lw=0.8, ls=":", label="1/2")
     ax[1].axhline(st["spacing"], color="gray", lw=0.8, ls=":", label="grid spacing (a step)")
-    ax[0].set(xscale="log", xlabel="N", ylabel="ν_f", title="transition location (up branch; N = 1: the single block)")
-    ax[1].set(xscale="log", yscale="log", xlabel="N", ylabel="W = drop / max(−dD/dν_f)", title="width of the change")
+    ax[0].set(xlabel="N", ylabel="ν_f", title="transition location (up branch; N = 1: the single block)")
+    ax[1].set(xlabel="N", ylabel="W = drop / max(−dD/dν_f)", title="width of the change")
+    for a, n, log in ((ax[0], drawn[0], ("x",)), (ax[1], drawn[1], ("x", "y"))):
+        if n:
+            a.set(**{f"{k}scale": "log" for k in log})
+        else:
+            a.text(0.5, 0.5, "no transition located on this grid", transform=a.transAxes, ha="center", va="center")
     ax[0].legend(fontsize=7), ax[1].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "fig_transition.png", dpi=110, metadata=_NO_SOFTWARE)
