@@ -14,7 +14,22 @@ import numpy as np
 from bifurcation.store import open_store
 from bifurcation.run.tiles import OUTPUTS
 
-__all__ = ["assert_bitwise_equal", "assert_store_equals", "local_cluster"]
+__all__ = ["Recorder", "assert_bitwise_equal", "assert_store_equals", "local_cluster"]
+
+
+class Recorder:
+    """A runner's ``Checkpoints`` in memory (the chain and rs-chain checkpoint tests): keeps every save (and can hand one back as ``load`` would)."""
+
+    def __init__(self, every, resume_from=None):
+        self.every, self.saves, self.resume_from = every, [], resume_from
+
+    def load(self, i):
+        return self.resume_from
+
+    def save(self, i, state, catalog, *, steps, first=0):
+        self.saves.append({"state": {k: np.ascontiguousarray(v).tobytes() for k, v in state.items()},
+                           "catalog": {k: np.array(v, copy=True) for k, v in catalog.items()},
+                           "first": first, "steps": steps})
 
 
 def assert_bitwise_equal(ds, reference: dict) -> None:

@@ -13,23 +13,10 @@ import pytest
 from bifurcation.models import get_model
 from bifurcation.models.chain.model import run_chains
 
+from _store_helpers import Recorder
+
 EVENTS, EVERY = 50, 7
 NAMES = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
-
-
-class Recorder:
-    """A ``Checkpoints`` in memory: keeps every save (and can hand one back as ``load`` would)."""
-
-    def __init__(self, every, resume_from=None):
-        self.every, self.saves, self.resume_from = every, [], resume_from
-
-    def load(self, i):
-        return self.resume_from
-
-    def save(self, i, state, catalog, *, steps, first=0):
-        self.saves.append({"state": {k: np.ascontiguousarray(v).tobytes() for k, v in state.items()},
-                           "catalog": {k: np.array(v, copy=True) for k, v in catalog.items()},
-                           "first": first, "steps": steps})
 
 
 @pytest.fixture(scope="module")

@@ -15,24 +15,11 @@ from bifurcation.models import get_model
 from bifurcation.models.rs_chain.model import run_rs_chains
 from bifurcation.models.rs_chain.simulate import RSChainSpec, initial_state, run
 
+from _store_helpers import Recorder
+
 EVENTS, EVERY = 45, 7
 NAMES = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
 QD = dict(a=0.01, b=0.015, dc=0.01, k=0.1, v_lp=1.0, eta=1e-3, v_th=10.0)
-
-
-class Recorder:
-    """A ``Checkpoints`` in memory: keeps every save (and can hand one back as ``load`` would)."""
-
-    def __init__(self, every, resume_from=None):
-        self.every, self.saves, self.resume_from = every, [], resume_from
-
-    def load(self, i):
-        return self.resume_from
-
-    def save(self, i, state, catalog, *, steps, first=0):
-        self.saves.append({"state": {k: np.ascontiguousarray(v).tobytes() for k, v in state.items()},
-                           "catalog": {k: np.array(v, copy=True) for k, v in catalog.items()},
-                           "first": first, "steps": steps})
 
 
 @pytest.fixture(scope="module")
