@@ -83,6 +83,51 @@ def _empty_value(command: click.Command, args: list[str], prefix: str = "") -> s
     return None
 
 
+#: Parameters that name a file or directory: their values are checked for names the system cannot take.
+_PATHS = ("store", "out", "workflow")
+
+
+def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str | None:
+    """A path given to --store, --out or WORKFLOW that no command could use: a name longer than the system
+    takes (a traceback-free exit 1 after the work, or a half-made parent directory, before) or a symbolic
+    link that loops (``Path.exists`` calls it missing, so outputs failed at the end with 'File exists')."""
+    if isinstance(command, click.Group):
+        sub = command.commands.get(args[0]) if args else None
+        return _bad_path(sub, args[1:], f"{prefix}{command.name} ") if sub is not None else None
+    takes = {opt: p for p in command.params if isinstance(p, click.Option) and not p.is_flag for opt in p.opts}
+    positional = [p for p in command.params if isinstance(p, click.Argument)]
+    i, position = 0, 0
+    while i < len(args):
+        arg = args[i]
+        opt, eq, value = arg.partition("=")
+        param = None
+        if opt in takes and eq:
+            name, param = opt, takes[opt]
+        elif arg in takes:
+            i += 1
+            name, param, value = arg, takes[arg], args[i] if i < len(args) else ""
+        elif not (arg.startswith("-") and arg.strip("-")) and positional:
+            param = positional[min(position, len(positional) - 1)]
+            name, value, position = param.human_readable_name, arg, position + 1
+        i += 1
+        if param is None or param.name not in _PATHS or not value:
+            continue
+        shown = value if len(value) <= 80 else value[:60] + "…" + value[-15:]
+        raw = os.fsencode(value)
+        longest = max(raw.split(b"/"), key=len)
+        if len(longest) > 255 or len(raw) > 4095:
+            what = (f"has a name of {len(longest)} bytes (the limit is 255)" if len(longest) > 255 else
+                    f"is {len(raw)} bytes long (the limit is 4095)")
+            return f"{name}={shown!r}: {what}; give a shorter path"
+        try:
+            os.stat(value)
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                return (f"{name}={shown!r}: is a symbolic link that loops (or a chain of more than 40); "
+                        "remove or fix the link, or give another path")
+    return None
+
+
 def _stdout_closed() -> bool:
     """Whether standard output is a pipe whose reader has gone (poll reports POLLERR on it)."""
     import select
@@ -108,7 +153,7 @@ class Group(click.Group):
         name, command, rest = super().resolve_command(ctx, args)
         self._command = command
         if command is not None:
-            problem = _repeated_option(command, rest) or _empty_value(command, rest)
+            problem = _repeated_option(command, rest) or _empty_value(command, rest) or _bad_path(command, rest)
             if problem:
                 raise click.UsageError(problem)
         return name, command, rest
@@ -264,8 +309,18 @@ def _not_a_number(value, example: str) -> str:
     """Why ``value`` is not a number (``Text``'s rules), and an example."""
     text = str(value)
     why = ("has an underscore: write the digits without '_'" if "_" in text else
-           "has characters that are not ASCII" if not text.isascii() else "is not a number")
+           "has characters that are not ASCII" if not text.isascii() else
+           "is below the smallest double (~5e-324) and would be read as 0" if _underflows(text) else
+           "is not a number")
     return f"{text!r} {why}; give e.g. {example}"
+
+
+def _underflows(text: str) -> bool:
+    """Whether ``text`` is a nonzero decimal that float() reads as 0 (``1e-400``)."""
+    try:
+        return float(text) == 0.0 and any(c in "123456789" for c in text.strip().lower().split("e")[0])
+    except ValueError:
+        return False
 
 
 class Whole(click.ParamType):

@@ -24,6 +24,12 @@ class Text(float):
             raise ValueError(f"{text!r}: write the number in ASCII digits without '_'")
         value = super().__new__(cls, text)
         value.text = str(text).strip()
+        if value == 0.0:
+            if any(c in "123456789" for c in value.text.lower().split("e")[0]):   # '1e-400': not silently 0
+                raise ValueError(f"{text!r}: underflows to 0")
+            if value.text.startswith("-"):   # '-0.0' is 0 for every input; printed and stored as 0, not '-0'
+                value = super().__new__(cls, "0")
+                value.text = "0"
         return value
 
 

@@ -62,19 +62,66 @@ def other_command(data, own: WorkflowKind, argument: str, source) -> None:
                              kind.fix)
 
 
+#: Tables and arrays nest at most this deep in a workflow (the shipped ones: 3).
+MAX_DEPTH = 32
+
+
+class _Underflow(ValueError):
+    def __init__(self, literal: str) -> None:
+        super().__init__(literal)
+        self.literal = literal
+
+
+def _toml_float(literal: str) -> float:
+    """A TOML float as ``tomllib`` reads it, except that a nonzero literal read as 0 (``1e-400``) is refused
+    rather than silently made 0, and ``-0.0`` reads as 0.0 (a label ``-0`` would differ from ``0`` in text
+    only)."""
+    value = float(literal)
+    if value == 0.0:
+        mantissa = literal.lower().split("e")[0]
+        if any(c in "123456789" for c in mantissa):
+            raise _Underflow(literal)
+        return 0.0
+    return value
+
+
+def _depth(data) -> int:
+    """How deep tables and arrays nest in ``data`` (iteratively: no recursion limit to hit)."""
+    deepest, stack = 0, [(data, 1)]
+    while stack:
+        node, level = stack.pop()
+        if isinstance(node, dict):
+            node = list(node.values())
+        elif not isinstance(node, list):
+            continue
+        deepest = max(deepest, level)
+        if level <= MAX_DEPTH:
+            stack.extend((child, level + 1) for child in node if isinstance(child, (dict, list)))
+    return deepest
+
+
 def parse_toml(text: str, argument: str, source, example: str) -> dict:
     """The TOML document ``text`` (from ``source``, a file name for messages), or an ``InputError``."""
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text, parse_float=_toml_float)
     except RecursionError:   # tables or arrays nested thousands deep
         raise InputError(argument, str(source), "is nested too deeply",
                          f"a workflow needs only tables nested a few deep (see {example})") from None
+    except _Underflow as exc:
+        line = text.count("\n", 0, max(text.find(exc.literal), 0)) + 1
+        raise InputError(argument, str(source), f"holds the number {exc.literal} (line {line}), which is below "
+                         f"the smallest double (~5e-324) and would be read as 0",
+                         "write 0 or a number the computation can hold") from None
     except tomllib.TOMLDecodeError as exc:
         if text.startswith("\ufeff"):   # said as 'Invalid statement (at line 1, column 1)' before
             raise InputError(argument, str(source), "starts with a byte-order mark (U+FEFF, as some editors save "
                              "UTF-8), which TOML does not allow", "save it as UTF-8 without a BOM") from None
         raise InputError(argument, str(source), f"is not valid TOML ({exc})",
                          f"fix the syntax; see {example} for an example") from None
+    if _depth(data) > MAX_DEPTH:   # dotted keys a.a.a… parse without recursion, but every repr of them overflows
+        raise InputError(argument, str(source), f"is nested too deeply (more than {MAX_DEPTH} levels of tables "
+                         "or arrays)", f"a workflow needs only tables nested a few deep (see {example})")
+    return data
 
 
 def read_toml(path, kind: WorkflowKind, *, argument: str, example: str) -> tuple[str, dict]:
