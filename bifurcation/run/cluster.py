@@ -39,6 +39,7 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
 
         address = dask.config.get("scheduler-address", None)
         if not address:
+            _check_temporary_directory()
             return None
         text = str(address).strip()   # checked as --scheduler is ('garbage' was a traceback after 20 s)
         host, _, port = text.rpartition(":")
@@ -61,6 +62,27 @@ def check_scheduler(scheduler) -> tuple[str, object, str] | None:
         return ("address", f"tcp://{text}", "--scheduler")
     raise InputError("--scheduler", text, "is neither a scheduler address nor an existing scheduler file",
                      "give tcp://HOST:PORT or the path written by `dask scheduler --scheduler-file`")
+
+
+def _check_temporary_directory() -> None:
+    """Dask's ``temporary-directory`` (DASK_TEMPORARY_DIRECTORY), where an embedded cluster's workers keep
+    their files, is a directory this process can write: one in /proc or missing was a 77-line traceback
+    from LocalCluster once the store was made (issue 21 walk 3)."""
+    import dask
+
+    where = dask.config.get("temporary-directory", None)
+    if not where:
+        return
+    path = Path(str(where)).expanduser().absolute()
+    while not path.exists() and path != path.parent:   # distributed creates it (os.makedirs) if it can
+        path = path.parent
+    try:   # os.access says yes to root in /proc: make (and remove) an empty directory there instead
+        import tempfile
+
+        os.rmdir(tempfile.mkdtemp(prefix=".bifurcation-probe-", dir=path))
+    except OSError:
+        raise InputError("DASK_TEMPORARY_DIRECTORY", str(where), "is not a writable directory (Dask's "
+                         "temporary-directory setting)", "create it, set it to one you can write, or unset it") from None
 
 
 def _check_port(address: str, source: str = "--scheduler") -> None:
