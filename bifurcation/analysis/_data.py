@@ -217,6 +217,10 @@ def find_stores(paths) -> list[Path]:
             continue
         children = sorted(c for c in p.iterdir() if c.is_dir() and _looks_like_store(c)) if p.is_dir() else []
         if not children:
+            from ..store.zarr_store import _only_lock, only_lock_error
+
+            if _only_lock(p):
+                raise only_lock_error(p, "store")
             raise InputError("store", str(p), "is neither a Zarr store nor a directory of stores",
                              "give the path of a store written by `bifurcation submit`")
         out.extend(children)

@@ -77,6 +77,20 @@ def _only_lock(path: Path) -> bool:
     return bool(names) and all(name.startswith(LOCK_NAME) for name in names)
 
 
+def only_lock_error(path, argument: str = "--store") -> InputError:
+    """The error for a directory that holds only a submit's lock: that submit was killed before it made the
+    store (said 'no such store' by status, 'neither a Zarr store nor a directory of stores' by report)."""
+    from .lock import _read, lock_path
+
+    found = _read(lock_path(path))
+    if found is not None and found.alive() is not False:
+        return InputError(argument, str(path), f"is being created by {found.describe()} (it holds only its lock "
+                          "yet)", "wait a moment and run this command again")
+    return InputError(argument, str(path), "holds only the lock of a submit that stopped before it made the store "
+                      "(no point was computed)", "submit the workflow again with this --store: the lock of a run "
+                      "that is gone is taken over")
+
+
 def store_kind(path) -> str:
     """``"missing"``, ``"store"`` (a bifurcation store) or ``"other"`` (anything else at ``path``)."""
     return _inspect(path)[0]
@@ -93,6 +107,8 @@ def read_attrs(path) -> dict:
 def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
     """Attributes of the store at ``path``; ``InputError`` if it is not one, or holds another study."""
     kind, attrs = _inspect(path)
+    if kind == "missing" and _only_lock(Path(path)):
+        raise only_lock_error(path, argument)
     if kind == "missing":
         raise InputError(argument, str(path), "no such store",
                          "give the path of a store written by `bifurcation submit`")
