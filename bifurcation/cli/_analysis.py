@@ -150,7 +150,7 @@ def report(stores, out: str, force: bool, as_json: bool) -> None:
     if as_json:
         echo_json(_written(files))
         return
-    click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figures")
+    click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figure{'' if len(files['figures']) == 1 else 's'}")
 
 
 def _written(files: dict) -> dict:
@@ -217,7 +217,7 @@ def reproduce(out: str, scheduler, workers, new_stores: bool, force: bool, as_js
         echo_json({"submits": summaries, "report": _written(files),
                    "wall_time": round(time.perf_counter() - started, 3)})
         return
-    click.echo(f"wrote {files['markdown']} (and report.html, {len(files['figures'])} figures) in "
+    click.echo(f"wrote {files['markdown']} (and report.html, {len(files['figures'])} figure{'' if len(files['figures']) == 1 else 's'}) in "
                f"{time.perf_counter() - started:.1f} s")
 
 

@@ -17,7 +17,7 @@ import click
 
 from ..errors import InputError, Terminated, stop
 
-__all__ = ["Group", "as_typed", "check_out_dir", "check_outside_stores", "check_replace", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
+__all__ = ["Group", "as_typed", "quiet_heyoka", "check_out_dir", "check_outside_stores", "check_replace", "check_writable_dir", "echo_json", "examples", "fail", "format_value", "native_stdout_to_stderr", "number"]
 
 
 def fail(message: str) -> None:
@@ -313,6 +313,15 @@ def _not_a_number(value, example: str) -> str:
            "is below the smallest double (~5e-324) and would be read as 0" if _underflows(text) else
            "is not a number")
     return f"{text!r} {why}; give e.g. {example}"
+
+
+def quiet_heyoka() -> None:
+    """heyoka's own warnings off (errors kept): a point that runs away gets the status ``nonfinite`` and says
+    so; heyoka's '[warning] event detection skipped due to an invalid timestep value of nan' beside it on
+    stderr was noise in a command's output (`slip --law '1-x'`, issue 21 walk 3)."""
+    import heyoka
+
+    heyoka.set_logger_level_error()
 
 
 def _underflows(text: str) -> bool:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from . import _options as O
-from ._common import Whole, echo_json, examples, format_value
+from ._common import Whole, echo_json, examples, format_value, quiet_heyoka
 
 __all__ = ["COMMANDS"]
 
@@ -49,6 +49,7 @@ def slip_cmd(law: str, nu: float, nu_f: float, precision: str, as_json: bool) ->
     """One slip cycle at (ν, ν_f): Δ, T, t1, slip duration, max velocity, status."""
     from ..engine import FIELDS, slip
 
+    quiet_heyoka()
     record = slip(law, nu=nu, nu_f=nu_f, precision=precision).to_records()[0]
     record["precision"] = precision
     _print_point(record, ("law", "nu", "nu_f", *FIELDS, "steps", "status", "message"), as_json)
@@ -64,6 +65,7 @@ def limit_cmd(law: str, nu_f: float, precision: str, as_json: bool) -> None:
     """The ν → 0 limit at ν_f, computed directly on the ν = 0 flow: Δ0 and more."""
     from ..engine import LIMIT_FIELDS, limit
 
+    quiet_heyoka()
     record = limit(law, nu_f=nu_f, precision=precision).to_records()[0]
     _print_point(record, ("law", "nu_f", *LIMIT_FIELDS, "status", "message"), as_json)
 

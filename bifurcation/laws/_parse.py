@@ -115,6 +115,10 @@ def _syntax_tree(text: str) -> tuple[ast.expr, str]:
     source = stripped.replace("\u2212", "-").replace("^", "**")
     if "#" in source:   # Python's comment: the rest was ignored yet kept in the law's name (issue 21 walk)
         raise _refuse(text, "holds '#', which is not part of a formula", _FIX)
+    if not source.isascii():   # Python reads identifiers NFKC-folded: 'ℯxp(-x)' ran as exp(-x) (issue 21 walk 3)
+        column, char = next((i + 1, c) for i, c in enumerate(stripped) if not c.isascii() and c != "\u2212")
+        raise _refuse(text, f"holds {char!r} (U+{ord(char):04X}) at column {column}, which is not ASCII",
+                      "write the formula in ASCII letters and digits; " + _FIX)
     try:
         tree = ast.parse(source, mode="eval")
     except SyntaxError as exc:
