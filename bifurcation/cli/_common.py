@@ -311,6 +311,7 @@ def _not_a_number(value, example: str) -> str:
     why = ("has an underscore: write the digits without '_'" if "_" in text else
            "has characters that are not ASCII" if not text.isascii() else
            "is below the smallest double (~5e-324) and would be read as 0" if _underflows(text) else
+           "is beyond the range of a double (|x| < ~1.8e308) and would be read as infinity" if _overflows(text) else
            "is not a number")
     return f"{text!r} {why}; give e.g. {example}"
 
@@ -328,6 +329,14 @@ def _underflows(text: str) -> bool:
     """Whether ``text`` is a nonzero decimal that float() reads as 0 (``1e-400``)."""
     try:
         return float(text) == 0.0 and any(c in "123456789" for c in text.strip().lower().split("e")[0])
+    except ValueError:
+        return False
+
+
+def _overflows(text: str) -> bool:
+    """Whether ``text`` is a finite decimal that float() reads as ±inf (``1e400``)."""
+    try:
+        return math.isinf(float(text)) and "inf" not in text.lower()
     except ValueError:
         return False
 

@@ -24,6 +24,8 @@ class Text(float):
             raise ValueError(f"{text!r}: write the number in ASCII digits without '_'")
         value = super().__new__(cls, text)
         value.text = str(text).strip()
+        if value in (float("inf"), float("-inf")) and "inf" not in value.text.lower():   # '1e400': not inf
+            raise ValueError(f"{text!r}: overflows to infinity")
         if value == 0.0:
             if any(c in "123456789" for c in value.text.lower().split("e")[0]):   # '1e-400': not silently 0
                 raise ValueError(f"{text!r}: underflows to 0")

@@ -66,21 +66,23 @@ def other_command(data, own: WorkflowKind, argument: str, source) -> None:
 MAX_DEPTH = 32
 
 
-class _Underflow(ValueError):
+class _OutOfRange(ValueError):
     def __init__(self, literal: str) -> None:
         super().__init__(literal)
         self.literal = literal
 
 
 def _toml_float(literal: str) -> float:
-    """A TOML float as ``tomllib`` reads it, except that a nonzero literal read as 0 (``1e-400``) is refused
-    rather than silently made 0, and ``-0.0`` reads as 0.0 (a label ``-0`` would differ from ``0`` in text
+    """A TOML float as ``tomllib`` reads it, except that a nonzero literal read as 0 (``1e-400``) or a finite one
+    read as infinity (``1e400``) is refused rather than silently changed, and ``-0.0`` reads as 0.0 (a label ``-0`` would differ from ``0`` in text
     only)."""
     value = float(literal)
+    if math.isinf(value) and "inf" not in literal:   # 1e400: refused as the literal, not as 'inf'
+        raise _OutOfRange(literal)
     if value == 0.0:
         mantissa = literal.lower().split("e")[0]
         if any(c in "123456789" for c in mantissa):
-            raise _Underflow(literal)
+            raise _OutOfRange(literal)
         return 0.0
     return value
 
@@ -107,11 +109,12 @@ def parse_toml(text: str, argument: str, source, example: str) -> dict:
     except RecursionError:   # tables or arrays nested thousands deep
         raise InputError(argument, str(source), "is nested too deeply",
                          f"a workflow needs only tables nested a few deep (see {example})") from None
-    except _Underflow as exc:
+    except _OutOfRange as exc:
         line = text.count("\n", 0, max(text.find(exc.literal), 0)) + 1
-        raise InputError(argument, str(source), f"holds the number {exc.literal} (line {line}), which is below "
-                         f"the smallest double (~5e-324) and would be read as 0",
-                         "write 0 or a number the computation can hold") from None
+        what = ("is beyond the range of a double (|x| < ~1.8e308) and would be read as infinity"
+                if math.isinf(float(exc.literal)) else "is below the smallest double (~5e-324) and would be read as 0")
+        raise InputError(argument, str(source), f"holds the number {exc.literal} (line {line}), which {what}",
+                         "write a number a double holds (or 0 where 0 is meant)") from None
     except tomllib.TOMLDecodeError as exc:
         if text.startswith("\ufeff"):   # said as 'Invalid statement (at line 1, column 1)' before
             raise InputError(argument, str(source), "starts with a byte-order mark (U+FEFF, as some editors save "
@@ -175,7 +178,7 @@ _MISSING = object()
 
 def _type_name(value) -> str:
     return {bool: "a boolean", int: "an integer", float: "a number", str: "a string", list: "an array",
-            dict: "a table"}.get(type(value), type(value).__name__)
+            dict: "a table"}.get(type(value), f"a {type(value).__name__.replace('datetime', 'date-time')}")
 
 
 class Table:
