@@ -1565,3 +1565,21 @@ def test_an_unwritable_dask_temporary_directory(env, tmp_path, monkeypatch):
         assert result.exit_code == 2 and len(lines) == 1, result.output
         assert lines[0].startswith(f"bifurcation: error: DASK_TEMPORARY_DIRECTORY='{paths['text']}/sub'"), lines
         assert not (tmp_path / "new").exists()
+
+
+def test_output_to_a_full_device_is_an_error(env, tmp_path):
+    """`query ... > /dev/full`: the output buffered to the end was lost and the command exited 0 (the last
+    flush's OSError was swallowed); now one line saying so, exit 1. (A real process: the runner has no fd 1.)"""
+    import subprocess
+    import sys
+
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full on this system")
+    _, paths, _ = env
+    with open("/dev/full", "w") as full:
+        done = subprocess.run([sys.executable, "-c", "from bifurcation.cli import main; main()", "query",
+                               "--store", paths["sb"], "--format", "csv"], stdout=full, stderr=subprocess.PIPE,
+                              text=True, timeout=60, cwd=tmp_path)
+    lines = done.stderr.splitlines()
+    assert done.returncode == 1 and len(lines) == 1, done.stderr
+    assert lines[0].startswith("bifurcation: error: standard output: No space left on device"), lines

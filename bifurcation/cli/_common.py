@@ -197,8 +197,10 @@ class Group(click.Group):
             sys.exit(exc.exit_code)
         except OSError as exc:   # disk full, permissions, a vanished file: the system's one line, no traceback
             where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
+            stores = getattr(self._command, "name", None) in ("submit", "reproduce", "verify")
             fix = ("; free some space (or choose another --store) and run the same command again: finished "
-                   "tiles are kept" if exc.errno == errno.ENOSPC else "")
+                   "tiles are kept" if exc.errno == errno.ENOSPC and stores else
+                   "; free some space and run the same command again" if exc.errno == errno.ENOSPC else "")
             click.echo(f"bifurcation: error: {exc.strerror or exc}{where}{fix}", err=True)
             sys.exit(1)
 
@@ -485,11 +487,22 @@ def native_stdout_to_stderr():
     stream = io.TextIOWrapper(os.fdopen(saved, "wb"), encoding=getattr(original, "encoding", None) or "utf-8",
                               errors="replace", line_buffering=original.isatty() if hasattr(original, "isatty") else False)
     sys.stdout = stream
+    status = None
     try:
         yield
+    except SystemExit as exc:
+        status = exc.code
+        raise
     finally:
+        lost = None
         try:
             stream.flush()
-        except OSError:
+        except BrokenPipeError:   # the reader is gone (`| head`): nothing left to tell it
             pass
+        except OSError as exc:    # `> /dev/full`, a full disk: the output is incomplete, so not a success
+            lost = exc
         sys.stdout = original
+        if lost is not None and status in (None, 0):
+            click.echo(f"bifurcation: error: standard output: {lost.strerror or lost} (the output was not "
+                       "written in full); write it where there is room", err=True)
+            sys.exit(1)
