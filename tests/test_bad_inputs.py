@@ -1495,6 +1495,14 @@ CASES_W3 = [
     "submit {wf_rsc} --store {chain} ## --store",
     "submit {wf_chain} --store {sb} ## --store",
     "continue {root}/workflows/rate-state-grid.toml ## `bifurcation submit",
+    # integers of more digits than int() reads (4300): a ValueError traceback before
+    f"{_set(CHAIN_CLI, '--n', '9' * 5000)} ## a number of 5000 digits is far outside",           # fixed
+    f"{_set(CHAIN_CLI, '--seed', '9' * 5000)} ## --seed",                                         # fixed
+    f"{RATE} --outputs {'9' * 5000} ## --outputs",                                                # fixed
+    f"bench --points {'9' * 5000} ## --points",                                                   # fixed
+    f"query --store {{chain}} --n {'9' * 5000} ## --n",
+    f"submit {{wf_fig}} --store {{newstore}} --scheduler /tmp/{_LONG} ## --scheduler",     # fixed: exit 1
+    f"verify --store {{sb}} --repair --scheduler /tmp/{_LONG} ## --scheduler",              # fixed: exit 1
 ]
 STUDY_CASES_W3 = [
     "study chain {study} --out {loop} ## --out='{loop}': is a symbolic link that loops",   # fixed: exit 1

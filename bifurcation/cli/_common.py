@@ -84,11 +84,11 @@ def _empty_value(command: click.Command, args: list[str], prefix: str = "") -> s
 
 
 #: Parameters that name a file or directory: their values are checked for names the system cannot take.
-_PATHS = ("store", "out", "workflow")
+_PATHS = ("store", "out", "workflow", "scheduler")
 
 
 def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str | None:
-    """A path given to --store, --out or WORKFLOW that no command could use: a name longer than the system
+    """A path given to --store, --out, --scheduler or WORKFLOW that no command could use: a name longer than the system
     takes (a traceback-free exit 1 after the work, or a half-made parent directory, before) or a symbolic
     link that loops (``Path.exists`` calls it missing, so outputs failed at the end with 'File exists')."""
     if isinstance(command, click.Group):
@@ -360,6 +360,9 @@ class Whole(click.ParamType):
             if not (digits.isascii() and digits.isdigit()):
                 why = _not_a_number(value, self.example).replace("is not a number", "is not a whole number")
                 self.fail(why, param, ctx)
+            if len(digits) > 30:   # int() refuses more than 4300 digits with a ValueError (a traceback)
+                self.fail(f"a number of {len(digits)} digits is far outside [{self.low if self.low is not None else '-inf'}, "
+                          f"{self.high if self.high is not None else 'inf'}]; give e.g. {self.example}", param, ctx)
             out = int(text)
         if (self.low is not None and out < self.low) or (self.high is not None and out > self.high):
             self.fail(f"{out} is not in [{self.low if self.low is not None else '-inf'}, "
