@@ -24,13 +24,17 @@ import numpy as np
 
 from ...errors import InputError
 from ..rate_state.laws import resolve_state_law
-from ._system import PARAMETERS, Layout, compiled, steady_state
+from ._system import EXACT_TOL, PARAMETERS, Layout, compiled, steady_state
 from .checkpoint import Snapshot
 from .result import RSChainStatus
 
 __all__ = ["CATALOG_FIELDS", "RSChainResult", "RSChainSpec", "RSChainStatus", "initial_state", "rs_chain", "run"]
 
 CATALOG_FIELDS = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
+
+#: The loosest heyoka tolerance ``run`` accepts: order 10; the catalog's error there is measured in
+#: docs/rs-chain.md ("Speed"), beyond it nothing was measured.
+LOOSEST_TOL = 1e-8
 
 
 def _number(argument, value, *, low=None, positive=False, fix="give a finite number") -> float:
@@ -159,6 +163,19 @@ class _Events:
         self.t_last = 0.0
         self.ln_v_th = math.log(spec.v_th)
         self.crossings: list | None = None
+        # RSChainSpec.stress's constants, bound once: it ran at 24 µs a call (law lookup, small-array
+        # numpy, fsum over numpy scalars), 2 calls an event, ~20 % of an N = 4 run; same arithmetic, same bits
+        self._y_ss = math.log(spec.law.steady_factor * spec.dc)
+        self._n2 = 2 * spec.n
+
+    def stress(self, state) -> float:
+        """``RSChainSpec.stress`` (the same operations in the same order)."""
+        spec, n = self.spec, self.spec.n
+        x = state[:n]
+        s = spec.a * x + spec.b * (state[n:self._n2] - self._y_ss) + spec.eta * np.exp(x)
+        if spec.inertial:
+            s = s + state[self._n2:3 * n]
+        return math.fsum(s.tolist())
 
     @property
     def done(self) -> int:
@@ -176,7 +193,7 @@ class _Events:
                 if not self.n_above:
                     self.current = {"t_start": time, "hypocentre": j, "blocks": {j}, "vmax": self.spec.v_th,
                                     "p0": float(data[self.layout.potency]),
-                                    "s0": self.spec.stress(data, self.layout)}
+                                    "s0": self.stress(data)}
                 self.above[j] = True
                 self.n_above += 1
                 self.current["blocks"].add(j)
@@ -194,7 +211,7 @@ class _Events:
         c, spec = self.current, self.spec
         dt = time - c["t_start"]
         potency = float(data[self.layout.potency]) - c["p0"]
-        ds = spec.stress(data, self.layout) - c["s0"]
+        ds = self.stress(data) - c["s0"]
         load = spec.k * (spec.n * spec.v_lp * dt - potency)
         balance = abs(ds - load) / abs(ds) if ds != 0 else math.inf
         self.rows.append((c["t_start"], c["hypocentre"], len(c["blocks"]), potency, dt, c["vmax"], -ds, balance))
@@ -204,13 +221,16 @@ class _Events:
 
 def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_steps: int = 10_000_000,
         maxima: bool = True, crossings: bool = False, every: int | None = None, save=None,
-        resume=None) -> RSChainResult:
+        resume=None, tol: float = EXACT_TOL) -> RSChainResult:
     """Integrate from ``state0`` (``initial_state``) until ``events`` events are catalogued.
 
     ``t_max`` and ``max_steps`` bound the time and the Taylor steps from the start or the end of the
     last event to the end of the next one; beyond them the run stops with ``no-stop`` and keeps the
     events before. ``maxima=False`` leaves out the velocity-maximum events (``max_velocity`` is NaN);
     ``crossings=True`` keeps every threshold crossing (t, block, ±1) of the catalogued events.
+    ``tol`` is heyoka's tolerance: the default, double epsilon, is the exact engine (≤ 2.5e-14 from the
+    mpmath references); a looser one, up to ``LOOSEST_TOL``, lowers the Taylor order and the cost per
+    step, not the step count (docs/rs-chain.md, "Speed": the catalog's measured error at each tolerance).
 
     Checkpoints (``checkpoint.Snapshot``): ``save(snapshot)`` is called at the end of the first step
     after which the events done reach a new multiple of ``every`` (while events remain to do); a run
@@ -219,13 +239,17 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     """
     if int(events) < 1:
         raise InputError("events", events, "must be >= 1", "give the number of events to catalogue")
+    tol = _number("tol", tol, positive=True, fix=f"give a tolerance from {EXACT_TOL:.3g} to {LOOSEST_TOL:g}")
+    if not EXACT_TOL <= tol <= LOOSEST_TOL:
+        raise InputError("tol", tol, f"is outside [{EXACT_TOL:.3g}, {LOOSEST_TOL:g}]",
+                         f"give a tolerance from {EXACT_TOL:.3g} (the exact default) to {LOOSEST_TOL:g}")
     if save is not None and (every is None or int(every) < 1):
         raise InputError("every", every, "must be >= 1 with save", "give the events between checkpoints")
     if resume is not None and crossings:
         raise InputError("crossings", crossings, "cannot be kept by a resumed run (a checkpoint holds none)",
                          "run from the start with crossings=True")
     c = compiled(spec.state_law, spec.n, inertial=spec.inertial, periodic=spec.periodic,
-                 damped=spec.eta > 0, maxima=maxima)
+                 damped=spec.eta > 0, maxima=maxima, tol=tol)
     ta, layout = c.integrator, c.layout
     state0 = np.asarray(state0, dtype=float)
     if state0.shape != (layout.size,):
@@ -313,9 +337,9 @@ def _snapshot(ta, assembler: _Events, steps) -> Snapshot:
 
 def rs_chain(*, n, state_law="aging", a=0.01, b=0.015, dc=0.01, k, ell=1.0, v_lp=1.0, mass=0.0, eta=0.0,
              v_th=10.0, periodic=False, amplitude=0.1, seed=1, events=100, t_max=math.inf,
-             max_steps=10_000_000, maxima=True, crossings=False) -> RSChainResult:
+             max_steps=10_000_000, maxima=True, crossings=False, tol=EXACT_TOL) -> RSChainResult:
     """Run a rate-and-state chain from perturbed steady sliding and catalogue its first ``events`` events."""
     spec = RSChainSpec(n=n, state_law=state_law, a=a, b=b, dc=dc, k=k, ell=ell, v_lp=v_lp, mass=mass, eta=eta,
                        v_th=v_th, periodic=bool(periodic))
     return run(spec, initial_state(spec, amplitude, seed), events, t_max=t_max, max_steps=max_steps,
-               maxima=maxima, crossings=crossings)
+               maxima=maxima, crossings=crossings, tol=tol)
