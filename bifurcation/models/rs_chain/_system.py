@@ -49,6 +49,13 @@ PARAMETERS = ("a", "b", "dc", "k", "ell2", "v_lp", "mass", "eta", "ln_v_th")
 #: max_velocity still agrees with the mpmath references (tests/test_rs_chain.py).
 MAXIMUM_EVENT_SCALE = 1e-12
 
+#: Above this many blocks heyoka's compact mode (one compiled function per kind of operation, looped over
+#: the blocks) instead of the fully unrolled Taylor step. Measured (aging, ℓ = 3, η = 1e-3, scaled maxima,
+#: order 20, µs a step of a run): N = 16 13.5 unrolled against 19.0 compact (compile 3.5 s CPU, once per
+#: machine: heyoka caches compiled code on disk); N = 32 26.6 against 36.8 (12 s); N = 64 103 against 75
+#: (67 s): past a few dozen blocks the unrolled step no longer fits the caches.
+COMPACT_ABOVE = 16
+
 #: heyoka's default tolerance (the engine's exact default): double epsilon.
 EXACT_TOL = float(np.finfo(float).eps)
 
@@ -142,10 +149,14 @@ def rhs_expressions(law: StateLaw, layout: Layout, variables, par: dict, exp, lo
 
 
 class Recorder:
-    """Threshold crossings and velocity maxima of one step, buffered (time, kind, block, state).
+    """Threshold crossings and velocity maxima of one step, buffered as (time, kind, block).
 
-    The dense output is read through a view bound once per integrator (``ta.d_output`` builds a new array
-    on each access, ~0.6 µs: a large share of a small chain's step)."""
+    The callbacks record only when and what: the state at a root is read later (``state_at``, from the
+    step callback, while the step's Taylor polynomials are still the integrator's dense output) and only
+    where the catalog needs it, an event's first up-crossing and last down-crossing and the maxima of
+    blocks above v_th (a dense output and its copy per root were ~4 µs, most of them for roots the catalog
+    does not use). The dense output is read through a view bound once per integrator (``ta.d_output``
+    builds a new array on each access, ~0.6 µs)."""
 
     def __init__(self) -> None:
         self.buffer: list = []
@@ -154,20 +165,27 @@ class Recorder:
     def __deepcopy__(self, memo) -> "Recorder":
         return self   # heyoka deep-copies callbacks; every copy must record here
 
-    def _dense(self, ta, time):
+    def bind(self, ta) -> None:
         if ta is not self._ta:
             self._ta, self._out = ta, ta.d_output
-        ta.update_d_output(time)
+
+    def state_at(self, time: float) -> np.ndarray:
+        """The state at ``time`` inside the last step (a view, overwritten by the next call)."""
+        self._ta.update_d_output(time)
         return self._out
 
     def crossing(self, j: int):
+        buffer = self.buffer
+
         def record(ta, time, d_sgn):
-            self.buffer.append((float(time), 1 if d_sgn > 0 else -1, j, self._dense(ta, time).copy()))
+            buffer.append((float(time), 1 if d_sgn > 0 else -1, j))
         return _Callback(record)
 
     def maximum(self, j: int):
+        buffer = self.buffer
+
         def record(ta, time, d_sgn):
-            self.buffer.append((float(time), 0, j, float(self._dense(ta, time)[j])))
+            buffer.append((float(time), 0, j))
         return _Callback(record)
 
 
@@ -221,7 +239,7 @@ def _build(law_name, n, inertial, periodic, damped, maxima, tol) -> Compiled:
         nt += [hy.nt_event(MAXIMUM_EVENT_SCALE * rhs[layout.x(j)], recorder.maximum(j),
                            direction=hy.event_direction.negative) for j in range(n)]
     ta = hy.taylor_adaptive(list(zip(variables, rhs)), np.zeros(len(names)), pars=np.zeros(len(PARAMETERS)),
-                            nt_events=nt, compact_mode=n > 8, tol=tol)
+                            nt_events=nt, compact_mode=n > COMPACT_ABOVE, tol=tol)
     return Compiled(law, layout, periodic, damped, ta, recorder)
 
 
