@@ -142,10 +142,21 @@ class RSChainResult:
     message: str = ""
     crossings: np.ndarray | None = None   # rows (t, block, +1 up / −1 down) with ``crossings=True``
     meta: dict = field(default_factory=dict)
+    #: a run resumed from a store's checkpoint: the largest balance of the restored events (their
+    #: stress_drop and balance are NaN: a checkpoint keeps only this of them); NaN otherwise
+    restored_balance_max: float = math.nan
 
     @property
     def events(self) -> int:
         return int(self.t_start.size)
+
+    @property
+    def balance_max(self) -> float:
+        """The largest balance over all events, restored ones included (NaN without events)."""
+        values = self.balance[~np.isnan(self.balance)].tolist()
+        if not math.isnan(self.restored_balance_max):
+            values.append(self.restored_balance_max)
+        return max(values) if values else math.nan
 
     def catalog(self) -> dict:
         return {name: getattr(self, name) for name in CATALOG_FIELDS}
@@ -163,6 +174,7 @@ class _Events:
         self.t_last = 0.0
         self.ln_v_th = math.log(spec.v_th)
         self.crossings: list | None = None
+        self.restored_balance_max = math.nan     # see RSChainResult.restored_balance_max
         # RSChainSpec.stress's constants, bound once: it ran at 24 µs a call (law lookup, small-array numpy,
         # fsum over numpy scalars), 2 calls an event, ~20 % of an N = 4 run
         self._y_ss = math.log(spec.law.steady_factor * spec.dc)
@@ -283,6 +295,7 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
                                                                  "blocks": set(resume.current["blocks"])}
         assembler.t_last = resume.t_last
         assembler.rows = list(resume.rows)
+        assembler.restored_balance_max = resume.balance_max
         steps = tuple(resume.steps)
     status = [RSChainStatus.COMPLETE, ""]
     p_index = layout.potency
@@ -334,7 +347,8 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
         max_velocity=np.array(cols[5], dtype=float) if maxima else np.full(len(rows), np.nan),
         stress_drop=np.array(cols[6], dtype=float), balance=np.array(cols[7], dtype=float),
         t_end=assembler.t_last if rows else math.nan, steps=total, status=status[0], message=status[1],
-        crossings=np.array(assembler.crossings, dtype=float).reshape(-1, 3) if crossings else None)
+        crossings=np.array(assembler.crossings, dtype=float).reshape(-1, 3) if crossings else None,
+        restored_balance_max=assembler.restored_balance_max)
 
 
 def _snapshot(ta, assembler: _Events, steps) -> Snapshot:
@@ -342,7 +356,7 @@ def _snapshot(ta, assembler: _Events, steps) -> Snapshot:
     return Snapshot(state=np.array(ta.state, copy=True), dtime=tuple(float(v) for v in ta.dtime),
                     steps=(steps[0], steps[1]), above=assembler.above.copy(),
                     current=None if c is None else {**c, "blocks": set(c["blocks"])}, t_last=assembler.t_last,
-                    rows=list(assembler.rows))
+                    rows=list(assembler.rows), balance_max=assembler.restored_balance_max)
 
 
 def rs_chain(*, n, state_law="aging", a=0.01, b=0.015, dc=0.01, k, ell=1.0, v_lp=1.0, mass=0.0, eta=0.0,
