@@ -24,6 +24,11 @@ at its most accurate against the engine at the loosest tolerance whose error is 
 agreeing events are no fewer). On the mpmath reference both codes run (tests/data, N = 2, aging, free,
 η = 1e-3) the two errors are independent of the engine: DOP853 at rtol 1e-14 4.4e-13, the engine at tol
 1e-12 2.7e-13 (tests/test_rs_chain.py).
+
+Grid: a study runs many chains; ``GRID_SEEDS`` of them per case (seeds 1, 2, …) are timed by the scalar
+engine, by the batch engine (``batch.run_batch``: heyoka's batch integrator, ``LANES`` chains in the SIMD
+lanes, each with the scalar engine's events and catalog assembly) and by the compiled DOP853 at its most
+accurate tolerance of the case, alternately; the batch's error is read against the scalar catalogs.
 """
 
 from __future__ import annotations
@@ -46,6 +51,10 @@ LSODA_RTOLS = (1e-10, 1e-12)
 ENGINE_TOLS = (1e-13, 1e-12, 1e-10)
 
 CASES = ((4, 1.0, 100), (16, 3.0, 60), (64, 3.0, 20))   # (N, ℓ, events)
+
+#: A grid of this many chains per case (seeds 1, 2, …; the case's N, ℓ, K): the batch engine
+#: (``batch.run_batch``, heyoka's SIMD lanes) against the scalar engine and the compiled DOP853 on the same runs.
+GRID_SEEDS = 8
 #: The baseline's accuracy is read on the first FIRST events: later ones part ways in a chaotic chain
 #: (a 1e-12 difference grows event by event), for both codes alike.
 FIRST = 10
@@ -131,8 +140,41 @@ def _best_row(rows: list) -> dict:
     return min(rows, key=lambda r: (r[key], -r["events_agreeing_to_1e-6"], -r["rtol"]))
 
 
+def _grid(spec, events: int, seeds: int, repeat: int, rtol: float, say) -> dict:
+    """The same ``seeds`` chains by the scalar engine, the batch engine and the compiled DOP853 (``rtol``)."""
+    from ._baseline import dop853_catalog
+    from .batch import LANES, run_batch
+    from .simulate import initial_state, run
+
+    starts = [initial_state(spec, 1.0, seed) for seed in range(1, seeds + 1)]
+    run_batch([spec] * min(seeds, LANES), starts[:LANES], 2)      # compile outside the timing
+    refs = [run(spec, s0, events) for s0 in starts]
+    ends = [r.t_end + 0.5 * (r.t_end - r.t_start[-1] if r.events > 1 else 1.0) for r in refs]
+    t_scalar = t_batch = t_dop = math.inf
+    batch = dop = None
+    for _ in range(repeat):                     # alternately: a change of load hits all three
+        t_scalar = min(t_scalar, _cpu(lambda: [run(spec, s0, events) for s0 in starts], 1)[0])
+        t_b, batch = _cpu(lambda: run_batch([spec] * seeds, starts, events), 1)
+        t_batch = min(t_batch, t_b)
+        t_d, dop = _cpu(lambda: [dop853_catalog(spec, s0, t, events, rtol, rtol) for s0, t in zip(starts, ends)], 1)
+        t_dop = min(t_dop, t_d)
+    key = f"max_rel_error_first_{FIRST}"
+    batch_err = max(_summary(_errors(b.catalog(), r))[0] for b, r in zip(batch, refs))
+    dop_err = max(_summary(_errors(d, r))[0] for d, r in zip(dop, refs))
+    row = {"seeds": seeds, "lanes": LANES, "scalar_s": t_scalar, "batch_s": t_batch, "dop853_s": t_dop,
+           "dop853_rtol": rtol, "batch_steps_equal": all(b.steps == r.steps for b, r in zip(batch, refs)),
+           f"batch_{key}": batch_err, f"dop853_{key}": dop_err,
+           "batch_speedup": t_scalar / t_batch, "ratio": t_dop / t_batch}
+    say(f"    grid of {seeds} chains (seeds 1-{seeds}), {LANES} SIMD lanes: scalar engine {seeds * events / t_scalar:8.1f} "
+        f"ev/s, batch engine {seeds * events / t_batch:8.1f} ev/s ({row['batch_speedup']:.2f}x the scalar; err from "
+        f"the scalar {batch_err:.1e}, steps {'equal' if row['batch_steps_equal'] else 'differ'}), compiled DOP853 "
+        f"rtol {rtol:g} {seeds * events / t_dop:8.1f} ev/s (err {dop_err:.1e}): it takes {row['ratio']:.2f}x the "
+        f"batch engine's time")
+    return row
+
+
 def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_rtols=LSODA_RTOLS,
-                       engine_tols=ENGINE_TOLS, echo=print) -> dict:
+                       engine_tols=ENGINE_TOLS, grid_seeds=GRID_SEEDS, echo=print) -> dict:
     """Events per CPU second of the engine, the compiled DOP853 and scipy's LSODA, per (N, ℓ, K)."""
     import os
 
@@ -150,6 +192,7 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
         "compiled: DOP853 in one numba loop, events on max_j ln V_j located on its dense output (the ratio); "
         "LSODA: scipy solve_ivp with numba rhs, Jacobian and events (second column); rtol = atol; "
         "engine tol: heyoka's tolerance of a looser engine run (the exact default: double epsilon); "
+        "grid: the same chains by the scalar engine, the batch engine (SIMD lanes) and the compiled DOP853; "
         f"err: largest relative difference from the engine's catalog over the first {FIRST} events; "
         "ratio = baseline time / engine time (> 1: the engine is faster)")
     for n, ell, events in cases:
@@ -221,6 +264,7 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
             say(f"    at equal accuracy (engine tol {eq['engine_tol'] or 'exact'}, err no larger than the "
                 f"baseline's): the compiled DOP853 takes {eq['ratio']:.2f}x the engine's time, "
                 f"{eq['ratio_no_maxima']:.2f}x without maxima")
+        row["grid"] = _grid(spec, events, grid_seeds, repeat, best["rtol"], say) if grid_seeds else None
     return {"suite": "rs-chain", "repeat": repeat, "load_average": list(load), "cases": rows,
             "baselines": {"dop853": "compiled: scipy's DOP853 transcribed to one numba.njit loop, events located "
                                     "on its dense output (bifurcation/models/rs_chain/_baseline.py)",
