@@ -254,11 +254,17 @@ def test_a_bad_workflow_is_one_line_exit_2_before_any_work(tmp_path):
 def test_bench_hook_runs_and_reports_ratios():
     from bifurcation.models.rs_chain._bench import run_rs_chain_bench
 
-    out = run_rs_chain_bench(repeat=1, cases=((2, 1.0, 12),), rtols=(1e-8,), lsoda_rtols=(1e-8,), echo=None)
+    out = run_rs_chain_bench(repeat=1, cases=((2, 1.0, 12),), rtols=(1e-8,), lsoda_rtols=(1e-8,),
+                             engine_tols=(1e-10,), grid_seeds=2, echo=None)
     row = out["cases"][0]
     assert row["engine_events_per_s"] > 0 and row["lsoda"][0]["events_found"] >= 10
     assert row["dop853"][0]["events_found"] >= 10 and row["dop853"][0]["ratio"] > 0
     assert math.isfinite(row["lsoda"][0]["max_rel_error_first_10"])
+    # the looser engine: less accurate than the exact one (err 0 by definition), still within 1e-8
+    assert 0 < row["engine_tol"][0]["max_rel_error_first_10"] < 1e-8
+    # the grid: the batch engine's catalogs are the scalar ones to rounding (tests/test_rs_chain_batch.py)
+    grid = row["grid"]
+    assert grid["seeds"] == 2 and grid["batch_max_rel_error_first_10"] < 1e-10 and grid["ratio"] > 0
 
 
 @pytest.mark.slow   # ~10-25 s: numba compiles the DOP853 loop
