@@ -140,36 +140,49 @@ def _best_row(rows: list) -> dict:
     return min(rows, key=lambda r: (r[key], -r["events_agreeing_to_1e-6"], -r["rtol"]))
 
 
-def _grid(spec, events: int, seeds: int, repeat: int, rtol: float, say) -> dict:
-    """The same ``seeds`` chains by the scalar engine, the batch engine and the compiled DOP853 (``rtol``)."""
+def _grid(spec, events: int, seeds: int, repeat: int, rtol: float, say, tol=None) -> dict:
+    """The same ``seeds`` chains by the scalar engine, the batch engine (exact, and at ``tol`` if given: the
+    tolerance of equal accuracy) and the compiled DOP853 (``rtol``)."""
     from ._baseline import dop853_catalog
     from .batch import LANES, run_batch
     from .simulate import initial_state, run
 
     starts = [initial_state(spec, 1.0, seed) for seed in range(1, seeds + 1)]
     run_batch([spec] * min(seeds, LANES), starts[:LANES], 2)      # compile outside the timing
+    if tol is not None:
+        run_batch([spec] * min(seeds, LANES), starts[:LANES], 2, tol=tol)
     refs = [run(spec, s0, events) for s0 in starts]
     ends = [r.t_end + 0.5 * (r.t_end - r.t_start[-1] if r.events > 1 else 1.0) for r in refs]
-    t_scalar = t_batch = t_dop = math.inf
-    batch = dop = None
+    t_scalar = t_batch = t_dop = t_loose = math.inf
+    batch = dop = loose = None
     for _ in range(repeat):                     # alternately: a change of load hits all three
         t_scalar = min(t_scalar, _cpu(lambda: [run(spec, s0, events) for s0 in starts], 1)[0])
         t_b, batch = _cpu(lambda: run_batch([spec] * seeds, starts, events), 1)
         t_batch = min(t_batch, t_b)
         t_d, dop = _cpu(lambda: [dop853_catalog(spec, s0, t, events, rtol, rtol) for s0, t in zip(starts, ends)], 1)
         t_dop = min(t_dop, t_d)
+        if tol is not None:
+            t_l, loose = _cpu(lambda: run_batch([spec] * seeds, starts, events, tol=tol), 1)
+            t_loose = min(t_loose, t_l)
     key = f"max_rel_error_first_{FIRST}"
     batch_err = max(_summary(_errors(b.catalog(), r))[0] for b, r in zip(batch, refs))
     dop_err = max(_summary(_errors(d, r))[0] for d, r in zip(dop, refs))
     row = {"seeds": seeds, "lanes": LANES, "scalar_s": t_scalar, "batch_s": t_batch, "dop853_s": t_dop,
            "dop853_rtol": rtol, "batch_steps_equal": all(b.steps == r.steps for b, r in zip(batch, refs)),
            f"batch_{key}": batch_err, f"dop853_{key}": dop_err,
-           "batch_speedup": t_scalar / t_batch, "ratio": t_dop / t_batch}
+           "batch_speedup": t_scalar / t_batch, "ratio": t_dop / t_batch, "tol": tol}
+    if tol is not None:
+        row[f"tol_{key}"] = max(_summary(_errors(b.catalog(), r))[0] for b, r in zip(loose, refs))
+        row["tol_batch_s"] = t_loose
+        row["tol_ratio"] = t_dop / t_loose
     say(f"    grid of {seeds} chains (seeds 1-{seeds}), {LANES} SIMD lanes: scalar engine {seeds * events / t_scalar:8.1f} "
         f"ev/s, batch engine {seeds * events / t_batch:8.1f} ev/s ({row['batch_speedup']:.2f}x the scalar; err from "
         f"the scalar {batch_err:.1e}, steps {'equal' if row['batch_steps_equal'] else 'differ'}), compiled DOP853 "
         f"rtol {rtol:g} {seeds * events / t_dop:8.1f} ev/s (err {dop_err:.1e}): it takes {row['ratio']:.2f}x the "
         f"batch engine's time")
+    if tol is not None:
+        say(f"      batch engine at tol {tol:g} (equal accuracy): {seeds * events / t_loose:8.1f} ev/s (err from the "
+            f"exact scalar {row[f'tol_{key}']:.1e}): the compiled DOP853 takes {row['tol_ratio']:.2f}x its time")
     return row
 
 
@@ -264,7 +277,8 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
             say(f"    at equal accuracy (engine tol {eq['engine_tol'] or 'exact'}, err no larger than the "
                 f"baseline's): the compiled DOP853 takes {eq['ratio']:.2f}x the engine's time, "
                 f"{eq['ratio_no_maxima']:.2f}x without maxima")
-        row["grid"] = _grid(spec, events, grid_seeds, repeat, best["rtol"], say) if grid_seeds else None
+        row["grid"] = _grid(spec, events, grid_seeds, repeat, best["rtol"], say,
+                            tol=(eq or {}).get("engine_tol")) if grid_seeds else None
     return {"suite": "rs-chain", "repeat": repeat, "load_average": list(load), "cases": rows,
             "baselines": {"dop853": "compiled: scipy's DOP853 transcribed to one numba.njit loop, events located "
                                     "on its dense output (bifurcation/models/rs_chain/_baseline.py)",
