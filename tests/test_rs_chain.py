@@ -101,6 +101,39 @@ def test_catalog_agrees_with_the_mpmath_reference(name):
         assert np.max(err) <= 1e-10, (field, err)
 
 
+@pytest.mark.parametrize("name", sorted(_reference_cases()))
+def test_a_looser_tolerance_costs_accuracy_in_proportion(name):
+    # run(tol=...) (docs/rs-chain.md, "Speed"), against the same mpmath references as above. Measured when
+    # written, over the 4 cases and t_start, potency, duration, max_velocity: ≤ 5.7e-14 at tol 1e-13,
+    # ≤ 3.7e-13 at 1e-12, ≤ 1.7e-11 at 1e-10 (≈ 0.4 tol). The bound 4 tol leaves a factor ~10 for other
+    # CPUs and libm; a catalog at the exact default must stay ≤ 1e-13 (measured ≤ 1.8e-14), and each
+    # looser tolerance must be measurably less accurate than the exact default (the knob does something).
+    ref = _reference_cases()[name]
+    case = dict(ref["case"])
+    events, amplitude, seed = case.pop("events"), case.pop("amplitude"), case.pop("seed")
+    spec = RSChainSpec(**case)
+    worst = {}
+    for tol in (None, 1e-12, 1e-10):
+        r = run(spec, initial_state(spec, amplitude, seed), events, **({} if tol is None else {"tol": tol}))
+        assert r.events == events and list(r.n_blocks) == ref["n_blocks"]
+        worst[tol] = max(float(np.max(np.abs(getattr(r, f) / np.array([float(v) for v in ref[f]]) - 1)))
+                         for f in ("t_start", "potency", "duration", "max_velocity"))
+    assert worst[None] <= 1e-13, worst
+    assert worst[1e-12] <= 4e-12 and worst[1e-10] <= 4e-10, worst
+    assert worst[1e-10] > worst[1e-12] > worst[None], worst
+
+
+def test_a_bad_tolerance_is_a_one_line_error():
+    spec = RSChainSpec(n=2, ell=1.0, **QD)
+    s0 = initial_state(spec, 1.0, 1)
+    with pytest.raises(InputError, match=r"tol=1e-05: is outside \[2.22e-16, 1e-08\]; give a tolerance"):
+        run(spec, s0, 3, tol=1e-5)
+    with pytest.raises(InputError, match=r"tol=0.0: must be > 0"):
+        run(spec, s0, 3, tol=0.0)
+    with pytest.raises(InputError, match=r"tol='x': is not a number"):
+        run(spec, s0, 3, tol="x")
+
+
 def test_stress_balance_per_event_and_that_it_can_fail():
     # ΔΣ(μ_j + ηV_j) over an event = k(N V_lp Δt − ΔP): the two sides come from different variables
     # (x, y against the integrated P). Rounding of a sum of N O(1) terms over the stress change of a
@@ -221,11 +254,17 @@ def test_a_bad_workflow_is_one_line_exit_2_before_any_work(tmp_path):
 def test_bench_hook_runs_and_reports_ratios():
     from bifurcation.models.rs_chain._bench import run_rs_chain_bench
 
-    out = run_rs_chain_bench(repeat=1, cases=((2, 1.0, 12),), rtols=(1e-8,), lsoda_rtols=(1e-8,), echo=None)
+    out = run_rs_chain_bench(repeat=1, cases=((2, 1.0, 12),), rtols=(1e-8,), lsoda_rtols=(1e-8,),
+                             engine_tols=(1e-10,), grid_seeds=2, echo=None)
     row = out["cases"][0]
     assert row["engine_events_per_s"] > 0 and row["lsoda"][0]["events_found"] >= 10
     assert row["dop853"][0]["events_found"] >= 10 and row["dop853"][0]["ratio"] > 0
     assert math.isfinite(row["lsoda"][0]["max_rel_error_first_10"])
+    # the looser engine: less accurate than the exact one (err 0 by definition), still within 1e-8
+    assert 0 < row["engine_tol"][0]["max_rel_error_first_10"] < 1e-8
+    # the grid: the batch engine's catalogs are the scalar ones to rounding (tests/test_rs_chain_batch.py)
+    grid = row["grid"]
+    assert grid["seeds"] == 2 and grid["batch_max_rel_error_first_10"] < 1e-10 and grid["ratio"] > 0
 
 
 @pytest.mark.slow   # ~10-25 s: numba compiles the DOP853 loop

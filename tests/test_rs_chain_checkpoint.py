@@ -45,8 +45,16 @@ def _through_bytes(snap: Snapshot, every: int) -> Snapshot:
 
 
 def _same_run(got, ref) -> None:
-    for name in PER_EVENT:
+    """Bit for bit; a run resumed through a checkpoint's bytes has NaN stress drop and balance for the
+    events restored from the store's chunks (a checkpoint keeps only their largest balance)."""
+    restored = int(np.count_nonzero(np.isnan(got.balance)))
+    for name in CATALOG:
         assert_same(getattr(got, name), getattr(ref, name), name)
+    for name in ("stress_drop", "balance"):
+        assert_same(getattr(got, name)[restored:], getattr(ref, name)[restored:], name)
+        assert np.all(np.isnan(getattr(got, name)[:restored])), name
+    assert restored == 0 or got.restored_balance_max == np.max(ref.balance[:restored])
+    assert got.balance_max == ref.balance_max == np.max(ref.balance)
     assert (got.steps, got.t_end, got.status) == (ref.steps, ref.t_end, ref.status)
 
 
@@ -65,11 +73,13 @@ def test_a_run_resumed_from_each_checkpoint_is_the_straight_run_bit_for_bit(ever
         resumed = run(spec, s0, 40, resume=_through_bytes(snap, every))
         _same_run(resumed, ref)
     # the double-length time is needed: resumed at the rounded time t_hi + t_lo (lo != 0 here) the later
-    # events move by ~1e-15 — so the equality above is no accident of a loose comparison
+    # events move (measured: durations by ~1e-15, potencies by ~5e-14; t_start happened to stay equal
+    # from this snapshot) — so the equality above is no accident of a loose comparison
     snap = snaps[0]
     assert snap.dtime[1] != 0.0
     rounded = run(spec, s0, 40, resume=dataclasses.replace(snap, dtime=(snap.dtime[0] + snap.dtime[1], 0.0)))
-    assert not np.array_equal(rounded.t_start[10:], ref.t_start[10:])
+    assert any(not np.array_equal(getattr(rounded, name)[10:], getattr(ref, name)[10:])
+               for name in ("t_start", "potency", "duration"))
 
 
 def test_an_inertial_periodic_run_resumes_bit_for_bit():
@@ -83,8 +93,12 @@ def test_an_inertial_periodic_run_resumes_bit_for_bit():
 
 
 def test_a_compact_mode_chain_resumes_bit_for_bit():
-    # N > 8 compiles heyoka's compact mode (as N = 256 of workflows/rs-chain-large.toml): N = 12, 30 events
-    spec = RSChainSpec(n=12, ell=3.0, **QD)
+    # N > _system.COMPACT_ABOVE = 16 compiles heyoka's compact mode (as N = 256 of
+    # workflows/rs-chain-large.toml): N = 20, 30 events
+    from bifurcation.models.rs_chain._system import COMPACT_ABOVE
+
+    assert COMPACT_ABOVE < 20
+    spec = RSChainSpec(n=20, ell=3.0, **QD)
     s0 = initial_state(spec, 1.0, 1)
     snaps = []
     ref = run(spec, s0, 30, every=10, save=snaps.append)
@@ -103,10 +117,36 @@ def test_a_snapshot_inside_an_event_survives_the_bytes():
                     t_last=2.25, rows=rows)
     back = _through_bytes(snap, 2)
     assert_same(back.state, snap.state)
-    assert (back.dtime, back.steps, back.t_last, back.current, back.rows) == \
-           (snap.dtime, snap.steps, snap.t_last, snap.current, snap.rows)
+    assert (back.dtime, back.steps, back.t_last, back.current) == (snap.dtime, snap.steps, snap.t_last, snap.current)
+    # the 4 rows of the full chunks come back from the catalog, with only their largest balance; the 5th whole
+    assert [r[:6] for r in back.rows] == [r[:6] for r in snap.rows] and back.rows[4] == snap.rows[4]
+    assert all(np.isnan(r[6]) and np.isnan(r[7]) for r in back.rows[:4]) and back.balance_max == rows[3][7]
+    # and a checkpoint's size does not grow with the events before its last full chunk
+    many = dataclasses.replace(snap, rows=rows * 200 + rows[:1])        # 1001 events, 1 past the last chunk
+    assert sum(a.nbytes for a in many.arrays(2).values()) == sum(a.nbytes for a in snap.arrays(2).values())
     assert_same(back.above, snap.above)
     assert _through_bytes(dataclasses.replace(snap, current=None), 2).current is None
+
+
+def test_a_checkpoint_of_the_former_layout_still_resumes():
+    # before 2026-11-26 a checkpoint held the stress drop and balance of every event (16 bytes per event
+    # so far) instead of "events" and "balance_max": such a file, left by an interrupted study, must resume
+    spec = RSChainSpec(n=6, ell=3.0, **QD)
+    s0 = initial_state(spec, 1.0, 1)
+    snaps = []
+    ref = run(spec, s0, 25, every=10, save=snaps.append)
+    snap = snaps[1]                                                     # 20 events, chunk 7: 14 stored, 6 in tail
+    blobs = {k: v.tobytes() for k, v in snap.arrays(7).items() if k not in ("events", "balance_max")}
+    blobs["stress_drop"] = np.array([r[6] for r in snap.rows]).tobytes()
+    blobs["balance"] = np.array([r[7] for r in snap.rows]).tobytes()
+    back = Snapshot.from_saved(blobs, snap.catalog(CATALOG, snap.boundary(7)))
+    assert back.rows == snap.rows                                       # every value, as the file held them
+    resumed = run(spec, s0, 25, resume=back)
+    for name in PER_EVENT:
+        assert_same(getattr(resumed, name), getattr(ref, name), name)
+    blobs["balance"] = blobs["balance"][:-8]                            # one event short: not this run's
+    with pytest.raises(ValueError, match="checkpoint holds -1 events"):
+        Snapshot.from_saved(blobs, snap.catalog(CATALOG, snap.boundary(7)))
 
 
 WORKFLOW = textwrap.dedent("""

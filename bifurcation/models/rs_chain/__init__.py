@@ -14,6 +14,7 @@ _LAZY = {
     "RSChainStatus": "result",
     "initial_state": "simulate",
     "rs_chain": "simulate",
+    "run_batch": "batch",
 }
 
 __all__ = sorted(_LAZY)

@@ -17,6 +17,18 @@ part ways for any two codes, so "agree" counts the leading events within 1e-6. T
 velocity-maximum events (the default catalog) and without them (``maxima=False``: the baselines compute no
 maxima). Times are the best of ``repeat`` runs, CPU seconds of this process, timed alternately; reported
 as ratios (baseline time / engine time), never asserted; the load average is printed with them.
+
+Equal accuracy: the engine also runs at looser heyoka tolerances (``ENGINE_TOLS``, ``run(tol=...)``), its
+error read the same way against its exact catalog; the ratio "at equal accuracy" sets the compiled DOP853
+at its most accurate against the engine at the loosest tolerance whose error is no larger (and whose
+agreeing events are no fewer). On the mpmath reference both codes run (tests/data, N = 2, aging, free,
+η = 1e-3) the two errors are independent of the engine: DOP853 at rtol 1e-14 4.4e-13, the engine at tol
+1e-12 2.7e-13 (tests/test_rs_chain.py).
+
+Grid: a study runs many chains; ``GRID_SEEDS`` of them per case (seeds 1, 2, …) are timed by the scalar
+engine, by the batch engine (``batch.run_batch``: heyoka's batch integrator, ``LANES`` chains in the SIMD
+lanes, each with the scalar engine's events and catalog assembly) and by the compiled DOP853 at its most
+accurate tolerance of the case, alternately; the batch's error is read against the scalar catalogs.
 """
 
 from __future__ import annotations
@@ -33,7 +45,16 @@ __all__ = ["lsoda_catalog", "run_rs_chain_bench"]
 DOP853_RTOLS = (1e-8, 1e-10, 1e-12, 1e-13, 1e-14)
 LSODA_RTOLS = (1e-10, 1e-12)
 
+#: heyoka tolerances of the engine's looser runs (``run(tol=...)``); the exact default (double epsilon) is
+#: the reference. Against the mpmath references of tests/data (N ≤ 4) the catalog's error is ≈ 0.4 × tol
+#: (measured 3.7e-13 at 1e-12, 1.7e-11 at 1e-10; tests/test_rs_chain.py).
+ENGINE_TOLS = (1e-13, 1e-12, 1e-10)
+
 CASES = ((4, 1.0, 100), (16, 3.0, 60), (64, 3.0, 20))   # (N, ℓ, events)
+
+#: A grid of this many chains per case (seeds 1, 2, …; the case's N, ℓ, K): the batch engine
+#: (``batch.run_batch``, heyoka's SIMD lanes) against the scalar engine and the compiled DOP853 on the same runs.
+GRID_SEEDS = 8
 #: The baseline's accuracy is read on the first FIRST events: later ones part ways in a chaotic chain
 #: (a 1e-12 difference grows event by event), for both codes alike.
 FIRST = 10
@@ -98,14 +119,75 @@ def _row(base: dict, ref, seconds: float, engine_s: float, events: int, rtol: fl
             "steps": base.get("steps")}
 
 
+def _equal_accuracy(engine_rows: list, target: dict) -> dict | None:
+    """The engine at its loosest tolerance whose error is no larger than ``target``'s (a baseline row)."""
+    key = f"max_rel_error_first_{FIRST}"
+    fits = [r for r in engine_rows if r[key] <= target[key] and r["events_agreeing_to_1e-6"] >= target[
+        "events_agreeing_to_1e-6"]]
+    return max(fits, key=lambda r: r["tol"]) if fits else None
+
+
+def _engine_row(timed: list, ref, exact_s: float, tol: float) -> dict:
+    t_max, t_none, mine = timed
+    err, agree = _summary(_errors(mine.catalog(), ref))
+    return {"tol": tol, "seconds": t_max, "no_maxima_s": t_none, f"max_rel_error_first_{FIRST}": err,
+            "events_agreeing_to_1e-6": agree, "steps": mine.steps, "speedup": exact_s / t_max}
+
+
 def _best_row(rows: list) -> dict:
     """The baseline at its most accurate (the loosest tolerance among equals)."""
     key = f"max_rel_error_first_{FIRST}"
     return min(rows, key=lambda r: (r[key], -r["events_agreeing_to_1e-6"], -r["rtol"]))
 
 
+def _grid(spec, events: int, seeds: int, repeat: int, rtol: float, say, tol=None) -> dict:
+    """The same ``seeds`` chains by the scalar engine, the batch engine (exact, and at ``tol`` if given: the
+    tolerance of equal accuracy) and the compiled DOP853 (``rtol``)."""
+    from ._baseline import dop853_catalog
+    from .batch import LANES, run_batch
+    from .simulate import initial_state, run
+
+    starts = [initial_state(spec, 1.0, seed) for seed in range(1, seeds + 1)]
+    run_batch([spec] * min(seeds, LANES), starts[:LANES], 2)      # compile outside the timing
+    if tol is not None:
+        run_batch([spec] * min(seeds, LANES), starts[:LANES], 2, tol=tol)
+    refs = [run(spec, s0, events) for s0 in starts]
+    ends = [r.t_end + 0.5 * (r.t_end - r.t_start[-1] if r.events > 1 else 1.0) for r in refs]
+    t_scalar = t_batch = t_dop = t_loose = math.inf
+    batch = dop = loose = None
+    for _ in range(repeat):                     # alternately: a change of load hits all three
+        t_scalar = min(t_scalar, _cpu(lambda: [run(spec, s0, events) for s0 in starts], 1)[0])
+        t_b, batch = _cpu(lambda: run_batch([spec] * seeds, starts, events), 1)
+        t_batch = min(t_batch, t_b)
+        t_d, dop = _cpu(lambda: [dop853_catalog(spec, s0, t, events, rtol, rtol) for s0, t in zip(starts, ends)], 1)
+        t_dop = min(t_dop, t_d)
+        if tol is not None:
+            t_l, loose = _cpu(lambda: run_batch([spec] * seeds, starts, events, tol=tol), 1)
+            t_loose = min(t_loose, t_l)
+    key = f"max_rel_error_first_{FIRST}"
+    batch_err = max(_summary(_errors(b.catalog(), r))[0] for b, r in zip(batch, refs))
+    dop_err = max(_summary(_errors(d, r))[0] for d, r in zip(dop, refs))
+    row = {"seeds": seeds, "lanes": LANES, "scalar_s": t_scalar, "batch_s": t_batch, "dop853_s": t_dop,
+           "dop853_rtol": rtol, "batch_steps_equal": all(b.steps == r.steps for b, r in zip(batch, refs)),
+           f"batch_{key}": batch_err, f"dop853_{key}": dop_err,
+           "batch_speedup": t_scalar / t_batch, "ratio": t_dop / t_batch, "tol": tol}
+    if tol is not None:
+        row[f"tol_{key}"] = max(_summary(_errors(b.catalog(), r))[0] for b, r in zip(loose, refs))
+        row["tol_batch_s"] = t_loose
+        row["tol_ratio"] = t_dop / t_loose
+    say(f"    grid of {seeds} chains (seeds 1-{seeds}), {LANES} SIMD lanes: scalar engine {seeds * events / t_scalar:8.1f} "
+        f"ev/s, batch engine {seeds * events / t_batch:8.1f} ev/s ({row['batch_speedup']:.2f}x the scalar; err from "
+        f"the scalar {batch_err:.1e}, steps {'equal' if row['batch_steps_equal'] else 'differ'}), compiled DOP853 "
+        f"rtol {rtol:g} {seeds * events / t_dop:8.1f} ev/s (err {dop_err:.1e}): it takes {row['ratio']:.2f}x the "
+        f"batch engine's time")
+    if tol is not None:
+        say(f"      batch engine at tol {tol:g} (equal accuracy): {seeds * events / t_loose:8.1f} ev/s (err from the "
+            f"exact scalar {row[f'tol_{key}']:.1e}): the compiled DOP853 takes {row['tol_ratio']:.2f}x its time")
+    return row
+
+
 def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_rtols=LSODA_RTOLS,
-                       echo=print) -> dict:
+                       engine_tols=ENGINE_TOLS, grid_seeds=GRID_SEEDS, echo=print) -> dict:
     """Events per CPU second of the engine, the compiled DOP853 and scipy's LSODA, per (N, ℓ, K)."""
     import os
 
@@ -122,6 +204,8 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
     say("  engine: heyoka, every block's crossings (and velocity maxima) located on each Taylor step; "
         "compiled: DOP853 in one numba loop, events on max_j ln V_j located on its dense output (the ratio); "
         "LSODA: scipy solve_ivp with numba rhs, Jacobian and events (second column); rtol = atol; "
+        "engine tol: heyoka's tolerance of a looser engine run (the exact default: double epsilon); "
+        "grid: the same chains by the scalar engine, the batch engine (SIMD lanes) and the compiled DOP853; "
         f"err: largest relative difference from the engine's catalog over the first {FIRST} events; "
         "ratio = baseline time / engine time (> 1: the engine is faster)")
     for n, ell, events in cases:
@@ -129,6 +213,9 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
         s0 = initial_state(spec, 1.0, 1)
         run(spec, s0, 2)                                      # compile outside the timing
         run(spec, s0, 2, maxima=False)
+        for tol in engine_tols:
+            run(spec, s0, 2, tol=tol)
+            run(spec, s0, 2, tol=tol, maxima=False)
         ref = run(spec, s0, events)
         t_end = ref.t_end + 0.5 * (ref.t_end - ref.t_start[-1] if ref.events > 1 else 1.0)
         dop853_catalog(spec, s0, t_end, events, 1e-6, 1e-6)   # numba compile
@@ -137,9 +224,14 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
         # alternate the engine's and the baseline's repeats: a change of load hits both
         t_ours = t_nomax = math.inf
         dop = {rtol: (math.inf, None) for rtol in rtols}
+        loose = {tol: [math.inf, math.inf, None] for tol in engine_tols}   # with maxima, without, catalog
         for _ in range(repeat):
             t_ours = min(t_ours, _cpu(lambda: run(spec, s0, events), 1)[0])
             t_nomax = min(t_nomax, _cpu(lambda: run(spec, s0, events, maxima=False), 1)[0])
+            for tol in engine_tols:
+                t_e, mine = _cpu(lambda tol=tol: run(spec, s0, events, tol=tol), 1)
+                t_n = _cpu(lambda tol=tol: run(spec, s0, events, tol=tol, maxima=False), 1)[0]
+                loose[tol] = [min(loose[tol][0], t_e), min(loose[tol][1], t_n), mine]
             for rtol in rtols:
                 t_b, base = _cpu(lambda rtol=rtol: dop853_catalog(spec, s0, t_end, events, rtol, rtol), 1)
                 if t_b < dop[rtol][0]:
@@ -147,15 +239,26 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
         row = {"n": n, "ell": ell, "events": events, "engine_s": t_ours, "engine_events_per_s": events / t_ours,
                "engine_steps": ref.steps, "engine_no_maxima_s": t_nomax,
                "engine_balance_max": float(np.max(ref.balance)),
-               "dop853": [_row(dop[r][1], ref, dop[r][0], t_ours, events, r) for r in rtols], "lsoda": []}
+               "dop853": [_row(dop[r][1], ref, dop[r][0], t_ours, events, r) for r in rtols], "lsoda": [],
+               "engine_tol": [_engine_row(loose[tol], ref, t_ours, tol) for tol in engine_tols]}
         for rtol in lsoda_rtols:
             t_base, base = _cpu(lambda rtol=rtol: lsoda_catalog(kernels, spec, s0, t_end, rtol, rtol), repeat)
             row["lsoda"].append(_row(base, ref, t_base, t_ours, events, rtol))
         best = _best_row(row["dop853"])
         row["dop853_best"] = best
+        exact = {"tol": 0.0, "seconds": t_ours, "no_maxima_s": t_nomax, f"max_rel_error_first_{FIRST}": 0.0,
+                 "events_agreeing_to_1e-6": events}
+        match = _equal_accuracy([exact, *row["engine_tol"]], best)
+        row["equal_accuracy"] = None if match is None else {
+            "engine_tol": match["tol"] or None, "dop853_rtol": best["rtol"],
+            "ratio": best["seconds"] / match["seconds"], "ratio_no_maxima": best["seconds"] / match["no_maxima_s"]}
         rows.append(row)
         say(f"N = {n:4d} ℓ = {ell:g}, {events} events: engine {events / t_ours:8.1f} ev/s ({ref.steps} steps), "
             f"without maxima {events / t_nomax:8.1f} ev/s")
+        for r in row["engine_tol"]:
+            say(f"    engine tol {r['tol']:g}: {events / r['seconds']:8.1f} ev/s, without maxima "
+                f"{events / r['no_maxima_s']:8.1f} ev/s ({r['steps']} steps), err "
+                f"{r[f'max_rel_error_first_{FIRST}']:.1e}, {r['events_agreeing_to_1e-6']} agree")
         for r in row["dop853"]:
             say(f"    compiled DOP853 rtol {r['rtol']:g}: {events / r['seconds']:8.1f} ev/s ({r['steps']} steps), "
                 f"err {r[f'max_rel_error_first_{FIRST}']:.1e}, {r['events_agreeing_to_1e-6']} agree, "
@@ -167,6 +270,15 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
                 f"{r['ratio']:.1f}x")
         say(f"    at its most accurate (rtol {best['rtol']:g}, err {best[f'max_rel_error_first_{FIRST}']:.1e}) the "
             f"compiled DOP853 takes {best['ratio']:.2f}x the engine's time")
+        eq = row["equal_accuracy"]
+        if eq is None:
+            say("    no engine tolerance measured is as accurate as the baseline at its best")
+        else:
+            say(f"    at equal accuracy (engine tol {eq['engine_tol'] or 'exact'}, err no larger than the "
+                f"baseline's): the compiled DOP853 takes {eq['ratio']:.2f}x the engine's time, "
+                f"{eq['ratio_no_maxima']:.2f}x without maxima")
+        row["grid"] = _grid(spec, events, grid_seeds, repeat, best["rtol"], say,
+                            tol=(eq or {}).get("engine_tol")) if grid_seeds else None
     return {"suite": "rs-chain", "repeat": repeat, "load_average": list(load), "cases": rows,
             "baselines": {"dop853": "compiled: scipy's DOP853 transcribed to one numba.njit loop, events located "
                                     "on its dense output (bifurcation/models/rs_chain/_baseline.py)",

@@ -40,6 +40,25 @@ __all__ = ["PARAMETERS", "Compiled", "Layout", "compiled", "rhs_expressions"]
 #: Runtime parameters, by name (the heyoka ``par[i]`` in this order; ``Layout.par``).
 PARAMETERS = ("a", "b", "dc", "k", "ell2", "v_lp", "mass", "eta", "ln_v_th")
 
+#: The velocity-maximum event is ẋ_j times this constant. heyoka sets each step from the Taylor
+#: coefficients of the state *and of every event equation*; ẋ_j's are x_j's times (order + 1)/h, so at
+#: scale 1 the maxima shortened the steps (+20 % of steps at N = 16, ℓ = 3). A constant factor moves no
+#: root, and a maximum's value V_j = e^{x_j} is first-order insensitive to its time (ẋ_j = 0 there); the
+#: crossings of v_th, the times the catalog is made of, stay set by x_j's own coefficients. Measured at
+#: N = 16: 10 461 steps for 60 events against 12 559 at scale 1 and 10 028 without maxima; every
+#: max_velocity still agrees with the mpmath references (tests/test_rs_chain.py).
+MAXIMUM_EVENT_SCALE = 1e-12
+
+#: Above this many blocks heyoka's compact mode (one compiled function per kind of operation, looped over
+#: the blocks) instead of the fully unrolled Taylor step. Measured (aging, ℓ = 3, η = 1e-3, scaled maxima,
+#: order 20, µs a step of a run): N = 16 13.5 unrolled against 19.0 compact (compile 3.5 s CPU, once per
+#: machine: heyoka caches compiled code on disk); N = 32 26.6 against 36.8 (12 s); N = 64 103 against 75
+#: (67 s): past a few dozen blocks the unrolled step no longer fits the caches.
+COMPACT_ABOVE = 16
+
+#: heyoka's default tolerance (the engine's exact default): double epsilon.
+EXACT_TOL = float(np.finfo(float).eps)
+
 _CACHE: dict = {}
 
 
@@ -130,10 +149,14 @@ def rhs_expressions(law: StateLaw, layout: Layout, variables, par: dict, exp, lo
 
 
 class Recorder:
-    """Threshold crossings and velocity maxima of one step, buffered (time, kind, block, state).
+    """Threshold crossings and velocity maxima of one step, buffered as (time, kind, block).
 
-    The dense output is read through a view bound once per integrator (``ta.d_output`` builds a new array
-    on each access, ~0.6 µs: a large share of a small chain's step)."""
+    The callbacks record only when and what: the state at a root is read later (``state_at``, from the
+    step callback, while the step's Taylor polynomials are still the integrator's dense output) and only
+    where the catalog needs it, an event's first up-crossing and last down-crossing and the maxima of
+    blocks above v_th (a dense output and its copy per root were ~4 µs, most of them for roots the catalog
+    does not use). The dense output is read through a view bound once per integrator (``ta.d_output``
+    builds a new array on each access, ~0.6 µs)."""
 
     def __init__(self) -> None:
         self.buffer: list = []
@@ -142,20 +165,27 @@ class Recorder:
     def __deepcopy__(self, memo) -> "Recorder":
         return self   # heyoka deep-copies callbacks; every copy must record here
 
-    def _dense(self, ta, time):
+    def bind(self, ta) -> None:
         if ta is not self._ta:
             self._ta, self._out = ta, ta.d_output
-        ta.update_d_output(time)
+
+    def state_at(self, time: float) -> np.ndarray:
+        """The state at ``time`` inside the last step (a view, overwritten by the next call)."""
+        self._ta.update_d_output(time)
         return self._out
 
     def crossing(self, j: int):
+        buffer = self.buffer
+
         def record(ta, time, d_sgn):
-            self.buffer.append((float(time), 1 if d_sgn > 0 else -1, j, self._dense(ta, time).copy()))
+            buffer.append((float(time), 1 if d_sgn > 0 else -1, j))
         return _Callback(record)
 
     def maximum(self, j: int):
+        buffer = self.buffer
+
         def record(ta, time, d_sgn):
-            self.buffer.append((float(time), 0, j, float(self._dense(ta, time)[j])))
+            buffer.append((float(time), 0, j))
         return _Callback(record)
 
 
@@ -182,16 +212,21 @@ class Compiled:
     recorder: Recorder
 
 
-def compiled(law: str, n: int, *, inertial: bool, periodic: bool, damped: bool, maxima: bool = True) -> Compiled:
-    """The cached integrator for (state law, N, inertia, ends, damping, velocity-maximum events)."""
-    key = (resolve_state_law(law).name, int(n), bool(inertial), bool(periodic), bool(damped), bool(maxima))
+def compiled(law: str, n: int, *, inertial: bool, periodic: bool, damped: bool, maxima: bool = True,
+             tol: float = EXACT_TOL) -> Compiled:
+    """The cached integrator for (state law, N, inertia, ends, damping, velocity-maximum events, tolerance).
+
+    ``tol`` is heyoka's: it sets the Taylor order (20 at double epsilon, 15 at 1e-12), not the step count
+    (set by the solution's radius of convergence)."""
+    key = (resolve_state_law(law).name, int(n), bool(inertial), bool(periodic), bool(damped), bool(maxima),
+           float(tol))
     hit = _CACHE.get(key)
     if hit is None:
         hit = _CACHE[key] = _build(*key)
     return hit
 
 
-def _build(law_name, n, inertial, periodic, damped, maxima) -> Compiled:
+def _build(law_name, n, inertial, periodic, damped, maxima, tol) -> Compiled:
     law = resolve_state_law(law_name)
     layout = Layout(n, inertial)
     names = layout.names()
@@ -201,10 +236,10 @@ def _build(law_name, n, inertial, periodic, damped, maxima) -> Compiled:
     recorder = Recorder()
     nt = [hy.nt_event(variables[layout.x(j)] - par["ln_v_th"], recorder.crossing(j)) for j in range(n)]
     if maxima:
-        nt += [hy.nt_event(rhs[layout.x(j)], recorder.maximum(j), direction=hy.event_direction.negative)
-               for j in range(n)]
+        nt += [hy.nt_event(MAXIMUM_EVENT_SCALE * rhs[layout.x(j)], recorder.maximum(j),
+                           direction=hy.event_direction.negative) for j in range(n)]
     ta = hy.taylor_adaptive(list(zip(variables, rhs)), np.zeros(len(names)), pars=np.zeros(len(PARAMETERS)),
-                            nt_events=nt, compact_mode=n > 8)
+                            nt_events=nt, compact_mode=n > COMPACT_ABOVE, tol=tol)
     return Compiled(law, layout, periodic, damped, ta, recorder)
 
 

@@ -6,10 +6,14 @@ so a run that sets the same state, the same double-length time (heyoka's ``dtime
 ``time``) and the same parameters and goes on takes the same steps and finds the same roots, bit for bit.
 A snapshot is taken at the end of a step callback (after the step's crossings are assembled and P is
 reset), and it holds, besides the integrator's state and time, the event bookkeeping of ``simulate._Events``
-(which blocks are above v_th, the open event, the end of the last one), the two step counters, and the
-per-event values that the store's catalog does not keep (stress drop and balance of every event so far,
-and the whole rows of the events past the last full catalog chunk). tests/test_rs_chain.py checks a
-resumed run against a straight one bit for bit.
+(which blocks are above v_th, the open event, the end of the last one), the two step counters, the whole
+rows of the events past the last full catalog chunk, and of the per-event values the store's catalog does
+not keep (stress drop, balance) only what the store's outputs need of the events before: the largest
+balance (``balance_max``). So a checkpoint's size no longer grows with the events done (it held 16 bytes
+per event so far: 480 MB at the bound N × events ≤ 3·10^7 with N = 1, rewritten at every chunk); a resumed
+run's result gives NaN stress drop and balance for the restored events and carries their largest balance
+(``RSChainResult.restored_balance_max``). tests/test_rs_chain_checkpoint.py checks a resumed run against a
+straight one bit for bit.
 
 ``arrays()`` gives numpy arrays whose bytes ``Checkpoints`` stores (CRC-checked);
 ``Snapshot.from_saved`` rebuilds one from those bytes and the catalog read back from the store.
@@ -39,7 +43,8 @@ class Snapshot:
     above: np.ndarray       # bool per block: above v_th now
     current: dict | None    # the open event (t_start, hypocentre, blocks, vmax, p0, s0), None between events
     t_last: float           # the end of the last event
-    rows: list              # every event row so far (ROW tuples)
+    rows: list              # every event row so far (ROW tuples; NaN stress drop and balance if restored)
+    balance_max: float = float("nan")   # the largest balance of restored rows (NaN: none restored)
 
     def boundary(self, every: int) -> int:
         """The events of the last full catalog chunk (what the store keeps of the catalog)."""
@@ -53,10 +58,11 @@ class Snapshot:
 
     def arrays(self, every: int) -> dict[str, np.ndarray]:
         """Arrays that own their data: what a checkpoint file holds besides the stored catalog chunks."""
-        # only the two columns kept for every event (all eight of every row were ~5x the cost, each save)
-        cols = {name: np.array([row[c] for row in self.rows], dtype=np.float64)
-                for c, name in enumerate(ROW) if name in ("stress_drop", "balance")}
         cut = self.boundary(every)
+        head = [row[-1] for row in self.rows[:cut] if row[-1] == row[-1]]     # balances, NaN (restored) out
+        head_max = max(head, default=float("nan"))
+        if self.balance_max == self.balance_max:
+            head_max = self.balance_max if head_max != head_max else max(head_max, self.balance_max)
         c = self.current
         return {
             "state": np.array(self.state, dtype=np.float64, copy=True),
@@ -67,8 +73,9 @@ class Snapshot:
             "open": np.array([c is not None], dtype=np.uint8),
             "open_values": np.array([c[k] for k in _OPEN] if c is not None else [], dtype=np.float64),
             "open_blocks": np.array(sorted(c["blocks"]) if c is not None else [], dtype=np.int64),
-            # per event, for all events: what the catalog chunks do not keep
-            "stress_drop": cols["stress_drop"], "balance": cols["balance"],
+            # of the events in the full chunks, what the store's outputs need and the catalog does not keep
+            "events": np.array([len(self.rows)], dtype=np.int64),
+            "balance_max": np.array([head_max], dtype=np.float64),
             # the events past the last full chunk (not yet in the store), every column
             "tail": np.array([[float(v) for v in row] for row in self.rows[cut:]],
                              dtype=np.float64).reshape(-1, len(ROW)),
@@ -81,19 +88,25 @@ class Snapshot:
             value = blobs[name]
             return np.frombuffer(value, dtype=dtype).copy() if isinstance(value, bytes) else np.asarray(value, dtype)
 
-        stress_drop, balance = get("stress_drop", np.float64), get("balance", np.float64)
         tail = get("tail", np.float64).reshape(-1, len(ROW))
         head = {name: np.asarray(catalog[name]) for name in ROW[:6]}
         cut = head["t_start"].size
-        if cut + tail.shape[0] != stress_drop.size or stress_drop.size != balance.size:
-            raise ValueError(f"checkpoint holds {stress_drop.size} events, its catalog {cut} + {tail.shape[0]}")
+        nan = float("nan")
+        if "events" in blobs:
+            events = int(get("events", np.int64)[0])
+            drops, balances = np.full(cut, nan), np.full(cut, nan)
+            balance_max = float(get("balance_max", np.float64)[0])
+        else:   # a checkpoint written before 2026-11-26: stress drop and balance of every event
+            drops, balances = get("stress_drop", np.float64), get("balance", np.float64)
+            events = drops.size if drops.size == balances.size else -1
+            balance_max = nan
+        if cut + tail.shape[0] != events:
+            raise ValueError(f"checkpoint holds {events} events, its catalog {cut} + {tail.shape[0]}")
         rows = []
         for e in range(cut):
-            rows.append((*(_scalar(name, head[name][e]) for name in ROW[:6]),
-                         float(stress_drop[e]), float(balance[e])))
-        for e, row in enumerate(tail):
-            rows.append((*(_scalar(name, row[c]) for c, name in enumerate(ROW[:6])),
-                         float(stress_drop[cut + e]), float(balance[cut + e])))
+            rows.append((*(_scalar(name, head[name][e]) for name in ROW[:6]), float(drops[e]), float(balances[e])))
+        for row in tail:
+            rows.append(tuple(_scalar(name, row[c]) for c, name in enumerate(ROW)))
         current = None
         if get("open", np.uint8)[0]:
             values = get("open_values", np.float64)
@@ -104,7 +117,7 @@ class Snapshot:
         total, since = (int(v) for v in get("steps", np.int64))
         return cls(state=get("state", np.float64), dtime=(hi, lo), steps=(total, since),
                    above=get("above", np.uint8).astype(bool), current=current,
-                   t_last=float(get("t_last", np.float64)[0]), rows=rows)
+                   t_last=float(get("t_last", np.float64)[0]), rows=rows, balance_max=balance_max)
 
 
 def _scalar(name, value):

@@ -174,7 +174,7 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
         per_run["events_done"][i] = r.events
         per_run["t_end"][i] = r.t_end
         per_run["steps"][i] = r.steps
-        per_run["balance_max"][i] = float(np.max(r.balance)) if r.events else np.nan
+        per_run["balance_max"][i] = r.balance_max
         if r.message:
             messages[i] = r.message + (f" (max_steps {int(max_steps)} lowered to {steps_cap} at N = {spec.n}: "
                                        f"bounds.RS_CHAIN_EVENT_WORK = {RS_CHAIN_EVENT_WORK:.0e} block-steps an event)"

@@ -24,13 +24,17 @@ import numpy as np
 
 from ...errors import InputError
 from ..rate_state.laws import resolve_state_law
-from ._system import PARAMETERS, Layout, compiled, steady_state
+from ._system import EXACT_TOL, PARAMETERS, Layout, compiled, steady_state
 from .checkpoint import Snapshot
 from .result import RSChainStatus
 
 __all__ = ["CATALOG_FIELDS", "RSChainResult", "RSChainSpec", "RSChainStatus", "initial_state", "rs_chain", "run"]
 
 CATALOG_FIELDS = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
+
+#: The loosest heyoka tolerance ``run`` accepts: order 10; the catalog's error there is measured in
+#: docs/rs-chain.md ("Speed"), beyond it nothing was measured.
+LOOSEST_TOL = 1e-8
 
 
 def _number(argument, value, *, low=None, positive=False, fix="give a finite number") -> float:
@@ -138,10 +142,21 @@ class RSChainResult:
     message: str = ""
     crossings: np.ndarray | None = None   # rows (t, block, +1 up / −1 down) with ``crossings=True``
     meta: dict = field(default_factory=dict)
+    #: a run resumed from a store's checkpoint: the largest balance of the restored events (their
+    #: stress_drop and balance are NaN: a checkpoint keeps only this of them); NaN otherwise
+    restored_balance_max: float = math.nan
 
     @property
     def events(self) -> int:
         return int(self.t_start.size)
+
+    @property
+    def balance_max(self) -> float:
+        """The largest balance over all events, restored ones included (NaN without events)."""
+        values = self.balance[~np.isnan(self.balance)].tolist()
+        if not math.isnan(self.restored_balance_max):
+            values.append(self.restored_balance_max)
+        return max(values) if values else math.nan
 
     def catalog(self) -> dict:
         return {name: getattr(self, name) for name in CATALOG_FIELDS}
@@ -159,13 +174,29 @@ class _Events:
         self.t_last = 0.0
         self.ln_v_th = math.log(spec.v_th)
         self.crossings: list | None = None
+        self.restored_balance_max = math.nan     # see RSChainResult.restored_balance_max
+        # RSChainSpec.stress's constants, bound once: it ran at 24 µs a call (law lookup, small-array numpy,
+        # fsum over numpy scalars), 2 calls an event, ~20 % of an N = 4 run
+        self._y_ss = math.log(spec.law.steady_factor * spec.dc)
+
+    def stress(self, state) -> float:
+        """``RSChainSpec.stress`` in Python floats (~2 µs at N = 4 against 24; equal to rounding: libm's
+        exp for numpy's)."""
+        spec, n = self.spec, self.spec.n
+        values = state.tolist()
+        a, b, eta, y_ss, exp = spec.a, spec.b, spec.eta, self._y_ss, math.exp
+        terms = [a * x + b * (y - y_ss) + eta * exp(x) for x, y in zip(values[:n], values[n:2 * n])]
+        if spec.inertial:
+            terms += values[2 * n:3 * n]
+        return math.fsum(terms)
 
     @property
     def done(self) -> int:
         return len(self.rows)
 
-    def feed(self, buffer: list) -> None:
-        for time, kind, j, data in sorted(buffer, key=lambda r: (r[0], -r[1])):
+    def feed(self, buffer: list, state_at) -> None:
+        """Assemble one step's roots; ``state_at(t)`` is the state at t inside that step (dense output)."""
+        for time, kind, j in sorted(buffer, key=lambda r: (r[0], -r[1])):
             if self.done >= self.wanted:
                 return
             if self.crossings is not None and kind != 0:
@@ -174,9 +205,9 @@ class _Events:
                 if self.above[j]:
                     continue          # a repeated root at a tangency: already above
                 if not self.n_above:
+                    data = state_at(time)
                     self.current = {"t_start": time, "hypocentre": j, "blocks": {j}, "vmax": self.spec.v_th,
-                                    "p0": float(data[self.layout.potency]),
-                                    "s0": self.spec.stress(data, self.layout)}
+                                    "p0": float(data[self.layout.potency]), "s0": self.stress(data)}
                 self.above[j] = True
                 self.n_above += 1
                 self.current["blocks"].add(j)
@@ -186,15 +217,17 @@ class _Events:
                 self.above[j] = False
                 self.n_above -= 1
                 if not self.n_above:
-                    self._close(time, data)
-            elif self.above[j] and data > self.ln_v_th:
-                self.current["vmax"] = max(self.current["vmax"], math.exp(data))
+                    self._close(time, state_at(time))
+            elif self.above[j]:
+                x = float(state_at(time)[j])
+                if x > self.ln_v_th:
+                    self.current["vmax"] = max(self.current["vmax"], math.exp(x))
 
     def _close(self, time, data) -> None:
         c, spec = self.current, self.spec
         dt = time - c["t_start"]
         potency = float(data[self.layout.potency]) - c["p0"]
-        ds = spec.stress(data, self.layout) - c["s0"]
+        ds = self.stress(data) - c["s0"]
         load = spec.k * (spec.n * spec.v_lp * dt - potency)
         balance = abs(ds - load) / abs(ds) if ds != 0 else math.inf
         self.rows.append((c["t_start"], c["hypocentre"], len(c["blocks"]), potency, dt, c["vmax"], -ds, balance))
@@ -204,13 +237,16 @@ class _Events:
 
 def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_steps: int = 10_000_000,
         maxima: bool = True, crossings: bool = False, every: int | None = None, save=None,
-        resume=None) -> RSChainResult:
+        resume=None, tol: float = EXACT_TOL) -> RSChainResult:
     """Integrate from ``state0`` (``initial_state``) until ``events`` events are catalogued.
 
     ``t_max`` and ``max_steps`` bound the time and the Taylor steps from the start or the end of the
     last event to the end of the next one; beyond them the run stops with ``no-stop`` and keeps the
     events before. ``maxima=False`` leaves out the velocity-maximum events (``max_velocity`` is NaN);
     ``crossings=True`` keeps every threshold crossing (t, block, ±1) of the catalogued events.
+    ``tol`` is heyoka's tolerance: the default, double epsilon, is the exact engine (≤ 2.5e-14 from the
+    mpmath references); a looser one, up to ``LOOSEST_TOL``, lowers the Taylor order and the cost per
+    step, not the step count (docs/rs-chain.md, "Speed": the catalog's measured error at each tolerance).
 
     Checkpoints (``checkpoint.Snapshot``): ``save(snapshot)`` is called at the end of the first step
     after which the events done reach a new multiple of ``every`` (while events remain to do); a run
@@ -219,13 +255,17 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     """
     if int(events) < 1:
         raise InputError("events", events, "must be >= 1", "give the number of events to catalogue")
+    tol = _number("tol", tol, positive=True, fix=f"give a tolerance from {EXACT_TOL:.3g} to {LOOSEST_TOL:g}")
+    if not EXACT_TOL <= tol <= LOOSEST_TOL:
+        raise InputError("tol", tol, f"is outside [{EXACT_TOL:.3g}, {LOOSEST_TOL:g}]",
+                         f"give a tolerance from {EXACT_TOL:.3g} (the exact default) to {LOOSEST_TOL:g}")
     if save is not None and (every is None or int(every) < 1):
         raise InputError("every", every, "must be >= 1 with save", "give the events between checkpoints")
     if resume is not None and crossings:
         raise InputError("crossings", crossings, "cannot be kept by a resumed run (a checkpoint holds none)",
                          "run from the start with crossings=True")
     c = compiled(spec.state_law, spec.n, inertial=spec.inertial, periodic=spec.periodic,
-                 damped=spec.eta > 0, maxima=maxima)
+                 damped=spec.eta > 0, maxima=maxima, tol=tol)
     ta, layout = c.integrator, c.layout
     state0 = np.asarray(state0, dtype=float)
     if state0.shape != (layout.size,):
@@ -234,10 +274,12 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     values = spec.parameters()
     ta.pars[:] = [values[name] for name in PARAMETERS]
     c.recorder.buffer.clear()
+    c.recorder.bind(ta)
+    state_at = c.recorder.state_at
     assembler = _Events(spec, layout, int(events))
     if crossings:
         assembler.crossings = []
-    steps = [0, 0]        # total, since the last event ended
+    steps = (0, 0)        # total, since the last event ended
     if resume is None:
         ta.time = 0.0
         ta.state[:] = state0
@@ -253,7 +295,8 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
                                                                  "blocks": set(resume.current["blocks"])}
         assembler.t_last = resume.t_last
         assembler.rows = list(resume.rows)
-        steps = list(resume.steps)
+        assembler.restored_balance_max = resume.balance_max
+        steps = tuple(resume.steps)
     status = [RSChainStatus.COMPLETE, ""]
     p_index = layout.potency
     saved = [assembler.done // every if save is not None else 0]     # chunks checkpointed so far
@@ -264,32 +307,36 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     state = ta.state
     bounded_t = math.isfinite(t_max)
 
+    total, since = steps      # Taylor steps: in all, since the last event ended
+
     def step(ta) -> bool:
-        steps[0] += 1
-        steps[1] += 1
-        before = len(rows)
-        if buffer:
-            assembler.feed(buffer)
+        nonlocal total, since
+        total += 1
+        since += 1
+        grew = False
+        if buffer:            # rows change only here: the done, reset and save checks with them
+            before = len(rows)
+            assembler.feed(buffer, state_at)
             buffer.clear()
-        if len(rows) >= wanted:
-            return False
-        if len(rows) > before:
-            steps[1] = 0
+            if len(rows) >= wanted:
+                return False
+            if len(rows) > before:
+                since, grew = 0, True
         if not assembler.n_above:
             state[p_index] = 0.0     # between events P restarts from 0: it never grows large
-        if steps[1] > max_steps or (bounded_t and ta.time - assembler.t_last > t_max):
+        if since > max_steps or (bounded_t and ta.time - assembler.t_last > t_max):
             status[0] = RSChainStatus.NO_STOP
             status[1] = (f"no-stop: event {assembler.done + 1} did not end within t_max = {t_max:g} or "
-                         f"max_steps = {max_steps} (t = {ta.time:.17g}, {steps[0]} steps)")
+                         f"max_steps = {max_steps} (t = {ta.time:.17g}, {total} steps)")
             return False
-        if save is not None and len(rows) // every > saved[0]:
+        if grew and save is not None and len(rows) // every > saved[0]:
             saved[0] = len(rows) // every
-            save(_snapshot(ta, assembler, steps))
+            save(_snapshot(ta, assembler, (total, since)))
         return True
 
     outcome = ta.propagate_until(1e300, callback=step)[0]
     if outcome == hy.taylor_outcome.err_nf_state:
-        status = [RSChainStatus.NONFINITE, f"nonfinite state at t = {ta.time:.17g} after {steps[0]} steps "
+        status = [RSChainStatus.NONFINITE, f"nonfinite state at t = {ta.time:.17g} after {total} steps "
                   f"(M = 0 and η = 0 blow up in finite time below the critical stiffness: give η > 0 or M > 0)"]
     rows = assembler.rows
     cols = list(zip(*rows)) if rows else [()] * 8
@@ -299,8 +346,9 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
         duration=np.array(cols[4], dtype=float),
         max_velocity=np.array(cols[5], dtype=float) if maxima else np.full(len(rows), np.nan),
         stress_drop=np.array(cols[6], dtype=float), balance=np.array(cols[7], dtype=float),
-        t_end=assembler.t_last if rows else math.nan, steps=steps[0], status=status[0], message=status[1],
-        crossings=np.array(assembler.crossings, dtype=float).reshape(-1, 3) if crossings else None)
+        t_end=assembler.t_last if rows else math.nan, steps=total, status=status[0], message=status[1],
+        crossings=np.array(assembler.crossings, dtype=float).reshape(-1, 3) if crossings else None,
+        restored_balance_max=assembler.restored_balance_max)
 
 
 def _snapshot(ta, assembler: _Events, steps) -> Snapshot:
@@ -308,14 +356,14 @@ def _snapshot(ta, assembler: _Events, steps) -> Snapshot:
     return Snapshot(state=np.array(ta.state, copy=True), dtime=tuple(float(v) for v in ta.dtime),
                     steps=(steps[0], steps[1]), above=assembler.above.copy(),
                     current=None if c is None else {**c, "blocks": set(c["blocks"])}, t_last=assembler.t_last,
-                    rows=list(assembler.rows))
+                    rows=list(assembler.rows), balance_max=assembler.restored_balance_max)
 
 
 def rs_chain(*, n, state_law="aging", a=0.01, b=0.015, dc=0.01, k, ell=1.0, v_lp=1.0, mass=0.0, eta=0.0,
              v_th=10.0, periodic=False, amplitude=0.1, seed=1, events=100, t_max=math.inf,
-             max_steps=10_000_000, maxima=True, crossings=False) -> RSChainResult:
+             max_steps=10_000_000, maxima=True, crossings=False, tol=EXACT_TOL) -> RSChainResult:
     """Run a rate-and-state chain from perturbed steady sliding and catalogue its first ``events`` events."""
     spec = RSChainSpec(n=n, state_law=state_law, a=a, b=b, dc=dc, k=k, ell=ell, v_lp=v_lp, mass=mass, eta=eta,
                        v_th=v_th, periodic=bool(periodic))
     return run(spec, initial_state(spec, amplitude, seed), events, t_max=t_max, max_steps=max_steps,
-               maxima=maxima, crossings=crossings)
+               maxima=maxima, crossings=crossings, tol=tol)
