@@ -79,6 +79,10 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
 
     if data.get("sweeps_small_nu", {}).get("table"):
         B += small_nu_section(cfg, data["sweeps_small_nu"], sw)
+    if data.get("ell_scan"):
+        from ._study_ell import ell_scan_section
+
+        B += ell_scan_section(cfg, data["ell_scan"])
     B += _mfd_section(data)
     if data.get("near_half"):
         B += near_half_section(cfg, data["near_half"])
