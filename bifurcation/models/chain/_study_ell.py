@@ -6,8 +6,8 @@ within one run) on a grid in units of the lone-block threshold ν_f*(ℓ) = 1/(2
 so that every ℓ is resolved alike around its own ν_f* (0.289, 0.115, 0.035 for ℓ = 1, 3, 10). The random
 start's amplitude is ``amplitude / ℓ²``: the spring stresses of a start u_j = A r_j are ~ℓ²A, and a start
 stress spread far above the threshold takes that many loading cycles to forget (measured, ℓ = 10, N = 16,
-ν = 1e-3: from A = 0.1 the spread 30.6 shrinks by ~1.6 per loading cycle, and D reaches the statistics of a
-start from A = 0.001 only after ~14 cycles; docs/chain.md, "ℓ scan"). D is left out (NaN) at steps where
+ν = 1e-3: from A = 0.1 the spread 30.6 shrinks by ~1.5 per loading cycle, and D reaches the statistics of a
+start from A = 0.001 only after 10–14 cycles; docs/chain.md, "ℓ scan"). D is left out (NaN) at steps where
 some seed's event lasted longer than ``longest_event`` loading cycles (merged slides, as in ``[sweep]``).
 Each finished run is kept at once in ``ell_scan.json`` (beside data.json): a stopped
 ``--ell-scan-only`` resumes with the runs still missing. The location is crossing.py's (ν_½ with its
@@ -150,14 +150,28 @@ def ell_scan_stats(out: Path, cfg) -> dict | None:
                      "half": loc["half"], "peak": loc["peak"], "width": loc["width"], "drop": loc["drop"],
                      "events": int(sum(sum(r["events"]) for r in rs)), "cpu": float(sum(r["cpu"] for r in rs))})
     fits = {}
+    nu = float(cfg["chain"]["nu"])
     for ell in s["ells"]:
         ch = [r for r in rows if r["ell"] == ell and r["n"] in s["sizes"] and r["n"] > 1]
         f = location_fit([r["n"] for r in ch], [r["half"]["value"] * r["star"] for r in ch],
                          [r["half"]["sigma"] * r["star"] for r in ch])
-        fits[f"{ell:g}"] = {"fit": f, "words": location_words(f, star(ell))}
+        fits[f"{ell:g}"] = {"fit": f, "words": location_words(f, star(ell)), "lone": lone_half(cfg["chain"]["law"], ell, nu, ratios)}
     return {"rows": rows, "fits": fits, "ratios": ratios.tolist(), "runs": len(runs),
             "planned": len(ell_scan_jobs(cfg)), "cpu": float(sum(r["cpu"] for r in runs.values())),
             "events": int(sum(sum(r["events"]) for r in runs.values()))}
+
+
+def lone_half(law: str, ell: float, nu: float, ratios) -> tuple[float, float, float]:
+    """(ν_½/ν_f*, ν_χ/ν_f*, k·P at the smallest ratio) of the lone interior block among stuck neighbours at this
+    ν, on the same grid and by the same locators: its k·P is the single block's Δ(ν/√k, √k ν_f) with √k ν_f = ratio/2 (docs/chain.md,
+    "Lone-block threshold"), so the reference for a chain transition that only follows the lone block."""
+    import bifurcation as bf
+
+    from .crossing import half_crossing, slope_peak
+
+    k = 1 + 2 * ell**2
+    d = [float(bf.slip(law, nu=nu / math.sqrt(k), nu_f=r / 2).delta) for r in ratios]
+    return half_crossing(ratios, d)[0], slope_peak(ratios, d)[0], d[0]
 
 
 def _pm(q: dict, scale: float = 1.0, d: int = 3) -> str:
@@ -194,7 +208,11 @@ def ell_scan_section(cfg, st: dict) -> list:
         ft = f["fit"]
         ratio = (f"{ft['nu_inf'] / star(ell):.3f} ± {ft['nu_inf_sigma'] / star(ell):.3f}"
                  if math.isfinite(ft["nu_inf"]) else "–")
-        fit_rows.append([f"{ell:g}", f"{star(ell):.4f}", ratio, f"**{v}**: {w}"])
+        lone, lone_peak, _ = f["lone"]
+        beside = (f"{lone:.3f} ({(ft['nu_inf'] / star(ell) - lone) / (ft['nu_inf_sigma'] / star(ell)):+.1f}σ)"
+                  if math.isfinite(lone) and math.isfinite(ft["nu_inf"]) and ft["nu_inf_sigma"] > 0 else f"{lone:.3f}")
+        beside += f"; ν_χ/ν_f* {lone_peak:.3f}"
+        fit_rows.append([f"{ell:g}", f"{star(ell):.4f}", ratio, beside, f"**{v}**: {w}"])
     cont = []
     for c in s.get("continuum", []):
         seq = [r for ell in s["ells"] for r in st["rows"] if r["ell"] == ell and r["n"] == int(round(c * ell))]
@@ -204,6 +222,12 @@ def ell_scan_section(cfg, st: dict) -> list:
             if math.isfinite(va) and math.isfinite(vb) and sig > 0:
                 cont.append(f"N/ℓ = {c:g}: ν_½/ν_f* {va:.3f} (ℓ = {a['ell']:g}, N = {a['n']}) → {vb:.3f} "
                             f"(ℓ = {b['ell']:g}, N = {b['n']}): {(vb - va) / sig:+.1f}σ")
+    spacing = st["ratios"][1] - st["ratios"][0]
+    step = [f"ℓ = {r['ell']:g}, N = {r['n']}" for r in st["rows"]
+            if math.isfinite(r["width"]["value"]) and r["width"]["value"] - 2 * r["width"]["sigma"] <= spacing]
+    steps = (f" The change is **step-like on this grid** (W − 2σ ≤ the spacing {spacing:g} ν_f*: the grid cannot tell it "
+             f"from a jump) at {'; '.join(step)}; elsewhere it is resolved as a smooth fall." if step else
+             f" No (ℓ, N) has W − 2σ ≤ the spacing {spacing:g} ν_f*: every change is resolved as a smooth fall.")
     located = [r for r in st["rows"] if math.isfinite(r["half"]["value"])]
     span = ""
     if located:
@@ -224,7 +248,7 @@ def ell_scan_section(cfg, st: dict) -> list:
             f"ℓ → ∞, the chain's length in coupling lengths held fixed). The grid is in units of each ℓ's lone-block "
             f"threshold ν_f*(ℓ) = 1/(2√(1 + 2ℓ²)): ν_f/ν_f* = {grid}. The random start has amplitude "
             f"{s['amplitude']:g}/ℓ² (the same start stress spread at every ℓ: from amplitude 0.1 at ℓ = 10 the spread is "
-            "30.6 and takes ~14 loading cycles to relax, docs/chain.md, \"ℓ scan\"). D is left out at steps where some "
+            "30.6 and takes 10–14 loading cycles to relax, docs/chain.md, \"ℓ scan\"). D is left out at steps where some "
             f"seed's event lasted more than {s.get('longest_event', 0.5):g} loading cycles (merged slides). Located as in the "
             "section above (crossing.locate: ν_½ with bootstrap and grid errors, ν_χ, W), here in units of ν_f*; "
             f"{st['runs']} runs, {st['events']} events, {st['cpu']:.0f} CPU s in all."),
@@ -234,7 +258,20 @@ def ell_scan_section(cfg, st: dict) -> list:
         Paragraph("Per ℓ, the location against N (sizes of the scan, N > 1) by ν_c(N) = ν_∞ + a/N and the words of "
                   "the section above (crossing.location_words: **approaches ν_f*** when ν_∞ is within 2σ of ν_f*(ℓ) "
                   "and beyond 2σ of 1/2; undecided with fewer than 3 located sizes or χ²/dof > 2):"),
-        Table(["ℓ", "ν_f*", "ν_∞/ν_f*", "reading"], fit_rows),
+        Table(["ℓ", "ν_f*", "ν_∞/ν_f*", "lone block at this ν: ν_½/ν_f* (chain ν_∞ − it, in σ); ν_χ/ν_f*", "reading"], fit_rows),
+        Paragraph("The lone block's column is the reference for a chain whose transition only follows the lone "
+                  f"block: its k·P = Δ(ν/√k, ν_f/(2ν_f*)) at ν = {nu:g} on the same grid, located by the same half-way "
+                  "crossing and steepest descent. Its stick-slip branch is no plateau (k·P = "
+                  + ", ".join(f"{st['fits'][f'{e:g}']['lone'][2]:.2f}" for e in s["ells"])
+                  + f" at {st['ratios'][0]:g} ν_f* for ℓ = {', '.join(f'{e:g}' for e in s['ells'])}, falling all the way to "
+                  "ν_f*), so both locators put its fall below ν_f* on this grid, the bias the single block's calibration "
+                  "shows. Rule: the chain's transition lies **above the lone block's** when ν_∞ − 2σ exceeds both of the "
+                  "lone block's locations: " + "; ".join(
+                      f"ℓ = {e:g}: " + ("above" if math.isfinite(st["fits"][f"{e:g}"]["fit"]["nu_inf"]) and
+                                      (st["fits"][f"{e:g}"]["fit"]["nu_inf"] - 2 * st["fits"][f"{e:g}"]["fit"]["nu_inf_sigma"])
+                                      / star(e) > max(st["fits"][f"{e:g}"]["lone"][:2]) else "not shown above")
+                      for e in s["ells"]) + "."
+                  + steps),
         Paragraph("Toward the continuum limit (fixed N/ℓ, ℓ growing; successive ℓ compared, difference in units of the "
                   "combined σ; three ℓ values are not enough for a fit of the approach, none is made): "
                   + ("; ".join(cont) if cont else "no fixed-N/ℓ pair with located transitions.")

@@ -315,7 +315,11 @@ def _verdict(cfg, data, sw, star) -> list:
          ("Sakaguchi (2002): the transition becomes continuous in long chains", "the transition of D located "
          f"per N and its width W scaled (section \"Finite-size scaling of a defined transition\"): {defined}",
          f"**{sak}**")]
-    caveats = ("Caveats: one law, one ℓ; the sweeps of all N at one ν (" + f"{nu:g}"
+    scan = data.get("ell_scan") or {}
+    ells = cfg.get("ell_scan", {}).get("ells", [])
+    one_ell = (f"one law, one ℓ (other ℓ only in the ℓ scan: ℓ = {', '.join(f'{e:g}' for e in ells)}, D's transition "
+               "located, section \"ℓ scan\")" if scan.get("rows") else "one law, one ℓ")
+    caveats = (f"Caveats: {one_ell}; the sweeps of all N at one ν (" + f"{nu:g}"
          + (f"; N ≤ {max(cfg['sweep_small_nu']['sizes'])} also at ν = {cfg['sweep_small_nu']['nu']:g}"
             if data.get("sweeps_small_nu", {}).get("table") else "") + "); errors are seed-to-seed standard errors from "
          + ", ".join(f"{r['seeds']}" for r in table) + " seeds (N = " + ", ".join(str(r["n"]) for r in table)
