@@ -137,7 +137,7 @@ def test_the_workflow_refuses_a_bad_ell_scan_naming_the_key(tmp_path, key, value
     text = (REPO / "workflows" / "chain-report.toml").read_text()
     doc = tomllib.loads(text)
     assert "ell_scan" in doc
-    i = text.index("[ell_scan]")
+    i = text.index("\n[ell_scan]") + 1
     scan = dict(doc["ell_scan"], **{key: value})
     body = "\n".join(f"{k} = {json.dumps(v)}" for k, v in scan.items())
     (tmp_path / "w.toml").write_text(text[:i] + "[ell_scan]\n" + body + "\n")
@@ -157,3 +157,39 @@ def test_ell_scan_only_is_refused_with_another_run_or_without_data(tmp_path):
     r = CliRunner().invoke(cli, ["study", "chain", wf, "--out", str(tmp_path), "--ell-scan-only"])
     assert r.exit_code == 2 and "data.json" in r.output
     assert not any(tmp_path.iterdir())
+
+
+def test_a_workflow_without_an_ell_scan_is_refused_by_ell_scan_only(tmp_path):
+    import tomllib
+
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    text = (REPO / "workflows" / "chain-report.toml").read_text()
+    (tmp_path / "w.toml").write_text(text[:text.index("\n[ell_scan]") + 1])
+    assert "ell_scan" not in tomllib.loads((tmp_path / "w.toml").read_text())
+    r = CliRunner().invoke(cli, ["study", "chain", str(tmp_path / "w.toml"), "--out", str(tmp_path / "o"),
+                                 "--ell-scan-only"])
+    assert r.exit_code == 2 and "has no [ell_scan] table" in r.output and len(r.output.strip().splitlines()) == 1
+
+
+def test_a_stop_while_keeping_a_run_leaves_the_earlier_ell_scan_json_whole(tmp_path, monkeypatch):
+    """record_run writes beside and renames (as data.json's _write_data): a stop inside the write keeps every run
+    kept before it, and leaves no partial file."""
+    cfg = _cfg(ells=[3.0], sizes=[4], continuum=[])
+    _write(tmp_path, cfg, lambda r: 0.5 - 0.1 * r, seeds=2)
+    before = (tmp_path / E.ELL_FILE).read_text()
+    write_text = Path.write_text
+
+    def half_then_stop(self, text, *args, **kwargs):
+        write_text(self, text[: len(text) // 2], *args, **kwargs)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Path, "write_text", half_then_stop)
+    run = json.loads(before)["runs"][0]
+    with pytest.raises(KeyboardInterrupt):
+        E.record_run(tmp_path, cfg, dict(run, seed=3))
+    monkeypatch.undo()
+    assert (tmp_path / E.ELL_FILE).read_text() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == [E.ELL_FILE]
