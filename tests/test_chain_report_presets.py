@@ -204,7 +204,8 @@ def test_the_literature_column_quotes_each_finding_in_its_claims_row():
         assert ("(secondary: its account of another paper)" in cell) or not f.secondary
     # MK's 1D α-dependence was not read anywhere: only its 2D models' abstracts, not compared; the claim is the
     # issue's summary
-    assert "not compared: both are MK's two-dimensional models" in table.rows[3][3]
+    assert "not compared: the first two are MK's two-dimensional models" in table.rows[3][3]
+    assert "realized only by fine-tuning the model parameters" in table.rows[3][3]     # MK on their 1D models
     assert "issue 17's summary" in table.rows[3][3]
     # de Sousa Vieira–Vasconcelos–Nagel is read only through Vasconcelos 1996's account of it
     assert table.rows[2][3].startswith("Vasconcelos, PRL 76, 4865 (1996)") and "secondary" in table.rows[2][3]

@@ -64,6 +64,13 @@ FINDINGS = (
             "The magnitude distribution exhibits a ``near-critical'' behavior, i.e., a power-law-like behavior close "
             "to the Gutenberg-Richter law, for a wide parameter range with its B-value, B≃0.55, insensitive to the "
             "model parameters"),
+    Finding("mk", "Mori & Kawamura, arXiv 0802.1305 (their 2D long-range model's abstract), on their own "
+            "**one-dimensional** models", "abstract, last clause of its magnitude sentence "
+            "(scifaro.com/en/abs/simulation-study-of-earthquakes-based-on-the-two-dimensional-burridge-knopoff-model-"
+            "with-the-long-range-interaction-0802.1305, v2 2009-11-13; the tomesphere copy above stops before it)",
+            "in sharp contrast to that of the 2D short-range model and those of the 1D short-range and long-range "
+            "models where such a ``near-critical'' behavior is realized only by fine-tuning the model parameters",
+            secondary=True),
     Finding("dsvvn", "Vasconcelos, PRL 76, 4865 (1996)",
             "paragraph after Fig. 3, on its ref. [10] (the reference list is not in the text read; PRE 47, R2221 "
             "(1993) is issue 17's reference)",
@@ -160,6 +167,11 @@ SEARCHES = (
      "characteristic peak", "student BK projects and seismic-hazard code; no MK parameters"),
     ("find_string", "'0408396' (MK 2005's arXiv number), 'Carlson, Langer, Shaw and Tang', 'PhysRevA.44.884'",
      "no citation of either paper in stored GitHub files (the number only inside unrelated digits)"),
+    ("pages", "Takahiro Mori doctoral thesis Osaka University Burridge-Knopoff model earthquakes simulation",
+     "no thesis; MK 2D long-range abstract in full at scifaro (arXiv 0802.1305 v2), whose last clause on their 1D "
+     "models is now a finding (FINDINGS, 'mk'): words, no parameter"),
+    ("pages", "Carlson Langer Shaw Tang 1991 Burridge-Knopoff friction drop sigma one-way slipping zero loading "
+     "velocity limit events localized delocalized", "CL PRA 1989 page 1 again; no CLST text"),
 )
 
 
