@@ -275,7 +275,10 @@ def ell_scan_section(cfg, st: dict) -> list:
         Paragraph("Toward the continuum limit (fixed N/ℓ, ℓ growing; successive ℓ compared, difference in units of the "
                   "combined σ; three ℓ values are not enough for a fit of the approach, none is made): "
                   + ("; ".join(cont) if cont else "no fixed-N/ℓ pair with located transitions.")
-                  + span + ".")],
+                  + span + ". The chains here have no viscous term: Mori & Kawamura, whose continuum limit of the 1D "
+                  "model takes a block-size parameter a → 0, write (arXiv 0807.4588, abstract, arxivlens.com) “The "
+                  "Kelvin viscosity term is introduced so that the model dynamics possesses a sensible continuum "
+                  "limit.” — so ℓ → ∞ here is the limit of this model, not theirs.")],
         level=3)]
 
 
