@@ -72,7 +72,9 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
             "directory, written by `--published-nu-only` (same workflow, its `[published_nu]` section; catalogs and "
             "fits: [PUBLISHED_NU.md](PUBLISHED_NU.md)). The CSN fits of the report's own catalogs are kept in "
             "csn.json, keyed by the data they fit (recomputed from catalogs.npz and near_half.npz by "
-            "tests/test_chain_report_csn.py)." if data.get("published_nu") else ""))]
+            "tests/test_chain_report_csn.py)." if data.get("published_nu") else "")
+         + (" The section \"ℓ scan\" is read from ell_scan.json, written run by run by `--ell-scan-only` (same "
+            "workflow, its `[ell_scan]` section)." if (data.get("ell_scan") or {}).get("rows") else ""))]
     B += _threshold_section(data, c)
     B += _order_section(cfg, data, sw, star)
     from ._study_mfd_text import near_half_section, small_nu_section
