@@ -195,6 +195,15 @@ seeds = [1, 2]
 nu_f = [0.3, 0.5]
 cycles_per_step = [1, 0.5]
 transient_cycles = 0.5
+[ell_scan]
+ells = [1.0, 3.0]
+sizes = [4]
+seeds = 2
+ratios = [0.5, 1.0, 1.5, 2.0]
+cycles_per_step = 0.5
+transient_cycles = 0.5
+amplitude = 0.1
+max_events_per_step = 500
 """)
     main([str(wf)])
     text = (out / "REPORT.md").read_text()
@@ -202,6 +211,10 @@ transient_cycles = 0.5
                  "## Speed (bench)", "## Verdict table (issue 17)", "## Readings of the σ = 0, ℓ = 1 runs"):
         assert head in text
     assert "rates 1.5x" in text and "old verdict" not in text
+    # the ℓ scan through the full run: its 4 sweeps kept in ell_scan.json, its section rendered from them
+    scan = json.loads((out / "ell_scan.json").read_text())
+    assert sorted((r["ell"], r["n"], r["seed"]) for r in scan["runs"]) == [(1.0, 4, 1), (1.0, 4, 2), (3.0, 4, 1), (3.0, 4, 2)]
+    assert "### ℓ scan (1, 3) and the continuum limit" in text and (out / "fig_ell_scan.png").is_file()
     for fig in ("fig_order", "fig_fss", "fig_mfd", "fig_threshold"):
         assert (out / f"{fig}.png").stat().st_size > 1000
     data = json.loads((out / "data.json").read_text())

@@ -204,7 +204,8 @@ def test_the_literature_column_quotes_each_finding_in_its_claims_row():
         assert ("(secondary: its account of another paper)" in cell) or not f.secondary
     # MK's 1D α-dependence was not read anywhere: only its 2D models' abstracts, not compared; the claim is the
     # issue's summary
-    assert "not compared: both are MK's two-dimensional models" in table.rows[3][3]
+    assert "not compared: the first two are MK's two-dimensional models" in table.rows[3][3]
+    assert "realized only by fine-tuning the model parameters" in table.rows[3][3]     # MK on their 1D models
     assert "issue 17's summary" in table.rows[3][3]
     # de Sousa Vieira–Vasconcelos–Nagel is read only through Vasconcelos 1996's account of it
     assert table.rows[2][3].startswith("Vasconcelos, PRL 76, 4865 (1996)") and "secondary" in table.rows[2][3]
@@ -215,7 +216,7 @@ def test_the_literature_column_quotes_each_finding_in_its_claims_row():
     (t2,) = [b for b in flatten(verdict_table({}, {"presets": []}, {})) if isinstance(b, Table)]
     assert t2.rows[1][3].endswith("beside ours: no run on the preset")
     # the record of searches that found nothing names its corpus and query
-    assert SEARCHES and all(c in ("pages", "code", "docs", "find_string") and q and r for c, q, r in SEARCHES)
+    assert SEARCHES and all(c in ("pages", "code", "docs", "issues", "find_string") and q and r for c, q, r in SEARCHES)
 
 
 def test_docs_list_every_search_that_found_nothing():

@@ -85,12 +85,12 @@ def test_the_committed_chain_report_is_one_typed_document_in_both_formats():
     cfg = load_report_workflow(REPO / workflow)
     blocks = study_blocks(out, cfg, workflow, saved_data(out, cfg))
     expected = from_blocks(blocks, out)
-    # the title, 8 sections (the Speed one carried over from REPORT.md), 5 subsections, the 7 figures and
-    # 22 tables (3 of them the Speed section's, read back from REPORT.md)
-    assert [k for k in expected if k[0] == "h"] == [("h", 1)] + [("h", 2)] * 2 + [("h", 3)] * 3 + [("h", 2)] * 2 \
+    # the title, 8 sections (the Speed one carried over from REPORT.md), 6 subsections (the ℓ scan's the 4th), the
+    # 8 figures and 24 tables (3 of them the Speed section's, read back from REPORT.md; 2 the ℓ scan's)
+    assert [k for k in expected if k[0] == "h"] == [("h", 1)] + [("h", 2)] * 2 + [("h", 3)] * 4 + [("h", 2)] * 2 \
         + [("h", 3)] + [("h", 2)] + [("h", 3)] + [("h", 2)] * 3
     # (the Speed section: the compiled baselines' table, then the heyoka engine's two against interpreted RK4)
-    assert sum(k[0] == "figure" for k in expected) == 7 and sum(k[0] == "table" for k in expected) == 22
+    assert sum(k[0] == "figure" for k in expected) == 8 and sum(k[0] == "table" for k in expected) == 24
     md = to_markdown(blocks)
     assert from_markdown(md, out) == expected
     assert from_html(to_html(blocks, out)) == expected

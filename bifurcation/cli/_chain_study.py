@@ -40,10 +40,13 @@ _MAX_DATA_BYTES = 256 << 20
               help="Run only the workflow's [published_nu] catalogs (the presets at their own ν, events split by a "
                    "velocity threshold; its `cpu` per catalog) into DIR/subevents_*.json and re-render the report "
                    "from DIR/data.json (refused without it).")
+@click.option("--ell-scan-only", "ell_scan_only", is_flag=True,
+              help="Run only the workflow's [ell_scan] sweeps still missing from DIR/ell_scan.json (each kept as it "
+                   "finishes: a stopped scan resumes) and re-render the report from DIR/data.json (refused without it).")
 @click.option("--force", is_flag=True, help="Run again into a DIR that holds a study (its data.json is replaced); "
                                             "default: refuse.")
 def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, force: bool,
-                    published_nu_only: bool = False, catalogs_only: bool = False) -> None:
+                    published_nu_only: bool = False, catalogs_only: bool = False, ell_scan_only: bool = False) -> None:
     """The chain study of WORKFLOW: lone-block threshold, order parameter and hysteresis with finite-size
     scaling, magnitude–frequency statistics, a verdict table (≤ 10 minutes on 2 cores for
     workflows/chain-report.toml)."""
@@ -62,6 +65,15 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
     if sum((from_data, presets_only, published_nu_only, catalogs_only)) > 1:
         raise InputError("--published-nu-only", "with --from-data, --presets-only or --catalogs-only", "is a run of "
                          "its own", "give one of --from-data, --presets-only, --catalogs-only and --published-nu-only")
+    if ell_scan_only and (from_data or presets_only or published_nu_only or catalogs_only):
+        raise InputError("--ell-scan-only", "with another of --from-data, --presets-only, --catalogs-only, "
+                         "--published-nu-only", "is a run of its own", "give --ell-scan-only alone")
+    if ell_scan_only and not cfg.get("ell_scan"):
+        raise InputError("--ell-scan-only", str(workflow), "has no [ell_scan] table",
+                         "add one (workflows/chain-report.toml has it) or drop --ell-scan-only")
+    if ell_scan_only and not data.is_file():
+        raise InputError("--ell-scan-only", str(data), "does not exist: the report is re-rendered from it",
+                         "run the whole study once, or give --out results/chain")
     if catalogs_only and not data.is_file():
         raise InputError("--catalogs-only", str(data), "does not exist: the report is re-rendered from it",
                          "run the whole study once, or give --out results/chain")
@@ -88,7 +100,7 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
             raise InputError("--from-data", str(data), f"cannot be read as a study's data ({exc})",
                              "run the study again without --from-data (with --force) to rewrite it") from None
         _check_saved(saved, cfg, data)
-    elif published_nu_only or catalogs_only:
+    elif published_nu_only or catalogs_only or ell_scan_only:
         pass      # writes subevents_*.json beside data.json and re-renders: no study replaced
     elif not force and any((out / mark).exists() for mark in _MARKS):
         raise InputError("--out", str(out), "already holds a chain study (REPORT.md or data.json), which a run "
@@ -101,7 +113,7 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
 
     main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else []),
           *(["--presets-only"] if presets_only else []), *(["--published-nu-only"] if published_nu_only else []),
-          *(["--catalogs-only"] if catalogs_only else [])])
+          *(["--catalogs-only"] if catalogs_only else []), *(["--ell-scan-only"] if ell_scan_only else [])])
     if from_data:   # (a run says where it wrote, and in how long, itself)
         click.echo(f"wrote {out / 'REPORT.md'} and its figures from {data}")
 

@@ -254,7 +254,8 @@ _KEPT = {
     "continue": "continue writes its store and report only at the end, so this run left nothing new (an "
                 "earlier output in --out is kept): run the same command again; it starts from the beginning.",
     "study": "A study writes its directory only at the end, so this run left nothing new: run the same "
-             "command again; it starts from the beginning.",
+             "command again; it starts from the beginning (`study chain --ell-scan-only` keeps each finished "
+             "sweep in ell_scan.json and resumes from there).",
 }
 
 

@@ -360,10 +360,11 @@ def verdict_table(cfg, data, old_rows: dict) -> list:
               "cl": cl_beside,
               "dsvvn": "not compared: its chain's N, ℓ, ν and friction were not read, and its loading–unloading "
                        "hysteresis is not the ν_f-sweep loop measured here (section \"Order parameter and hysteresis\")",
-              "mk": "not compared: both are MK's two-dimensional models, and for the 1D chain nothing was read — the "
-                    "first column's claim (GR-like at α = 1, a peak at α ≥ 2) is issue 17's summary of MK, not MK's "
-                    "text (the stored opening of MK 2005 speaks of CL's dependence on the friction parameter: row "
-                    "above)",
+              "mk": "not compared: the first two are MK's two-dimensional models; for the 1D chain only the third, "
+                    "MK's own clause on their 1D models (near-critical behaviour only by fine-tuning the parameters, "
+                    "which parameters and values not said), was read — the first column's claim (GR-like at α = 1, a "
+                    "peak at α ≥ 2) is issue 17's summary of MK, not MK's text (the stored opening of MK 2005 speaks "
+                    "of CL's dependence on the friction parameter: row above)",
               "sak": "not compared: its friction has a state variable; no exponent is in the abstract"}
     lit = [_literature_cell(c, beside[c]) for c in ("vas", "cl", "dsvvn", "mk", "sak")]
     rows = [(r[0], r[1], (pub_cells(k) if k and k != "vasconcelos-1996" else

@@ -72,13 +72,19 @@ def report_blocks(cfg, path, data, wall, speed: list) -> list:
             "directory, written by `--published-nu-only` (same workflow, its `[published_nu]` section; catalogs and "
             "fits: [PUBLISHED_NU.md](PUBLISHED_NU.md)). The CSN fits of the report's own catalogs are kept in "
             "csn.json, keyed by the data they fit (recomputed from catalogs.npz and near_half.npz by "
-            "tests/test_chain_report_csn.py)." if data.get("published_nu") else ""))]
+            "tests/test_chain_report_csn.py)." if data.get("published_nu") else "")
+         + (" The section \"ℓ scan\" is read from ell_scan.json, written run by run by `--ell-scan-only` (same "
+            "workflow, its `[ell_scan]` section)." if (data.get("ell_scan") or {}).get("rows") else ""))]
     B += _threshold_section(data, c)
     B += _order_section(cfg, data, sw, star)
     from ._study_mfd_text import near_half_section, small_nu_section
 
     if data.get("sweeps_small_nu", {}).get("table"):
         B += small_nu_section(cfg, data["sweeps_small_nu"], sw)
+    if data.get("ell_scan"):
+        from ._study_ell import ell_scan_section
+
+        B += ell_scan_section(cfg, data["ell_scan"])
     B += _mfd_section(data)
     if data.get("near_half"):
         B += near_half_section(cfg, data["near_half"])
@@ -311,7 +317,11 @@ def _verdict(cfg, data, sw, star) -> list:
          ("Sakaguchi (2002): the transition becomes continuous in long chains", "the transition of D located "
          f"per N and its width W scaled (section \"Finite-size scaling of a defined transition\"): {defined}",
          f"**{sak}**")]
-    caveats = ("Caveats: one law, one ℓ; the sweeps of all N at one ν (" + f"{nu:g}"
+    scan = data.get("ell_scan") or {}
+    ells = cfg.get("ell_scan", {}).get("ells", [])
+    one_ell = (f"one law, one ℓ (other ℓ only in the ℓ scan: ℓ = {', '.join(f'{e:g}' for e in ells)}, D's transition "
+               "located, section \"ℓ scan\")" if scan.get("rows") else "one law, one ℓ")
+    caveats = (f"Caveats: {one_ell}; the sweeps of all N at one ν (" + f"{nu:g}"
          + (f"; N ≤ {max(cfg['sweep_small_nu']['sizes'])} also at ν = {cfg['sweep_small_nu']['nu']:g}"
             if data.get("sweeps_small_nu", {}).get("table") else "") + "); errors are seed-to-seed standard errors from "
          + ", ".join(f"{r['seeds']}" for r in table) + " seeds (N = " + ", ".join(str(r["n"]) for r in table)

@@ -64,6 +64,13 @@ FINDINGS = (
             "The magnitude distribution exhibits a ``near-critical'' behavior, i.e., a power-law-like behavior close "
             "to the Gutenberg-Richter law, for a wide parameter range with its B-value, B≃0.55, insensitive to the "
             "model parameters"),
+    Finding("mk", "Mori & Kawamura, arXiv 0802.1305 (their 2D long-range model's abstract), on their own "
+            "**one-dimensional** models", "abstract, last clause of its magnitude sentence "
+            "(scifaro.com/en/abs/simulation-study-of-earthquakes-based-on-the-two-dimensional-burridge-knopoff-model-"
+            "with-the-long-range-interaction-0802.1305, v2 2009-11-13; the tomesphere copy above stops before it)",
+            "in sharp contrast to that of the 2D short-range model and those of the 1D short-range and long-range "
+            "models where such a ``near-critical'' behavior is realized only by fine-tuning the model parameters",
+            secondary=True),
     Finding("dsvvn", "Vasconcelos, PRL 76, 4865 (1996)",
             "paragraph after Fig. 3, on its ref. [10] (the reference list is not in the text read; PRE 47, R2221 "
             "(1993) is issue 17's reference)",
@@ -125,6 +132,46 @@ SEARCHES = (
      "nothing relevant"),
     ("find_string", "'Mori and Kawamura', 'Carlson and Langer', 'Carlson-Langer', 'Mogi doughnut'",
      "no quotation of either paper's parameters in stored GitHub files"),
+    # a second round (issue 17, helper lscan), new routes: the authors' own later texts, arXiv numbers, reviews
+    ("pages", "Mori Kawamura one-dimensional Burridge-Knopoff model equation of motion friction parameter alpha l=3 "
+     "nu'=0.01 sigma=0.01", "Xia's page again; Moschetta & Mascia, arXiv 1607.08267 (a later paper comparing with "
+     "earlier works: secondary, opening only); MathWorld; no MK text"),
+    ("pages", "arXiv cond-mat/0408396 Mori Kawamura spatiotemporal correlations earthquakes stick-slip",
+     "MK 2005 abstract (scilit) only; other models (2D BK, OFC, train)"),
+    ("pages", "Simulation study of the one-dimensional Burridge-Knopoff model of earthquakes Mori Kawamura "
+     "velocity-weakening friction parameter α σ = 0.01 ν' = 0.01 l = 3 N = 800",
+     "Kawamura et al.'s rate-and-state 1D papers (arXiv 1605.08659, 1805.07237: another friction law), Xia's page"),
+    ("pages", "Mori Kawamura 2006 spatiotemporal correlations of earthquake events in the one-dimensional spring-block "
+     "model arXiv physics.geo-ph", "MK JGR 2006 under its title at sciencedocbox: a list of similar documents, "
+     "no text; MK 2D (arXiv 0706.1871) abstract"),
+    ("pages", "Carlson Langer Shaw Dynamics of earthquake faults Reviews of Modern Physics adap-org/9307001 model "
+     "parameters", "CLS RMP 1994 abstract (scec.org/publication/171) only; ar5iv of adap-org/9307001 not stored"),
+    ("pages", "ar5iv adap-org/9307001 Dynamics of earthquake faults Carlson Langer Shaw",
+     "Langer, Carlson, Myers & Shaw, PNAS 93, 3825 (1996) (nap.edu/read/5709/chapter/18): the same group's 1D "
+     "model, but only the abstract and first sentence are stored — no equation or parameter reached"),
+    ("pages", "Slip complexity in dynamic models of earthquake faults Langer Carlson Myers Shaw one-dimensional model "
+     "equation of motion friction sigma alpha ell nu", "the same PNAS opening (nap.edu) and its SCEC entry "
+     "(scec.org/publication/444): abstract only"),
+    ("pages", "de Sousa Vieira Vasconcelos Nagel dynamics of spring-block models tuning to criticality",
+     "not found (train-model and OFC papers)"),
+    ("pages", "ar5iv 1112.0148 Statistical physics of fracture, friction and earthquakes Kawamura Hatano Kato Biswas "
+     "Chakrabarti", "RMP 84, 839 (2012): abstract and table of contents again (arxiv-vanity, scribd, scdigest); "
+     "section III.1.3 (the 1D BK model with short-range interaction) not stored"),
+    ("issues", "Carlson Langer 1989 Burridge-Knopoff chain parameters l=10 alpha=2.5 sigma=0.01 simulation reproduce "
+     "magnitude distribution", "nothing on the BK chain (Virtual Quake, SeismoStats threads)"),
+    ("docs", "Mori Kawamura PRL 94 058501 one-dimensional Burridge-Knopoff parameters",
+     "nothing relevant (other spring-slider codes)"),
+    ("docs", "Intrinsic properties of a Burridge-Knopoff model of an earthquake fault Carlson Langer Shaw Tang 1991",
+     "nothing relevant"),
+    ("code", "Mori Kawamura Burridge-Knopoff 1D model magnitude distribution alpha=1 Gutenberg-Richter alpha=2 "
+     "characteristic peak", "student BK projects and seismic-hazard code; no MK parameters"),
+    ("find_string", "'0408396' (MK 2005's arXiv number), 'Carlson, Langer, Shaw and Tang', 'PhysRevA.44.884'",
+     "no citation of either paper in stored GitHub files (the number only inside unrelated digits)"),
+    ("pages", "Takahiro Mori doctoral thesis Osaka University Burridge-Knopoff model earthquakes simulation",
+     "no thesis; MK 2D long-range abstract in full at scifaro (arXiv 0802.1305 v2), whose last clause on their 1D "
+     "models is now a finding (FINDINGS, 'mk'): words, no parameter"),
+    ("pages", "Carlson Langer Shaw Tang 1991 Burridge-Knopoff friction drop sigma one-way slipping zero loading "
+     "velocity limit events localized delocalized", "CL PRA 1989 page 1 again; no CLST text"),
 )
 
 

@@ -48,6 +48,10 @@ MK_PRL = "Mori & Kawamura, PRL 94, 058501 (2005), arXiv cond-mat/0408396 (openin
 #: 1993; MK 2005 parameters; CLST 1991): no new text found (hits were other BK/train-model papers).
 #: And again for issue 17 (19 look-ups over the pages, code and docs corpora and find_string, each listed
 #: in literature.SEARCHES): no parameter found; the findings read in words are in literature.FINDINGS.
+#: A second round (16 look-ups, new routes: the authors' own later texts such as Langer, Carlson, Myers & Shaw,
+#: PNAS 93, 3825 (1996), arXiv numbers, the RMP 2012 review, the issues corpus; literature.SEARCHES from the
+#: 20th on): only openings and abstracts again, no parameter (one clause of MK on their 1D models, in words,
+#: became a finding: literature.FINDINGS); every NOT READ below stays so.
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,8 @@
 threshold, order parameter and hysteresis with finite-size scaling, magnitude–frequency statistics, a
 verdict table.
 
-    bifurcation study chain workflows/chain-report.toml [--out DIR] [--from-data | --presets-only | --published-nu-only]
+    bifurcation study chain workflows/chain-report.toml [--out DIR] [--from-data | --presets-only | --published-nu-only
+                                                                    | --ell-scan-only]
 
 Runs the workflow's ν_f sweeps (several seeds per N), catalogs and lone-block checks on two
 processes and writes ``REPORT.md`` and ``report.html`` (one document of ``report.document``'s typed blocks, by
@@ -12,7 +13,8 @@ from ``DIR/data.json`` without running anything: ``--from-data --out results/cha
 committed report byte for byte (deterministic figures, no software tag). ``--presets-only`` runs the
 ``[presets]`` catalogs (``_study_presets``) and takes every other section from ``DIR/data.json``; a
 ``[[presets.run]]`` already there with the same entry and the same shared ``[presets]`` settings is kept.
-A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is carried over, read
+``--ell-scan-only`` runs the ``[ell_scan]`` sweeps still missing from ``DIR/ell_scan.json`` (``_study_ell``; each
+kept as it finishes, so a stopped scan resumes) and re-renders from ``DIR/data.json``. A "## Speed" section already in ``REPORT.md`` (written from ``bifurcation bench``) is carried over, read
 back into blocks. Sections and verdicts: ``_study_text`` (prose), ``_study_mfd_text``, ``_study_presets``;
 figures: ``_study_figures``, ``_study_mfd``; the workflow's check: ``study_workflow``.
 """
@@ -110,6 +112,9 @@ def _jobs(cfg):
     from ._study_presets import preset_jobs
 
     jobs += preset_jobs(cfg)
+    from ._study_ell import ell_scan_jobs
+
+    jobs += ell_scan_jobs(cfg)
     return sorted(jobs, key=lambda j: -j[2])      # the longest first: two workers stay busy to the end
 
 
@@ -156,6 +161,9 @@ def main(argv=None) -> None:
     if "--published-nu-only" in argv[1:] and not (out / "data.json").is_file():
         sys.exit(f"bifurcation: error: --published-nu-only: {out / 'data.json'} does not exist; run the whole report "
                  "once, or give --out results/chain (the committed data)")
+    if "--ell-scan-only" in argv[1:] and not (out / "data.json").is_file():
+        sys.exit(f"bifurcation: error: --ell-scan-only: {out / 'data.json'} does not exist; run the whole report once, "
+                 "or give --out results/chain (the committed data)")
     if "--presets-only" in argv[1:] and not (out / "data.json").is_file():
         sys.exit(f"bifurcation: error: --presets-only: {out / 'data.json'} does not exist; run the whole report once "
                  "(without --presets-only), or give --out results/chain (the committed data)")
@@ -185,6 +193,9 @@ def main(argv=None) -> None:
         data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
         _extra_stats(out, cfg, data, None)
         _render(out, cfg, path, data)
+        return
+    if "--ell-scan-only" in argv[1:]:   # the [ell_scan] runs still missing from ell_scan.json; the rest from data.json
+        _ell_scan_only(out, cfg, path)
         return
     if "--catalogs-only" in argv[1:]:   # the [catalog] runs again, their raw catalogs kept; the rest from data.json
         data = json.loads((out / "data.json").read_text())
@@ -228,7 +239,7 @@ def main(argv=None) -> None:
     with _pool(cfg["study"].get("workers", 2)) as pool:
         futures = [(f.__name__, pool.submit(f, a)) for f, a, _ in _jobs(cfg)]
         results = {"_sweep": [], "_catalog": [], "_threshold": [], "_budgeted_catalog": [], "_sweep_small_nu": [],
-                   "_preset_catalog": []}
+                   "_preset_catalog": [], "_ell_sweep": []}
         for name, fut in futures:
             results[name].append(_waiting(fut, futures, t0))
             r = results[name][-1]
@@ -245,6 +256,11 @@ def main(argv=None) -> None:
         data["presets_cfg"] = {k: v for k, v in cfg["presets"].items() if k != "run"}
     for st, c in zip(data["catalogs"], results["_catalog"]):
         st["cpu"] = c["cpu"]
+    if results["_ell_sweep"]:     # the ℓ scan's runs into ell_scan.json (a new run replaces the kept ones)
+        from ._study_ell import record_run
+
+        for i, r in enumerate(results["_ell_sweep"]):
+            record_run(out, cfg, r, fresh=i == 0)
     data["catalogs"].sort(key=lambda d: (d["n"], d["nu_f"]))
     _extra_stats(out, cfg, data, results)
     import os
@@ -253,6 +269,26 @@ def main(argv=None) -> None:
     _write_data(out, data)
     _render(out, cfg, path, data)
     print(f"wrote {out}/REPORT.md in {wall:.0f} s")
+
+
+def _ell_scan_only(out: Path, cfg, path: Path) -> None:
+    """The ``[ell_scan]`` runs not yet in ``out/ell_scan.json``, each kept there as it finishes (a stopped run
+    resumes), then the report re-rendered from ``out/data.json`` with this workflow's text."""
+    from ._study_ell import missing_jobs, record_run
+
+    data = json.loads((out / "data.json").read_text())
+    jobs = sorted(missing_jobs(out, cfg), key=lambda j: -j[2])
+    t0 = time.perf_counter()
+    with _pool(cfg["study"].get("workers", 2)) as pool:
+        futures = [(f.__name__, pool.submit(f, a)) for f, a, _ in jobs]
+        for _, fut in futures:
+            r = _waiting(fut, futures, t0)
+            record_run(out, cfg, r)
+            print(f"{time.perf_counter() - t0:6.0f} s  ell scan ℓ = {r['ell']:g}, N = {r['n']}, seed {r['seed']}: "
+                  f"{r['cpu']:.0f} cpu s", file=sys.stderr, flush=True)
+    data["workflow"] = path.read_text()
+    _write_data(out, data)
+    _render(out, cfg, path, saved_data(out, cfg))
 
 
 def _write_data(out: Path, data: dict) -> None:
@@ -286,6 +322,11 @@ def _render(out: Path, cfg, path: Path, data) -> None:
 
         presets_figure(out, data["presets"])
     data["published_nu"] = published_nu(out)
+    from ._study_ell import ell_scan_figure, ell_scan_stats
+
+    data["ell_scan"] = ell_scan_stats(out, cfg)     # from ell_scan.json, recomputed at each rendering
+    if data["ell_scan"] and data["ell_scan"]["rows"]:
+        ell_scan_figure(out, data["ell_scan"])
     blocks = study_blocks(out, cfg, path, data)
     (out / "REPORT.md").write_text(to_markdown(blocks), encoding="utf-8")
     (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")
@@ -298,6 +339,9 @@ def saved_data(out: Path, cfg) -> dict:
     data["sweeps"].update(_sweep_stats(data["sweeps"]["runs"], cfg))
     _extra_stats(out, cfg, data, None)
     data["published_nu"] = published_nu(out)
+    from ._study_ell import ell_scan_stats
+
+    data["ell_scan"] = ell_scan_stats(out, cfg)
     return data
 
 

@@ -16,7 +16,7 @@ from .model import CHAIN, REPORT_WORKFLOW
 __all__ = ["load_report_workflow"]
 
 _TABLES = ("study", "chain", "sweep", "catalog", "threshold", "near_half", "sweep_small_nu", "presets",
-           "published_nu")
+           "published_nu", "ell_scan")
 _SWEEP = ("sizes", "seeds", "nu_f", "nu_f_max", "cycles_per_step", "transient_cycles", "max_events_per_step",
           "longest_event")
 #: Runs per N, steps, events: a typo such as 1e9 is refused here rather than run for days.
@@ -152,7 +152,42 @@ def load_report_workflow(path) -> dict:
                            required=False)
     if published is not None:   # the presets at their own nu, events split by V_th (subevent_study.py)
         _published_nu(published)
+    scan = root.table("ell_scan", ("ells", "sizes", "seeds", "ratios", "continuum", "cycles_per_step",
+                                   "transient_cycles", "amplitude", "max_events_per_step", "longest_event"), required=False)
+    if scan is not None:   # the ℓ scan of the transition (_study_ell.py)
+        _ell_scan(scan)
     return doc
+
+
+def _ell_scan(table: Table) -> None:
+    """``[ell_scan]``: every (ℓ, N) within the chain's axes and N × events bound; ratios ascending (a grid
+    in units of ν_f*(ℓ), ν_f = ratio · ν_f* within the ν_f axis for every ℓ)."""
+    import math
+
+    ells = table.numbers("ells", most=_MOST_LIST, **_axis("ell"))
+    sizes = table.integers("sizes", most=_MOST_LIST, **_axis("n"))
+    table.integer("seeds", high=_MOST_LIST)
+    ratios = table.numbers("ratios", most=_MOST_LIST, above=0)
+    if len(ratios) < 4 or any(b <= a for a, b in zip(ratios, ratios[1:])):
+        raise InputError(table.path("ratios"), list(ratios), "is not an ascending grid of at least 4 values",
+                         "give ν_f/ν_f* in ascending order, e.g. ratios = [0.5, 0.75, 1.0, 1.25, 1.5, 2.0]")
+    continuum = table.numbers("continuum", [], most=_MOST_LIST, above=0) if table.has("continuum") else ()
+    table.number("cycles_per_step", above=0)
+    table.number("transient_cycles", low=0)
+    table.number("amplitude", **_axis("amplitude"))
+    events = table.integer("max_events_per_step", **_axis("events"))
+    table.number("longest_event", 0.5, above=0)
+    low, high = _axis("nu_f")["low"], _axis("nu_f")["high"]
+    for ell in ells:
+        star = 0.5 / math.sqrt(1 + 2 * ell**2)
+        for r in (ratios[0], ratios[-1]):
+            check_range(f"{table.path('ratios')} × ν_f*(ℓ = {ell:g})", r * star, low, high)
+    for ell in ells:
+        for c in continuum:
+            n = int(round(c * ell))
+            check_range(f"{table.path('continuum')} × ℓ = {ell:g} (N)", n, *_axis("n").values())
+    _n_events(table, max(sizes + tuple(int(round(c * e)) for c in continuum for e in ells)), events,
+              "max_events_per_step")
 
 
 def _published_nu(table: Table) -> None:
