@@ -65,3 +65,24 @@ def test_numba_rk4_baselines_are_the_interpreted_rk4():
     np.testing.assert_array_equal(plain["n_blocks"], ref["n_blocks"])
     np.testing.assert_array_equal(active["n_blocks"], ref["n_blocks"])
     np.testing.assert_allclose(active["potency"], ref["potency"], rtol=1e-6)
+
+
+def test_the_stop_phase_model_stops_where_the_lone_trajectory_stops():
+    """``run_stop_phase`` (docs/chain.md, "Why N = 64 and 256 stay below 1.0×") counts Taylor steps to a lone
+    block's stop with τ, s (dτ = (1 + x) ds) and v as the independent variable. Its three series are checked by
+    where they put the stop: the lone interior block's stop time from heyoka's stored trajectory (``_lone``,
+    tolerance 2.2e-16, an independent integrator), to 1e-11 (the model's steps are at tol 1e-11 relative to
+    O(1–10^3) scaled values, ≤ 9 of them; measured 6e-13). The pole of Φ past the stop comes after it, and
+    removing it (s) never takes more steps than τ from the same point (the docs' claim)."""
+    from bifurcation.models.chain._bench import run_stop_phase
+    from bifurcation.models.chain._lone import trajectory
+
+    law, nu, nu_f, ell = resolve_law("carlson-langer"), 1e-4, 0.2, 1.0
+    t_ref = trajectory(law, nu, nu_f, ell, 0.0, 0)["T"]
+    out = run_stop_phase(nu=nu, nu_f=nu_f, ell=ell, echo=None)
+    assert abs(out["t_stop"] - t_ref) <= 1e-11
+    assert out["t_pole"] > out["t_stop"] + 0.05
+    for row in out["rows"]:
+        for var in ("tau", "s", "v"):
+            assert abs(row[f"stop_{var}"] - t_ref) <= 1e-11, (row, var)
+        assert 1 <= row["s"] <= row["tau"]

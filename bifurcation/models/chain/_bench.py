@@ -12,8 +12,8 @@ its noise) measures the rates at several dt. The event magnitude distribution is
 event slips the same amount), and an atom moved by RK4's error (2e-3 relative at dt = 0.05) makes the
 raw KS distance the atom's whole weight. Timings are CPU seconds of this single-threaded process
 (wall-clock shown too: on a shared machine it measures the other jobs), reported, never asserted.
-``python -m bifurcation.models.chain._bench suite|ks|long|atom`` runs the suite, the longer KS study and
-the 10^5-event timing of results/chain/REPORT.md ("Speed").
+``python -m bifurcation.models.chain._bench suite|ks|long|atom|tolerance|stop`` runs the suite, the longer KS study,
+the tolerance grid and stop-phase model (docs/chain.md, "Speed") and the 10^5-event timing of results/chain/REPORT.md ("Speed").
 """
 
 from __future__ import annotations
@@ -443,6 +443,173 @@ def run_lone_block_check(*, n: int = 64, events: int = 300, dts=(0.2, 0.1, 0.05,
     return out
 
 
+def run_tolerance_grid(*, sizes=(64, 256), tols=(1e-11, 1e-10, 1e-9), events: int = 10_000, reps: int = 3,
+                       law: str = "carlson-langer", ell: float = 1.0, nu: float = 1e-4, nu_f: float = 0.2,
+                       amplitude: float = 0.1, seed: int = 1, transient: int = 1000, verify: float = 0.01,
+                       echo=print) -> dict:
+    """The compiled engine's events per CPU second at several tolerances against the numba active-set RK4 at
+    dt = 0.1, timed in turn ``reps`` times from the same steady start (median ratio and range), with the
+    Taylor steps per event and a ``verify`` sample re-run by the heyoka engine at each tolerance: what a
+    looser tolerance buys (docs/chain.md, "Speed"). Reported, never asserted."""
+    from ...laws import resolve_law
+    from ._bench_rk4 import run_rk4
+    from ._compiled import CompiledChain, run_verified
+    from ._validate import check_initial
+
+    say = echo or (lambda *_: None)
+    law_obj = resolve_law(law)
+    tiny = check_initial(8, ell, "free", None, amplitude, seed)          # compile both first
+    CompiledChain(law_obj, 8, ell, 1e-3, nu_f, "free", tiny).run(3)
+    run_rk4("active", law, n=8, ell=ell, nu=1e-3, nu_f=nu_f, u0=tiny, events=3, dt=0.1)
+    rows = []
+    for n in sizes:
+        u0 = _steady_start_compiled(law_obj, n, ell, nu, nu_f, check_initial(n, ell, "free", None, amplitude, seed),
+                                    transient)
+        for tol in tols:
+            ratios, steps = [], 0.0
+            for _ in range(reps):
+                run = CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0, tol=tol)
+                out, _, c = _timed(lambda: run.run(events))
+                _, _, b = _timed(lambda: run_rk4("active", law, n=n, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=events,
+                                                 dt=0.1))
+                ratios.append(b / c)
+                steps = float(out["catalog"]["steps"].mean())
+            _, rep = run_verified(CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0, tol=tol), events, verify)
+            row = {"n": n, "tol": tol, "ratio": float(np.median(ratios)), "ratio_range": (min(ratios), max(ratios)),
+                   "steps_per_event": steps, "verify": rep["largest_any"], "verify_checked": rep["checked"],
+                   "mismatched": len(rep["mismatched"])}
+            rows.append(row)
+            say(f"  N = {n:4d}, tol {tol:g}: compiled/numba RK4 active dt = 0.1 {row['ratio']:.3f}x "
+                f"({min(ratios):.3f}-{max(ratios):.3f}, {reps} runs of {events} events), {steps:.2f} Taylor steps/event, "
+                f"verify {rep['largest_any']:.1e} over {rep['checked']} events, {row['mismatched']} differ in hypocentre/size")
+    return {"rows": rows}
+
+
+def _lone_series(w0, v0, t0, k, c3, c4, order, variable):
+    """Taylor coefficients (orders 0 … order) of a lone block's slip ẇ = v, v̇ = −k w + τ + c4 x/(1 + x),
+    x = c3 v (Carlson–Langer, σ_f = 0, scaled as ``_integrator``) about (w0, v0, τ0), with the independent variable
+    τ ("tau": rows w, v), s with dτ = (1 + x) ds ("s": rows w, v, τ; the pole of Φ removed) or v itself ("v": rows
+    w, τ; a decelerating block's stop is the end of the series' interval)."""
+    p = order
+    W, V, T = np.zeros(p + 1), np.zeros(p + 1), np.zeros(p + 1)
+    W[0], V[0], T[0] = w0, v0, t0
+    if variable == "tau":
+        R = np.zeros(p + 1)
+        R[0] = 1.0 / (1.0 + c3 * v0)
+        for n in range(p):
+            if n:
+                R[n] = -c3 * R[0] * np.dot(V[1:n + 1], R[n - 1::-1][:n])
+            load = -k * W[n] + (t0 if n == 0 else 1.0 if n == 1 else 0.0)
+            V[n + 1] = (load + (c4 * (1.0 - R[0]) if n == 0 else -c4 * R[n])) / (n + 1)
+            W[n + 1] = V[n] / (n + 1)
+        return W, V
+    if variable == "s":
+        E, L = np.zeros(p + 1), np.zeros(p + 1)
+        for n in range(p):
+            E[n] = (1.0 if n == 0 else 0.0) + c3 * V[n]
+            L[n] = -k * W[n] + T[n]
+            V[n + 1] = (np.dot(E[:n + 1], L[n::-1]) + c4 * (E[n] - (1.0 if n == 0 else 0.0))) / (n + 1)
+            W[n + 1] = np.dot(E[:n + 1], V[n::-1]) / (n + 1)
+            T[n + 1] = E[n] / (n + 1)
+        return W, V, T
+    A, Q = np.zeros(p + 1), np.zeros(p + 1)
+    x0 = c3 * v0
+    for n in range(p):
+        g = c4 * x0 / (1.0 + x0) if n == 0 else -c4 / (1.0 + x0) * (-c3 / (1.0 + x0)) ** n
+        A[n] = -k * W[n] + T[n] + g
+        Q[n] = 1.0 / A[0] if n == 0 else -Q[0] * np.dot(A[1:n + 1], Q[n - 1::-1][:n])
+        W[n + 1] = (v0 * Q[n] + (Q[n - 1] if n else 0.0)) / (n + 1)
+        T[n + 1] = Q[n] / (n + 1)
+    return W, T
+
+
+def run_stop_phase(*, nu: float = 1e-4, nu_f: float = 0.2, ell: float = 1.0, order: int = 20, tol: float = 1e-11,
+                   before=(0.5, 0.3, 0.2, 0.1), echo=print) -> dict:
+    """Why the last steps before a stop are short (docs/chain.md, "Speed"): a lone interior block's slip
+    (k = 1 + 2ℓ², from rest, scipy's DOP853 at rtol 1e-13 as the reference trajectory) continued past its stop
+    meets the pole of Φ (x = −1) a little later, a branch point of v(τ) that bounds the Taylor series' radius, so
+    steps shrink geometrically towards the stop. Counts the Taylor steps (order ``order``, the engine's step rule
+    from the last two coefficients at the mixed tolerance ``tol``) from points ``before`` the stop to past it, with
+    τ, s (dτ = (1 + x) ds) and v as the independent variable, and the stop's τ each finds (``stop_<variable>``).
+    A model of the engine's step rule in numpy, not the engine."""
+    from scipy.integrate import solve_ivp
+
+    say = echo or (lambda *_: None)
+    c3, c4, k = nu / nu_f, 1.0 / nu, 1.0 + 2.0 * ell * ell
+
+    def rhs(t, y):
+        x = c3 * y[1]
+        return [y[1], -k * y[0] + t + c4 * x / (1.0 + x)]
+
+    stop = lambda t, y: y[1] if t > 0.5 else 1.0          # noqa: E731 (v = 0 after the start's v = 0)
+    pole = lambda t, y: y[1] + (1.0 - 1e-6) / c3          # noqa: E731
+    pole.terminal = True
+    sol = solve_ivp(rhs, [0.0, 100.0], [0.0, 0.0], method="DOP853", rtol=1e-13, atol=1e-14, events=[stop, pole],
+                    dense_output=True)
+    t_stop, t_pole = float(sol.t_events[0][0]), float(sol.t_events[1][0])
+
+    def rule(cols, eps):
+        a1 = max(abs(c[order - 1]) / e for c, e in zip(cols, eps))
+        a0 = max(abs(c[order]) / e for c, e in zip(cols, eps))
+        return 0.9 * min(a1 ** (-1.0 / (order - 1)), a0 ** (-1.0 / order))
+
+    def poly(c, h):
+        return float(np.polyval(c[::-1], h))
+
+    def cross(V, h):
+        """The root of the step's v polynomial in (0, h] (v > 0 at 0, ≤ 0 at h), by bisection."""
+        a, b = 0.0, h
+        for _ in range(200):
+            c = 0.5 * (a + b)
+            if not a < c < b:
+                break
+            a, b = (c, b) if poly(V, c) > 0.0 else (a, c)
+        return b
+
+    def steps(t0, variable):
+        """(steps to the stop from τ = t0, the stop's τ from the last step's polynomial)."""
+        w, v = sol.sol(t0)
+        t, n = t0, 0
+        while n < 1000:
+            n += 1
+            ev = tol + tol * abs(v)
+            ew = max(ev, tol + tol * abs(w))
+            et = tol + tol * max(1.0, abs(t))
+            if variable == "tau":
+                W, V = _lone_series(w, v, t, k, c3, c4, order, "tau")
+                h = rule([W, V], [ew, ev])
+                v1 = poly(V, h)
+                if v1 <= 0.0:
+                    return n, t + cross(V, h)
+                w, v, t = poly(W, h), v1, t + h
+            elif variable == "s":
+                W, V, T = _lone_series(w, v, t, k, c3, c4, order, "s")
+                h = rule([W, V, T], [ew, ev, et])
+                v1 = poly(V, h)
+                if v1 <= 0.0:
+                    return n, poly(T, cross(V, h))
+                w, v, t = poly(W, h), v1, poly(T, h)
+            else:
+                W, T = _lone_series(w, v, t, k, c3, c4, order, "v")
+                h = rule([W, T], [ew, et])
+                if v - h <= 0.0:
+                    return n, poly(T, -v)
+                w, t, v = poly(W, -h), poly(T, -h), v - h
+        return n, np.nan
+
+    rows = []
+    say(f"lone interior block (k = {k:g}), ν = {nu:g}, ν_f = {nu_f:g}: stop at τ = {t_stop:.4f}, x = −1 on the "
+        f"continuation past it at τ = {t_pole:.4f} ({t_pole - t_stop:.3f} later); Taylor order {order}, tol {tol:g}")
+    for b in before:
+        r = {"before": b, "v_start": float(sol.sol(t_stop - b)[1])}
+        for var in ("tau", "s", "v"):
+            r[var], r[f"stop_{var}"] = steps(t_stop - b, var)
+        rows.append(r)
+        say(f"  from {b:g} before the stop (v = {r['v_start']:.0f}): steps to the stop with τ {r['tau']}, "
+            f"s {r['s']}, v as the variable {r['v']}")
+    return {"t_stop": t_stop, "t_pole": t_pole, "rows": rows}
+
+
 if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md ("Speed")
     import sys
 
@@ -460,3 +627,7 @@ if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md 
         run_million()
     elif what == "atom":
         run_lone_block_check()
+    elif what == "tolerance":
+        run_tolerance_grid()
+    elif what == "stop":
+        run_stop_phase()

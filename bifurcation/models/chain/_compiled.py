@@ -323,6 +323,7 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
     c3, sig, c4 = fr[3], fr[2], fr[4]
     amp = (1.0 - sig) * c4
     idx = win.nblk          # (``_rebuild``'s scratch, free here): the slipping slots, so the order loop skips no slot
+    # (a stuck slot's rows are zero: ``_segment`` zeroes them when the segment starts and when a block stops)
     ns = 0
     for i in range(m):
         if slip[i]:
@@ -341,10 +342,6 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
             gt = g * c4 if sig == 0.0 else (sig + (1.0 - sig) * g) * c4
             fw[i, 0] = vn
             fv[i, 0] = (d[i] + l2 * c - wn + tau) + gt
-        else:
-            for q in range(P):
-                fw[i, q] = 0.0
-                fv[i, q] = 0.0
     for n in range(1, P):
         for t in range(ns):
             i = idx[t]
@@ -370,9 +367,8 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
             fw[i, n] = vn / (n + 1)
             fv[i, n] = (ld + gt) / (n + 1)
     a_1, a_0 = 0.0, 0.0      # the largest scaled last and next-to-last coefficients (one pow each)
-    for i in range(m):
-        if not slip[i]:
-            continue
+    for t in range(ns):
+        i = idx[t]
         ev = atol + rtol * abs(v[i])
         ew = max(ev, atol + rtol * abs(w[i]))
         a_1 = max(a_1, abs(fw[i, P - 2]) / ew, abs(fv[i, P - 2]) / ev)
@@ -881,6 +877,12 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above)
     tau = 0.0
     if not taylor:
         _rhs(m, w, v, tau, slip, piece, left, right, selfc, d, gfun, code, consts, tstart, regs, fr, l2, kw, kv, 0)
+    else:
+        for i in range(m):      # a stuck slot's Taylor rows stay zero (``_taylor`` reads a neighbour's w series)
+            if not slip[i]:
+                for q in range(fw.shape[1]):
+                    fw[i, q] = 0.0
+                    fv[i, q] = 0.0
     t_end = min(tau_far, t_left)
     h_acc, e_acc, rejected = 0.0, 0.0, False   # the last accepted step and error (predictive control)
     nslip = 0
@@ -917,8 +919,8 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above)
         acc[0] += 1.0
         if acc[0] > max_steps:
             return 3, -1, tau, h
-        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 / _root8(err)))
-        if h_acc > 0.0 and err > 0.0:
+        fac = 10.0 if (err == 0.0 or taylor) else min(10.0, max(0.2, 0.9 / _root8(err)))
+        if h_acc > 0.0 and err > 0.0 and not taylor:
             # Gustafsson's predictive controller (as in Hairer's radau5, exponent 1/8 here): the error grows
             # ~4x per step towards a stop (the continuation of v past 0 meets the pole of Φ), and the
             # standard controller then rejected every other step there (49 % of all steps, N = 64).
@@ -1105,6 +1107,10 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above)
                     # event 63 944 of N = 1024, ν = 1e-4, seed 1)
                     slip[i] = 0
                     nslip -= 1
+                    if taylor:
+                        for q in range(fw.shape[1]):
+                            fw[i, q] = 0.0
+                            fv[i, q] = 0.0
             if nslip == 0:
                 return 0, -1, tau, h
         else:

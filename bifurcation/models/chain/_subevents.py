@@ -20,11 +20,17 @@ possibly inside an all-stuck stretch (its state is kept, so the next ``run`` goe
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
-from ._compiled import (NO_STOP, NONFINITE, CompiledChain, _commit, _event_close, _event_open, _far, _jit,
+from ._compiled import (_DEPENDS, NO_STOP, NONFINITE, CompiledChain, _commit, _event_close, _event_open, _far,
                         _segment, _start_failures)
+from ._numba_cache import jit
+
+#: numba checks a cached function against its own file only, and ``run_subevents`` holds ``_compiled``'s
+#: ``_segment`` compiled in: so its cache also goes stale when ``_compiled.py`` (or what that depends on) changes
+_jit = jit(depends=[*_DEPENDS, Path(__file__).with_name("_compiled.py")], nogil=True, error_model="numpy", _nrt=False)
 
 __all__ = ["SubeventRun", "run_subevents"]
 
