@@ -1591,3 +1591,27 @@ def test_output_to_a_full_device_is_an_error(env, tmp_path):
     lines = done.stderr.splitlines()
     assert done.returncode == 1 and len(lines) == 1, done.stderr
     assert lines[0].startswith("bifurcation: error: standard output: No space left on device"), lines
+
+
+def test_store_metadata_cut_mid_write(env, tmp_path, monkeypatch):
+    """A zarr.json cut in half (a write killed, a full disk): every reading command says which file, in one
+    line, exit 2, nothing written. A chain catalog array's metadata was a 107-line traceback from `report`
+    (which also left its --out behind); a cut root zarr.json was 'not a bifurcation store'."""
+    _, paths, _ = env
+    chain, sb = tmp_path / "chain.zarr", tmp_path / "sb.zarr"
+    shutil.copytree(paths["chain"], chain)
+    shutil.copytree(paths["sb"], sb)
+    for meta in (chain / "catalog" / "duration" / "zarr.json", sb / "zarr.json"):
+        os.truncate(meta, meta.stat().st_size // 2)
+    monkeypatch.chdir(tmp_path)
+    rows = [(["report", "--store", str(chain), "--out", "rep"], "catalog/duration/zarr.json: array metadata missing"),
+            (["query", "--store", str(chain), "--catalog"], "catalog/duration/zarr.json"),
+            (["export", "--store", str(chain), "--out", "x.nc"], "catalog/duration/zarr.json"),
+            *[([cmd, "--store", str(sb), *more], "has a root zarr.json that is not valid JSON")
+              for cmd, more in (("status", []), ("query", []), ("verify", []), ("export", ["--out", "x.nc"]),
+                                ("report", ["--out", "rep"]))]]
+    for argv, needle in rows:
+        result = CliRunner().invoke(cli, argv)
+        lines = result.stderr.splitlines()
+        assert result.exit_code == 2 and len(lines) == 1 and needle in lines[0], (argv, result.output[-500:])
+        assert not (tmp_path / "rep").exists() and not (tmp_path / "x.nc").exists(), argv
