@@ -1503,6 +1503,9 @@ CASES_W3 = [
     f"query --store {{chain}} --n {'9' * 5000} ## --n",
     f"submit {{wf_fig}} --store {{newstore}} --scheduler /tmp/{_LONG} ## --scheduler",     # fixed: exit 1
     f"verify --store {{sb}} --repair --scheduler /tmp/{_LONG} ## --scheduler",              # fixed: exit 1
+    f"report --store {{newdir}}/{_LONG} --out {{newdir}}/rep ## has a name of 300 bytes",      # fixed: exit 1
+    f"extrapolate --store {{newdir}}/{_LONG} --law carlson-langer --nu-f 0.4 ## --store",     # fixed: exit 1
+    "fit-period --store {loop} --law carlson-langer --nu-f 0.4 ## is a symbolic link that loops",
 ]
 STUDY_CASES_W3 = [
     "study chain {study} --out {loop} ## --out='{loop}': is a symbolic link that loops",   # fixed: exit 1

@@ -84,7 +84,7 @@ def _empty_value(command: click.Command, args: list[str], prefix: str = "") -> s
 
 
 #: Parameters that name a file or directory: their values are checked for names the system cannot take.
-_PATHS = ("store", "out", "workflow", "scheduler")
+_PATHS = ("store", "stores", "out", "workflow", "scheduler")
 
 
 def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str | None:
