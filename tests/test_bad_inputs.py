@@ -1618,3 +1618,22 @@ def test_store_metadata_cut_mid_write(env, tmp_path, monkeypatch):
         lines = result.stderr.splitlines()
         assert result.exit_code == 2 and len(lines) == 1 and needle in lines[0], (argv, result.output[-500:])
         assert not (tmp_path / "rep").exists() and not (tmp_path / "x.nc").exists(), argv
+
+
+def test_a_symbolic_link_to_nothing(env, tmp_path, monkeypatch):
+    """--out or --store a symbolic link whose target does not exist: `continue` computed and `reproduce`
+    submitted the paper's studies before failing with 'File exists', exit 1 (mkdir does not follow the link);
+    now one line naming the link's target, exit 2, before anything."""
+    _, paths, _ = env
+    link = tmp_path / "link"
+    link.symlink_to(tmp_path / "missing" / "target")
+    monkeypatch.chdir(tmp_path)
+    for argv in (["continue", paths["wf_rs"], "--out", str(link)], ["reproduce", "--out", str(link)],
+                 ["report", "--store", paths["sb"], "--out", str(link)], ["submit", paths["wf_fig"], "--store", str(link)],
+                 ["status", "--store", str(link)], ["study", "chain", str(ROOT / "workflows" / "chain-report.toml"),
+                                                    "--out", str(link)]):
+        result = CliRunner().invoke(cli, argv)
+        lines = result.stderr.splitlines()
+        assert result.exit_code == 2 and len(lines) == 1, (argv, result.output[-400:])
+        assert f"is a symbolic link to '{tmp_path / 'missing' / 'target'}', which does not exist" in lines[0], lines
+        assert result.stdout == "" and sorted(p.name for p in tmp_path.iterdir()) == ["link"], argv

@@ -90,7 +90,8 @@ _PATHS = ("store", "stores", "out", "workflow", "scheduler")
 def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str | None:
     """A path given to --store, --out, --scheduler or WORKFLOW that no command could use: a name longer than the system
     takes (a traceback-free exit 1 after the work, or a half-made parent directory, before) or a symbolic
-    link that loops (``Path.exists`` calls it missing, so outputs failed at the end with 'File exists')."""
+    link that loops or points nowhere (``Path.exists`` calls it missing, so outputs failed at the end with
+    'File exists')."""
     if isinstance(command, click.Group):
         sub = command.commands.get(args[0]) if args else None
         return _bad_path(sub, args[1:], f"{prefix}{command.name} ") if sub is not None else None
@@ -125,6 +126,9 @@ def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str 
             if exc.errno == errno.ELOOP:
                 return (f"{name}={shown!r}: is a symbolic link that loops (or a chain of more than 40); "
                         "remove or fix the link, or give another path")
+            if exc.errno == errno.ENOENT and os.path.islink(value):   # mkdir does not follow it: exit 1 after the work
+                return (f"{name}={shown!r}: is a symbolic link to {os.readlink(value)!r}, which does not exist; "
+                        "create that, or give another path")
     return None
 
 
