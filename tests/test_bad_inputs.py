@@ -1506,6 +1506,10 @@ CASES_W3 = [
     f"report --store {{newdir}}/{_LONG} --out {{newdir}}/rep ## has a name of 300 bytes",      # fixed: exit 1
     f"extrapolate --store {{newdir}}/{_LONG} --law carlson-langer --nu-f 0.4 ## --store",     # fixed: exit 1
     "fit-period --store {loop} --law carlson-langer --nu-f 0.4 ## is a symbolic link that loops",
+    # a file name with a byte that is not UTF-8 (argv's \xff reaches Python as the surrogate \udcff)
+    "export --store {sb} --out {outdir}/\udcff.nc ## has a byte that is not UTF-8",   # fixed: UnicodeEncodeError in netCDF4
+    "submit {wf_fig} --store {newdir}/caf\udce9.zarr ## has a byte that is not UTF-8 ('\\udce9' at",
+    "report --store {sb} --out {newdir}/\udcff ## has a byte that is not UTF-8",
 ]
 STUDY_CASES_W3 = [
     "study chain {study} --out {loop} ## --out='{loop}': is a symbolic link that loops",   # fixed: exit 1

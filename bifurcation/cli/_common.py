@@ -114,6 +114,11 @@ def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str 
         if param is None or param.name not in _PATHS or not value:
             continue
         shown = value if len(value) <= 80 else value[:60] + "…" + value[-15:]
+        try:   # bytes that are not UTF-8 reach Python as surrogates: netCDF4 raised UnicodeEncodeError on them
+            value.encode("utf-8")
+        except UnicodeEncodeError as exc:
+            return (f"{name}={shown!r}: has a byte that is not UTF-8 ({value[exc.start]!r} at {exc.start + 1}); "
+                    "give a path in UTF-8")
         raw = os.fsencode(value)
         longest = max(raw.split(b"/"), key=len)
         if len(longest) > 255 or len(raw) > 4095:
