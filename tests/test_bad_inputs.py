@@ -1503,6 +1503,13 @@ CASES_W3 = [
     f"query --store {{chain}} --n {'9' * 5000} ## --n",
     f"submit {{wf_fig}} --store {{newstore}} --scheduler /tmp/{_LONG} ## --scheduler",     # fixed: exit 1
     f"verify --store {{sb}} --repair --scheduler /tmp/{_LONG} ## --scheduler",              # fixed: exit 1
+    f"report --store {{newdir}}/{_LONG} --out {{newdir}}/rep ## has a name of 300 bytes",      # fixed: exit 1
+    f"extrapolate --store {{newdir}}/{_LONG} --law carlson-langer --nu-f 0.4 ## --store",     # fixed: exit 1
+    "fit-period --store {loop} --law carlson-langer --nu-f 0.4 ## is a symbolic link that loops",
+    # a file name with a byte that is not UTF-8 (argv's \xff reaches Python as the surrogate \udcff)
+    "export --store {sb} --out {outdir}/\udcff.nc ## has a byte that is not UTF-8",   # fixed: UnicodeEncodeError in netCDF4
+    "submit {wf_fig} --store {newdir}/caf\udce9.zarr ## has a byte that is not UTF-8 ('\\udce9' at",
+    "report --store {sb} --out {newdir}/\udcff ## has a byte that is not UTF-8",
 ]
 STUDY_CASES_W3 = [
     "study chain {study} --out {loop} ## --out='{loop}': is a symbolic link that loops",   # fixed: exit 1
@@ -1591,3 +1598,46 @@ def test_output_to_a_full_device_is_an_error(env, tmp_path):
     lines = done.stderr.splitlines()
     assert done.returncode == 1 and len(lines) == 1, done.stderr
     assert lines[0].startswith("bifurcation: error: standard output: No space left on device"), lines
+
+
+def test_store_metadata_cut_mid_write(env, tmp_path, monkeypatch):
+    """A zarr.json cut in half (a write killed, a full disk): every reading command says which file, in one
+    line, exit 2, nothing written. A chain catalog array's metadata was a 107-line traceback from `report`
+    (which also left its --out behind); a cut root zarr.json was 'not a bifurcation store'."""
+    _, paths, _ = env
+    chain, sb = tmp_path / "chain.zarr", tmp_path / "sb.zarr"
+    shutil.copytree(paths["chain"], chain)
+    shutil.copytree(paths["sb"], sb)
+    for meta in (chain / "catalog" / "duration" / "zarr.json", sb / "zarr.json"):
+        os.truncate(meta, meta.stat().st_size // 2)
+    monkeypatch.chdir(tmp_path)
+    rows = [(["report", "--store", str(chain), "--out", "rep"], "catalog/duration/zarr.json: array metadata missing"),
+            (["query", "--store", str(chain), "--catalog"], "catalog/duration/zarr.json"),
+            (["export", "--store", str(chain), "--out", "x.nc"], "catalog/duration/zarr.json"),
+            *[([cmd, "--store", str(sb), *more], "has a root zarr.json that is not valid JSON")
+              for cmd, more in (("status", []), ("query", []), ("verify", []), ("export", ["--out", "x.nc"]),
+                                ("report", ["--out", "rep"]))]]
+    for argv, needle in rows:
+        result = CliRunner().invoke(cli, argv)
+        lines = result.stderr.splitlines()
+        assert result.exit_code == 2 and len(lines) == 1 and needle in lines[0], (argv, result.output[-500:])
+        assert not (tmp_path / "rep").exists() and not (tmp_path / "x.nc").exists(), argv
+
+
+def test_a_symbolic_link_to_nothing(env, tmp_path, monkeypatch):
+    """--out or --store a symbolic link whose target does not exist: `continue` computed and `reproduce`
+    submitted the paper's studies before failing with 'File exists', exit 1 (mkdir does not follow the link);
+    now one line naming the link's target, exit 2, before anything."""
+    _, paths, _ = env
+    link = tmp_path / "link"
+    link.symlink_to(tmp_path / "missing" / "target")
+    monkeypatch.chdir(tmp_path)
+    for argv in (["continue", paths["wf_rs"], "--out", str(link)], ["reproduce", "--out", str(link)],
+                 ["report", "--store", paths["sb"], "--out", str(link)], ["submit", paths["wf_fig"], "--store", str(link)],
+                 ["status", "--store", str(link)], ["study", "chain", str(ROOT / "workflows" / "chain-report.toml"),
+                                                    "--out", str(link)]):
+        result = CliRunner().invoke(cli, argv)
+        lines = result.stderr.splitlines()
+        assert result.exit_code == 2 and len(lines) == 1, (argv, result.output[-400:])
+        assert f"is a symbolic link to '{tmp_path / 'missing' / 'target'}', which does not exist" in lines[0], lines
+        assert result.stdout == "" and sorted(p.name for p in tmp_path.iterdir()) == ["link"], argv

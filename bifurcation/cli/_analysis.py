@@ -145,12 +145,33 @@ def report(stores, out: str, force: bool, as_json: bool) -> None:
     check_writable_dir(out)   # before the analysis, not after it (and nothing made if a store is refused)
     check_replace(out, REPORT_FILES, given=True, force=force)
     sources = _stores(stores)
-    with _with_options(_NAMES):
+    with _with_options(_NAMES), _undone_on_error(out):
         files = write_store_report(sources, out)
     if as_json:
         echo_json(_written(files))
         return
     click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figure{'' if len(files['figures']) == 1 else 's'}")
+
+
+@contextlib.contextmanager
+def _undone_on_error(out) -> None:
+    """A report that fails part way (a damaged chunk met while drawing) leaves --out as it found it: the
+    directory removed if this run made it, else the files this run added (an empty --out was left behind
+    by a store whose catalog metadata was cut, issue 21 walk 3)."""
+    import shutil
+
+    out = Path(out)
+    existed = out.is_dir()
+    before = set(out.iterdir()) if existed else set()
+    try:
+        yield
+    except BaseException:
+        if not existed:
+            shutil.rmtree(out, ignore_errors=True)
+        else:
+            for path in set(out.iterdir()) - before:
+                shutil.rmtree(path, ignore_errors=True) if path.is_dir() else path.unlink(missing_ok=True)
+        raise
 
 
 def _written(files: dict) -> dict:

@@ -84,13 +84,14 @@ def _empty_value(command: click.Command, args: list[str], prefix: str = "") -> s
 
 
 #: Parameters that name a file or directory: their values are checked for names the system cannot take.
-_PATHS = ("store", "out", "workflow", "scheduler")
+_PATHS = ("store", "stores", "out", "workflow", "scheduler")
 
 
 def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str | None:
     """A path given to --store, --out, --scheduler or WORKFLOW that no command could use: a name longer than the system
     takes (a traceback-free exit 1 after the work, or a half-made parent directory, before) or a symbolic
-    link that loops (``Path.exists`` calls it missing, so outputs failed at the end with 'File exists')."""
+    link that loops or points nowhere (``Path.exists`` calls it missing, so outputs failed at the end with
+    'File exists')."""
     if isinstance(command, click.Group):
         sub = command.commands.get(args[0]) if args else None
         return _bad_path(sub, args[1:], f"{prefix}{command.name} ") if sub is not None else None
@@ -113,6 +114,11 @@ def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str 
         if param is None or param.name not in _PATHS or not value:
             continue
         shown = value if len(value) <= 80 else value[:60] + "…" + value[-15:]
+        try:   # bytes that are not UTF-8 reach Python as surrogates: netCDF4 raised UnicodeEncodeError on them
+            value.encode("utf-8")
+        except UnicodeEncodeError as exc:
+            return (f"{name}={shown!r}: has a byte that is not UTF-8 ({value[exc.start]!r} at {exc.start + 1}); "
+                    "give a path in UTF-8")
         raw = os.fsencode(value)
         longest = max(raw.split(b"/"), key=len)
         if len(longest) > 255 or len(raw) > 4095:
@@ -125,6 +131,9 @@ def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str 
             if exc.errno == errno.ELOOP:
                 return (f"{name}={shown!r}: is a symbolic link that loops (or a chain of more than 40); "
                         "remove or fix the link, or give another path")
+            if exc.errno == errno.ENOENT and os.path.islink(value):   # mkdir does not follow it: exit 1 after the work
+                return (f"{name}={shown!r}: is a symbolic link to {os.readlink(value)!r}, which does not exist; "
+                        "create that, or give another path")
     return None
 
 

@@ -82,15 +82,36 @@ class _Catalog:
         from .zarr_store import _quiet
 
         self.path = Path(path)
-        with _quiet():
-            root = zarr.open_group(str(path), mode=mode, use_consolidated=False)
-            self.group = root[CATALOG]
-            self.grid = tuple(root["done"].shape)
-            self.arrays = {name: a.with_config({"write_empty_chunks": True}) if mode != "r" else a
-                           for name, a in self.group.arrays()}
+        try:
+            with _quiet():
+                root = zarr.open_group(str(path), mode=mode, use_consolidated=False)
+                self.group = root[CATALOG]
+                self.grid = tuple(root["done"].shape)
+                self.arrays = {name: a.with_config({"write_empty_chunks": True}) if mode != "r" else a
+                               for name, a in self.group.arrays()}
+        except (ValueError, KeyError, TypeError):   # a zarr.json cut mid-write: JSONDecodeError is a ValueError
+            bad = self._unreadable_metadata()
+            if bad is None:
+                raise
+            from .integrity import Damage, StoreDamagedError
+
+            # (report read the catalog without the checks query makes: a 107-line traceback, issue 21 walk 3)
+            raise StoreDamagedError(self.path, Damage(bad, (), "array metadata missing or unreadable")) from None
         attrs = dict(self.group.attrs)
         self.chunk, self.capacity, self.runs = int(attrs["chunk"]), int(attrs["events_per_run"]), int(attrs["runs"])
         self.count = str(attrs["count"])
+
+    def _unreadable_metadata(self) -> str | None:
+        """The key of the first ``zarr.json`` of the catalog (or the root, or ``done``) that is not JSON."""
+        places = [self.path, self.path / "done", self.path / CATALOG]
+        if (self.path / CATALOG).is_dir():
+            places += sorted(p for p in (self.path / CATALOG).iterdir() if p.is_dir())
+        for place in places:
+            try:
+                json.loads((place / "zarr.json").read_bytes())
+            except (OSError, ValueError):
+                return (place / "zarr.json").relative_to(self.path).as_posix()
+        return None
 
     def chunks_of(self, run: int, count: int) -> range:
         """Chunk indices holding the first ``count`` events of ``run``."""

@@ -120,6 +120,14 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
                              "run `bifurcation continue WORKFLOW --out DIR` again to rewrite it as a store that "
                              "status, query, verify and report read, or read it with "
                              "xarray.open_zarr(PATH, consolidated=False)")
+        root = Path(path) / "zarr.json"
+        if root.is_file() and (Path(path) / "done").is_dir():   # a store's layout whose root metadata is cut
+            try:
+                json.loads(root.read_bytes())
+            except (OSError, ValueError):
+                raise InputError(argument, str(path), "has a root zarr.json that is not valid JSON (cut while it "
+                                 "was written, or damaged): the store's description and metadata are lost",
+                                 "restore it from a copy, or remove the directory and submit its workflow again") from None
         raise InputError(argument, str(path), "is not a bifurcation store (or of another format)",
                          "give the path of a store written by `bifurcation submit`, or another path")
     _check_axes(path, attrs, argument)
