@@ -32,7 +32,7 @@ __all__ = ["CATALOG_FIELDS", "RSChainResult", "RSChainSpec", "RSChainStatus", "i
 
 CATALOG_FIELDS = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
 
-#: The loosest heyoka tolerance ``run`` accepts: order 10; the catalog's error there is measured in
+#: The loosest heyoka tolerance ``run`` accepts: order 11; the catalog's error there is measured in
 #: docs/rs-chain.md ("Speed"), beyond it nothing was measured.
 LOOSEST_TOL = 1e-8
 
