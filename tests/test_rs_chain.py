@@ -273,7 +273,7 @@ def test_compiled_baselines_integrate_the_engines_equations():
     # right-hand side must be the engine's (_system.rhs_expressions evaluated on floats: 1e-13 relative, a
     # few roundings), their Jacobian its derivative (central differences, step 1e-6: error ~1e-9 relative
     # to the largest entry), and the compiled DOP853's catalog the engine's: at rtol = atol = 1e-12 its first
-    # 10 events agree to 1e-9 (measured 2.4e-11 at N = 4; the engine agrees with mpmath to 2.5e-14).
+    # 10 events agree to 1e-9 (measured 2.4e-11 at N = 4; the engine agrees with mpmath to 1.8e-14).
     pytest.importorskip("numba")
     pytest.importorskip("scipy")
     from bifurcation.models.rs_chain._baseline import build, dop853_catalog

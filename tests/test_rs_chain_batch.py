@@ -95,3 +95,5 @@ def test_bad_batches_are_one_line_errors():
         run_batch([], [], 3)
     with pytest.raises(InputError, match="are not 1 states of 7 values"):
         run_batch([a], [np.zeros(5)], 3)
+    with pytest.raises(InputError, match=r"tol=1e-05: is outside \[2.22e-16, 1e-08\]; give a tolerance"):
+        run_batch([a], [initial_state(a)], 3, tol=1e-5)

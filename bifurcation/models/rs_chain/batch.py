@@ -12,10 +12,13 @@ Measured (aging, ℓ = 3, η = 1e-3, k = 0.1, A = 1, seeds 1-4, propagation with
 one process on the shared AVX2 machine): 4 lanes take 1/2.9 the time of 4 scalar runs at N = 4 and
 N = 16, 1/2.1 at N = 64; ``bifurcation bench --suite rs-chain`` reports it against the compiled DOP853.
 
-A lane that has its events keeps being integrated (heyoka steps all lanes together) until the batch is
-done; its roots are no longer read. No checkpoints and no ``crossings`` here: the store's runner uses the
-scalar engine for those. Massless undamped chains (M = 0, η = 0) blow up in finite time below the
-critical stiffness and stop a batch for all lanes: they are refused (run them with ``simulate.run``).
+A lane whose chain has its events takes the next chain waiting: the propagation stops (heyoka refuses a
+time changed inside its callback), that lane's time is set back to 0 and its state and parameters to the
+next chain's, and all lanes go on (a lane's steps do not depend on the other lanes). With no chain
+waiting it idles, integrated but no longer read, until the last lane ends. No checkpoints and no
+``crossings`` here: the store's runner, which checkpoints every rs-chain run, stays on the scalar engine.
+Massless undamped chains (M = 0, η = 0) blow up in finite time below the critical stiffness and would stop
+all lanes: they are refused (run them with ``simulate.run``).
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ from ...errors import InputError
 from ..rate_state.laws import resolve_state_law
 from ._system import COMPACT_ABOVE, EXACT_TOL, MAXIMUM_EVENT_SCALE, PARAMETERS, Layout, rhs_expressions
 from .result import RSChainStatus
-from .simulate import RSChainResult, RSChainSpec, _Events
+from .simulate import LOOSEST_TOL, RSChainResult, RSChainSpec, _Events, _number
 
 __all__ = ["LANES", "run_batch"]
 
@@ -100,9 +103,10 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
                              "run it with simulate.run: it may blow up in finite time, which stops a batch")
     if int(events) < 1:
         raise InputError("events", events, "must be >= 1", "give the number of events to catalogue")
-    tol = float(tol)
-    if not EXACT_TOL <= tol <= 1e-8:
-        raise InputError("tol", tol, f"is outside [{EXACT_TOL:.3g}, 1e-08]", "give a tolerance in that range")
+    tol = _number("tol", tol, positive=True, fix=f"give a tolerance from {EXACT_TOL:.3g} to {LOOSEST_TOL:g}")
+    if not EXACT_TOL <= tol <= LOOSEST_TOL:
+        raise InputError("tol", tol, f"is outside [{EXACT_TOL:.3g}, {LOOSEST_TOL:g}]",
+                         f"give a tolerance from {EXACT_TOL:.3g} (the exact default) to {LOOSEST_TOL:g}")
     ta, layout, buffer = _compiled((*structure, bool(maxima), tol, LANES))
     starts = [np.asarray(s, dtype=float) for s in states0]
     if len(starts) != len(specs) or any(s.shape != (layout.size,) for s in starts):

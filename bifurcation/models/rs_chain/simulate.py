@@ -32,7 +32,7 @@ __all__ = ["CATALOG_FIELDS", "RSChainResult", "RSChainSpec", "RSChainStatus", "i
 
 CATALOG_FIELDS = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
 
-#: The loosest heyoka tolerance ``run`` accepts: order 10; the catalog's error there is measured in
+#: The loosest heyoka tolerance ``run`` accepts: order 11; the catalog's error there is measured in
 #: docs/rs-chain.md ("Speed"), beyond it nothing was measured.
 LOOSEST_TOL = 1e-8
 
@@ -244,7 +244,7 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     last event to the end of the next one; beyond them the run stops with ``no-stop`` and keeps the
     events before. ``maxima=False`` leaves out the velocity-maximum events (``max_velocity`` is NaN);
     ``crossings=True`` keeps every threshold crossing (t, block, ±1) of the catalogued events.
-    ``tol`` is heyoka's tolerance: the default, double epsilon, is the exact engine (≤ 2.5e-14 from the
+    ``tol`` is heyoka's tolerance: the default, double epsilon, is the exact engine (≤ 1.8e-14 from the
     mpmath references); a looser one, up to ``LOOSEST_TOL``, lowers the Taylor order and the cost per
     step, not the step count (docs/rs-chain.md, "Speed": the catalog's measured error at each tolerance).
 
