@@ -368,6 +368,10 @@ class Model:
     #: (the single block's ``forcing``: W = V = 0 stays there). The batch engine parks a lane whose point
     #: has ended there and reloads parked lanes together (engine/_batch.py); empty: no parking.
     rest_slot: str = ""
+    #: The engine's revision for this model: raised when a change moves the last bits of its numbers, so a
+    #: store half-made by the older engine is not resumed with runs of the newer (it enters the workflow's
+    #: fingerprint when above 0; 0 keeps the fingerprints of stores made before revisions were counted).
+    revision: int = 0
 
     def __post_init__(self) -> None:
         if self.rest_slot and self.rest_slot not in self.parameters:

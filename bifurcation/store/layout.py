@@ -131,6 +131,7 @@ def store_attrs(model, *, title: str, description: str, text: str, fingerprint: 
         "workflow_toml": text,
         "workflow_sha256": hashlib.sha256(text.encode()).hexdigest(),
         "workflow_fingerprint": fingerprint,
+        **({"engine_revision": model.revision} if model.revision else {}),   # Model.revision
         **{f"version_{p}": _version(p) for p in _PACKAGES},
         "python": sys.version.split()[0],
         "command": command if command is not None else command_line(),

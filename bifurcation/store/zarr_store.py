@@ -132,6 +132,13 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
                          "give the path of a store written by `bifurcation submit`, or another path")
     _check_axes(path, attrs, argument)
     if workflow is not None and attrs.get("workflow_fingerprint") != workflow.fingerprint:
+        made, now = int(attrs.get("engine_revision", 0)), workflow.spec.revision
+        if made != now and attrs.get("model") == workflow.spec.name:
+            raise InputError(argument, str(path),
+                             f"was begun by revision {made} of the {workflow.spec.name} engine, which is now "
+                             f"revision {now}: its runs and new ones would differ in the last bits",
+                             "pass --new-store to compute it again with this engine, or finish it with the "
+                             "version of bifurcation that began it")
         raise InputError(argument, str(path),
                          f"holds another workflow (study {attrs.get('title')!r}, fingerprint "
                          f"{str(attrs.get('workflow_fingerprint'))[:12]} ≠ {workflow.fingerprint[:12]})",

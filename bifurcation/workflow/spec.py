@@ -230,6 +230,8 @@ class Workflow:
             canonical["model"] = self.model
         if self.catalog_chunk:
             canonical["catalog_chunk"] = self.catalog_chunk
+        if (revision := self.spec.revision):   # the model's engine revision (Model.revision)
+            canonical["engine_revision"] = revision
         return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()
 
     @property

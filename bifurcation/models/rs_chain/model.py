@@ -208,4 +208,7 @@ RS_CHAIN = Model(
                 bench="bifurcation.models.rs_chain._bench:run_rs_chain_bench", bench_needs=("scipy", "numba"),
                 check_grid="bifurcation.models.rs_chain.model:check_grid"),
     units_note="those of the workflow's own V_lp, Dc, k (σ = 1: stresses in units of the normal stress)",
+    # 1: velocity-maximum events scaled so they no longer shorten heyoka's steps (2026-11-26), which moved
+    # the catalogs' last bits: a store begun before must not be resumed with this engine's runs.
+    revision=1,
 )
