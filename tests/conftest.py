@@ -15,12 +15,14 @@ def carlson_langer_reference():
 
 
 # -- numba's first compile, off the critical path ---------------------------------------------------------
-# With an empty numba disk cache (a fresh clone) the compiled chain engine (two law kinds) and the RK4
-# baselines cost ~45-50 s of CPU to compile on first use, a quarter of the fast suite's CPU (measured
-# 2026-11-26, load 3-6: 32-35 s for the Carlson-Langer loop, 13-15 s for the tape's, 3 s for the RK4s). When many other tests are selected, a subprocess
-# (_numba_warmup.py) compiles them into the cache on the second core while those tests run; the modules
-# that use them run last and wait for it, then load from the cache. The same tests run, on the same
-# compiled code; with a warm cache, a subset, or no writable cache nothing changes.
+# With an empty numba disk cache (a fresh clone) the compiled chain engine and the RK4 baselines are compiled on
+# first use: numba compiles the event loop once per law kind, and the fast suite runs the Carlson-Langer kind only
+# (the tape's, every other law, runs in slow tests). Measured 2026-11-26 on a fresh clone with this warm-up off,
+# load ~10: the Carlson-Langer loop 50.6 s of CPU (60.4 s again on the other xdist worker), the tape's 38.0 s,
+# the RK4 baselines 4.6 s. When many other tests are selected, a subprocess (_numba_warmup.py) compiles them
+# into the cache once while those tests run (the tape's loop too when slow tests of the compiled engine are
+# selected); the modules that use them run last and wait for it, then load from the cache. The same tests run,
+# on the same compiled code; with a warm cache, a subset, or no writable cache nothing changes.
 _NUMBA_TESTS = {"test_chain_compiled.py", "test_chain_compiled_lone.py", "test_chain_compiled_taylor.py",
                 "test_chain_bench.py", "test_cli_bounded.py"}
 _warmup = []   # the running subprocess, if any (in the process that started it)
