@@ -19,7 +19,15 @@ class InputError(ValueError):
         self.value = value
         self.problem = problem
         self.fix = fix
-        super().__init__(f"{argument}={value!r}: {problem}; {fix}")
+        super().__init__(self.line())
+
+    def line(self, argument: str | None = None) -> str:
+        """``argument=value: problem; fix`` (``argument`` as the user typed it, default the one given); a
+        value of None is an argument not given: ``--law is missing; give ...``, not ``--law=None: ...``."""
+        argument = self.argument if argument is None else argument
+        if self.value is None:
+            return f"{argument} {self.problem}; {self.fix}"
+        return f"{argument}={self.value!r}: {self.problem}; {self.fix}"
 
 
 class Terminated(BaseException):

@@ -15,18 +15,20 @@ def carlson_langer_reference():
 
 
 # -- numba's first compile, off the critical path ---------------------------------------------------------
-# With an empty numba disk cache (a fresh clone) the compiled chain engine (two law kinds) and the RK4
-# baselines cost ~45-50 s of CPU to compile on first use, a quarter of the fast suite's CPU (measured
-# 2026-11-26, load 3-6: 32-35 s for the Carlson-Langer loop, 13-15 s for the tape's, 3 s for the RK4s). When many other tests are selected, a subprocess
-# (_numba_warmup.py) compiles them into the cache on the second core while those tests run; the modules
-# that use them run last and wait for it, then load from the cache. The same tests run, on the same
-# compiled code; with a warm cache, a subset, or no writable cache nothing changes.
+# With an empty numba disk cache (a fresh clone) the compiled chain engine and the RK4 baselines are compiled on
+# first use: numba compiles the event loop once per law kind, and the fast suite runs the Carlson-Langer kind only
+# (the tape's, every other law, runs in slow tests). Measured 2026-11-26 on a fresh clone with this warm-up off,
+# load ~10: the Carlson-Langer loop 50.6 s of CPU (60.4 s again on the other xdist worker), the tape's 38.0 s,
+# the RK4 baselines 4.6 s. When many other tests are selected, a subprocess (_numba_warmup.py) compiles them
+# into the cache once while those tests run (the tape's loop too when slow tests of the compiled engine are
+# selected); the modules that use them run last and wait for it, then load from the cache. The same tests run,
+# on the same compiled code; with a warm cache, a subset, or no writable cache nothing changes.
 _NUMBA_TESTS = {"test_chain_compiled.py", "test_chain_compiled_lone.py", "test_chain_compiled_taylor.py",
                 "test_chain_bench.py", "test_cli_bounded.py"}
 _warmup = []   # the running subprocess, if any (in the process that started it)
 
 
-def _numba_cache_cold() -> bool:
+def _numba_cache_cold(laws) -> bool:
     from bifurcation.laws import resolve_law
     from bifurcation.models.chain._compiled import _CACHE, CompiledChain
     from bifurcation.models.chain._validate import check_initial
@@ -35,9 +37,7 @@ def _numba_cache_cold() -> bool:
         return False
     u0 = check_initial(6, 1.0, "free", None, 0.1, 3)
     try:
-        return not all(CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", u0, lone=False,
-                                     taylor=taylor).compiled()
-                       for law, taylor in (("carlson-langer", True), ("carlson-langer", False), ("exp(-x)", True)))
+        return not all(CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", u0).compiled() for law in laws)
     except Exception:   # noqa: BLE001 (the engine's API changed: no warm-up, the tests compile for themselves)
         return False
 
@@ -65,7 +65,10 @@ def pytest_collection_modifyitems(session, config, items):
     # every xdist worker orders the same way (xdist requires equal collections); --dist loadfile hands the
     # numba modules out last only with --no-loadscope-reorder (by default it sorts modules by test count)
     items[:] = [item for item in items if item.path.name not in _NUMBA_TESTS] + later
-    if os.environ.get("PYTEST_XDIST_WORKER", "gw0") != "gw0" or not _numba_cache_cold():
+    # the tape's loop (every law but Carlson–Langer) only when slow tests of the compiled engine run
+    laws = ["carlson-langer"] + (["exp(-x)"] if any(item.get_closest_marker("slow") and "compiled" in item.path.name
+                                                    for item in later) else [])
+    if os.environ.get("PYTEST_XDIST_WORKER", "gw0") != "gw0" or not _numba_cache_cold(laws):
         return
     lock = _warmup_lock(config)
     fd = None
@@ -75,7 +78,7 @@ def pytest_collection_modifyitems(session, config, items):
         fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o600)
         fcntl.flock(fd, fcntl.LOCK_EX)   # the child inherits the open file and with it the lock
     try:
-        _warmup.append(subprocess.Popen([sys.executable, str(Path(__file__).with_name("_numba_warmup.py"))],
+        _warmup.append(subprocess.Popen([sys.executable, str(Path(__file__).with_name("_numba_warmup.py")), *laws],
                                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                         pass_fds=() if fd is None else (fd,)))
     finally:

@@ -1007,6 +1007,16 @@ CASES_WK2 = [   # run batched (one test, one fixture check): ~5 ms a row instead
     "query --store {sb} --law carlson-langer --nu 1_0 ## give e.g. 1e-9",
     "query --store {chain} --law carlson-langer --periodic x ## give e.g. free or 0",
 ]
+CASES_WK2 += [   # suite5 (issue 21): an argument not given reads "--law is missing", not "--law=None: is missing";
+    # --b so large that the state variables' time a Dc/(b V_lp) is below 1e-14 (was: exit 0, status nonfinite, NaN rows)
+    "chain --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 ## --law is missing; give it, e.g. --law carlson-langer",
+    "chain --law carlson-langer --n 4 --ell 1 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 ## --nu is missing; give it, e.g. --nu 0.01",
+    "rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1 ## --t-end is missing; give",
+    "rate-state --state-law aging --a 0.005 --b 1e300 --dc 10 --k 1e-3 --v-lp 1 --t-end 40 ## --b='1e+300': with --a 0.005, --dc 10 and --v-lp 1 gives a state time",
+    "rate-state --state-law aging --a 0.005 --b 1e16 --dc 10 --k 1e-3 --v-lp 1 --t-end 40 --precision quad ## give --b <= 5e+12",
+    "rate-state --state-law aging --a 0.005 --b 0.01,1e300 --dc 10,10 --k 1e-3 --v-lp 1 --t-end 40 ## --b='1e+300'",
+    "rate-state --state-law slip --a 0.01 --b 1e300 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json ## --b='1e+300'",
+]
 STUDY_WORKFLOWS_WK2 = {   # N × events of one study run (fixed: accepted before)
     "wk2_catalog_big": ("events = [3000, 2000]", "events = [3000, 200000000]"),
     "wk2_preset_n_big": ('preset = "vasconcelos-1996"\nevents = 1000000',
@@ -1151,6 +1161,7 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, env, tmp_path, mo
     lines = result.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("bifurcation: error: "), result.stderr
     assert needle.format(**values) in lines[0], lines[0]
+    assert "=None:" not in lines[0], lines[0]   # an argument not given: "--law is missing", not "--law=None: ..."
     assert result.stdout == ""
     assert list(cwd.iterdir()) == [], "written into the working directory"
     assert not (tmp_path / "new").exists() and list(outdir.iterdir()) == [], "an output was created"
@@ -1208,7 +1219,7 @@ STUDY_CASES = [
     "study chain {study_unknown_table} ## extra",
     "study chain {study_cycles} ## near_half.cycles[0]",
     "study chain {study_scan_points} ## threshold.scan_points",
-    "study chain {study_no_threshold} ## threshold=None: is missing",
+    "study chain {study_no_threshold} ## threshold is missing",
     "study chain {study_preset} ## presets.run[0].preset",
     "study chain {study_preset_events} ## presets.run[0].events",
     "study chain {study_preset_key} ## presets.bootstraps",
@@ -1336,6 +1347,7 @@ def _run_batch(cases, env, tmp_path, monkeypatch) -> None:
             ("traceback", "Traceback" in result.output), (f"exit {result.exit_code}", result.exit_code != 2),
             (f"{len(lines)} lines", not (len(lines) == 1 and lines[0].startswith("bifurcation: error: "))),
             (f"needle {needle!r} not in the line", not any(needle.format(**values) in l for l in lines[:1])),
+            ("'=None:' in the line", any("=None:" in l for l in lines[:1])),
             ("stdout", result.stdout != ""), ("wrote into the working directory", any(cwd.iterdir())),
             ("an output was created", (base / "new").exists() or any(outdir.iterdir())))
             if bad]

@@ -24,6 +24,11 @@ from bifurcation.models.chain._validate import check_initial
 VERIFY_BOUND = 1e-10
 
 THREE_PIECES = "piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)"
+#: numba compiles ``run_events`` once per law kind (``_compiled.g_law``): Carlson–Langer, and the tape every other
+#: law runs through. The fast suite runs the Carlson–Langer loop only (its Taylor method and DOP853, free and
+#: periodic ends, σ > 0, lone blocks); the tape's loop (~15-40 s of CPU more on a cold numba cache, a fresh
+#: clone's first run) is run by the slow cases below, which the full suite keeps.
+TAPE = pytest.mark.slow
 
 
 def test_dop853_table_is_scipys():
@@ -59,10 +64,10 @@ def test_law_tape_is_the_drop(law):
     ("carlson-langer", 64, 1e-4, 0.2, "free", 0.1),
     ("carlson-langer", 1, 1e-3, 0.3, "free", 0.1),
     ("carlson-langer", 2, 1e-3, 0.2, "periodic", 0.1),
-    ("piecewise-linear", 8, 1e-3, 0.3, "periodic", 0.1),      # Φ = 0 above x = 1: switches
-    (THREE_PIECES, 8, 1e-4, 0.3, "free", 0.1),                # two breakpoints
-    ("1/(1+x/2)^2", 8, 1e-3, 0.3, "free", 0.1),               # a formula law (tape)
-    ("exponential", 5, 1e-3, 0.3, "free", 0.1),
+    pytest.param("piecewise-linear", 8, 1e-3, 0.3, "periodic", 0.1, marks=TAPE),  # Φ = 0 above x = 1: switches
+    pytest.param(THREE_PIECES, 8, 1e-4, 0.3, "free", 0.1, marks=TAPE),  # two breakpoints
+    pytest.param("1/(1+x/2)^2", 8, 1e-3, 0.3, "free", 0.1, marks=TAPE),  # a formula law (tape)
+    pytest.param("exponential", 5, 1e-3, 0.3, "free", 0.1, marks=TAPE),
     ("carlson-langer", 12, 1e-3, 0.2, "periodic", 0.0),       # a uniform start: coincident events
 ])
 def test_compiled_events_equal_the_exact_engine(law, n, nu, nu_f, ends, amplitude):
@@ -175,7 +180,7 @@ def test_bad_engine_options_are_refused(kwargs, name):
 
 @pytest.mark.parametrize("law, n, ends, drop", [
     ("carlson-langer", 8, "free", 0.05),
-    ("piecewise-linear", 6, "periodic", 0.01),     # breakpoint at 1 − σ crossed
+    pytest.param("piecewise-linear", 6, "periodic", 0.01, marks=TAPE),     # breakpoint at 1 − σ crossed
 ])
 def test_both_engines_agree_with_a_friction_drop(law, n, ends, drop):
     """The friction drop is implemented twice, independently: in the heyoka engine (its own compiled
@@ -223,6 +228,7 @@ def test_cli_engine_and_verify():
         assert len(res.output.strip().splitlines()) == 1, res.output
 
 
+@TAPE
 def test_compiled_engine_follows_fading_friction_at_a_large_drop():
     """Found at review: with exp(-x - 4x^2) (N = 5, ν_f = 0.05) the compiled engine was 1.3e-7 (σ = 0.9)
     and 1.9e-6 (σ = 0.98) off the exact engine, which agreed with quad to 2e-15, while its error estimate
@@ -253,6 +259,7 @@ def test_compiled_engine_follows_fading_friction_at_a_large_drop():
         assert bf.chain(name, engine="compiled", sigma=0.98, **args).status == 1
 
 
+@TAPE
 def test_compiled_engine_keeps_a_restart_inside_the_event_with_switches_and_a_drop():
     """Found at review (a strict xfail until fixed): piecewise-linear, N = 3 periodic, σ = 0.3, ν = 1e-9,
     ℓ = 3, ν_f = 0.1, A = 0.3, seed 148. The exact engine's first event has potency 1.30352 and the next
@@ -320,6 +327,7 @@ def _cross_check(k: int, events: int = 12) -> tuple:
     return None, worst, vmax, switched
 
 
+@TAPE   # all four are tape laws
 @pytest.mark.parametrize("k", [
     1210,   # piecewise-linear, N = 2, σ = 0.07: a block at the breakpoint at a step's start (switched there)
             # had its root at 3.6e-15 and switched back and forth until max_steps (no-stop)
@@ -386,16 +394,19 @@ def _probe(laws, **env):
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
-def test_a_new_process_loads_the_compiled_loop_from_the_disk_cache(tmp_path):
+@pytest.mark.parametrize("laws", [pytest.param(("carlson-langer",), id="carlson-langer"),
+                                  pytest.param(("carlson-langer", "exp(-x)"), id="both-kinds", marks=TAPE)])
+def test_a_new_process_loads_the_compiled_loop_from_the_disk_cache(tmp_path, laws):
     """numba keeps the compiled loop on disk: once this process has run both law kinds (Carlson–Langer,
     and the tape that every other law, formulas included, runs through), a new process loads them from
     the cache (hits, no miss) instead of compiling again (~42 s of CPU per kind, _compiled.COMPILE_SECONDS). The loop used to take
     the law's function as an argument, which numba refused to cache ("uses dynamic globals"). With an
     empty cache directory ``compiled()`` says a compile is due (the CLI's notice), without compiling."""
     u0 = check_initial(6, 1.0, "free", None, 0.1, 3)
-    for law in ("carlson-langer", "exp(-x)"):                   # in this process: compiled or loaded
+    for law in laws:                                            # in this process: compiled or loaded
         CompiledChain(resolve_law(law), 6, 1.0, 1e-3, 0.3, "free", u0).run(2)
-    warm = _probe(["carlson-langer", "exp(-x)", "piecewise-linear", "1/(1+x/2)^2"])
-    assert warm == {"ready": [True] * 4, "hits": 2, "misses": 0}, warm
-    cold = _probe(["carlson-langer", "exp(-x)"], NUMBA_CACHE_DIR=str(tmp_path))
-    assert cold == {"ready": [False, False], "hits": 0, "misses": 0}, cold
+    probe = list(laws) if len(laws) == 1 else [*laws, "piecewise-linear", "1/(1+x/2)^2"]   # one kind: loaded once
+    warm = _probe(probe)
+    assert warm == {"ready": [True] * len(probe), "hits": len(laws), "misses": 0}, warm
+    cold = _probe(list(laws), NUMBA_CACHE_DIR=str(tmp_path))
+    assert cold == {"ready": [False] * len(laws), "hits": 0, "misses": 0}, cold

@@ -45,8 +45,9 @@ def _largest(c, r):
     ("carlson-langer", "periodic", 0.0, [0.3, 0.2, 0.1, 0.2, 0.9]),    # periodic, the hypocentre at the seam
     ("carlson-langer", "free", 0.3, [0.3, 0.2, 0.9, 0.1, 0.2]),        # friction drop σ > 0
     ("carlson-langer", "free", 0.0, [0.9]),                             # N = 1 (k = 1)
-    ("piecewise-linear", "free", 0.0, [0.3, 0.2, 0.9, 0.1, 0.2]),      # switches on the stored trajectory
-    ("exponential", "free", 0.2, [0.3, 0.2, 0.9, 0.1, 0.2]),           # a fading law (rungs)
+    # the tape's loop: slow (the fast suite compiles the Carlson–Langer loop only, tests/test_chain_compiled.py)
+    pytest.param("piecewise-linear", "free", 0.0, [0.3, 0.2, 0.9, 0.1, 0.2], marks=pytest.mark.slow),  # switches
+    pytest.param("exponential", "free", 0.2, [0.3, 0.2, 0.9, 0.1, 0.2], marks=pytest.mark.slow),  # fading (rungs)
 ])
 def test_a_lone_event_is_the_exact_engines(law, ends, sigma, field):
     """A size-1 event runs no DOP853 step and equals the exact engine's to ≤ 1e-13."""

@@ -28,7 +28,7 @@ def _with_options(message_names: dict):
     try:
         yield
     except InputError as exc:
-        fail(f"{message_names.get(exc.argument, exc.argument)}={exc.value!r}: {exc.problem}; {exc.fix}")
+        fail(exc.line(message_names.get(exc.argument, exc.argument)))
 
 
 _STORE = click.option("--store", "stores", metavar="PATH", multiple=True, required=True,
@@ -223,7 +223,7 @@ def reproduce(out: str, scheduler, workers, new_stores: bool, force: bool, as_js
             try:
                 summary = submit(workflows / name, scheduler=client, new_store=new_stores)
             except InputError as exc:
-                fail(f"{name}: {exc.argument}={exc.value!r}: {exc.problem}; {exc.fix} (or run "
+                fail(f"{name}: {exc.line()} (or run "
                      "`bifurcation reproduce --new-stores` to recompute the paper's stores)")
             if not as_json:
                 click.echo(str(summary))

@@ -184,9 +184,11 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
                                  ((law, "law"), (n, "n"), (ell, "ell"), (nu, "nu"), (nu_f, "nu_f")))
         sigma = sigma if sigma is not None else p["sigma"]
         ends = ends if ends is not None else p["ends"]
-    for name, value in (("--law", law), ("--n", n), ("--ell", ell), ("--nu", nu), ("--nu-f", nu_f)):
+    for name, value, example in (("--law", law, "carlson-langer"), ("--n", n, "16"), ("--ell", ell, "10"),
+                                 ("--nu", nu, "0.01"), ("--nu-f", nu_f, "0.2")):
         if value is None:
-            raise InputError(name, None, "is missing", f"give {name}, or --preset NAME (e.g. carlson-langer-1991)")
+            raise InputError(name, None, "is missing", f"give it, e.g. {name} {example}, or --preset NAME, which sets "
+                             "--law, --n, --ell, --nu and --nu-f (e.g. --preset carlson-langer-1991)")
     sigma = 0.0 if sigma is None else sigma
     ends = "free" if ends is None else ends
     _check_bounds(n, ell, amplitude, seed, events)

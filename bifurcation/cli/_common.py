@@ -280,9 +280,7 @@ def as_typed(exc: InputError, command: click.Command | None) -> str:
             elif isinstance(param, click.Argument):
                 argument = param.human_readable_name
             break
-    if argument == exc.argument:
-        return str(exc)
-    return f"{argument}={exc.value!r}: {exc.problem}; {exc.fix}"
+    return exc.line(argument)
 
 
 def _clean(obj):

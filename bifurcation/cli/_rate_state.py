@@ -83,6 +83,16 @@ def _check_mass(spec, velocities) -> None:
         raise InputError("--dc", dc, f"with --v-lp {fastest:g} gives a state-evolution time Dc/V_lp = {tau:.3g}, "
                          f"below {MIN_INERTIAL_TIME:g}, where the Taylor steps stall or overflow",
                          f"give --dc >= {MIN_INERTIAL_TIME * dc / tau:.3g} (e.g. 0.01), or a smaller --v-lp")
+    # the state variables' own time a Dc_i/(b_i V_lp) alike (the linearised rates scale with b/a V/Dc; measured
+    # at a = 0.005, Dc = 10, V_lp = 1: b = 1e13 stalled after 51 steps, 1e16 nonfinite at step 0, 1e300 at t = nan)
+    fastest = max(float(v) for v in velocities)
+    for b, dc in zip(spec.b, spec.dc):
+        state = float(spec.a) * float(dc) / (float(b) * fastest) if float(b) > 0 else math.inf
+        if state < MIN_INERTIAL_TIME:
+            raise InputError("--b", f"{float(b):g}", f"with --a {float(spec.a):g}, --dc {float(dc):g} and --v-lp {fastest:g} "
+                             f"gives a state time a Dc/(b V_lp) = {state:.3g}, below {MIN_INERTIAL_TIME:g}, where "
+                             "the Taylor steps stall or overflow",
+                             f"give --b <= {float(b) * state / MIN_INERTIAL_TIME:.3g} (e.g. 0.015)")
     # the spring's time a/(k V_lp) alike (measured at a = 0.005, V_lp = 10: k = 1e12 crawled, 3 % of t = 2e-6 in
     # 1.7e6 steps; 1e15 stalled at step 0;
     # k = 1e300 ended nonfinite with NaN rows)

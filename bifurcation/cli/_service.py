@@ -142,7 +142,7 @@ def _fail_as_option(exc) -> None:
     name = _option_names().get(exc.argument)
     if name is None:
         raise exc
-    fail(f"{name}={exc.value!r}: {exc.problem}; {exc.fix}")
+    fail(exc.line(name))
 
 
 def _print_catalog(store, law, nearest, fmt, notes, axes) -> None:
