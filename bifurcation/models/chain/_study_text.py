@@ -6,7 +6,7 @@ import math
 
 from ...report.document import Figure, Paragraph, Section, Table
 
-__all__ = ["fss_words", "report_blocks"]
+__all__ = ["FSS_RULES", "chi2_p", "fss_words", "report_blocks"]
 
 
 def _pm(x, s, d=3) -> str:
@@ -15,30 +15,50 @@ def _pm(x, s, d=3) -> str:
     return f"{x:.{d}f} ± {s:.{d}f}" if math.isfinite(s) else f"{x:.{d}f}"
 
 
+def chi2_p(chi2: float, dof: int) -> float:
+    """P(χ² ≥ chi2) for ``dof`` degrees of freedom: the goodness-of-fit test of a weighted least-squares fit."""
+    import mpmath
+
+    if dof < 1 or not math.isfinite(chi2):
+        return math.nan
+    return float(mpmath.gammainc(dof / 2, chi2 / 2, mpmath.inf, regularized=True))
+
+
 def fss_words(f: dict) -> tuple[str, str]:
     """(short verdict, sentence) for a finite-size fit of ``analysis.finite_size_fit``.
 
-    Rules: θ more than 2σ above 0 with the constant rejected (χ²/dof > 2) → vanishes; |θ| ≤ 2σ with
-    an acceptable constant → persists, unless θ + 2σ > 0.25 (a slow decay not excluded) → undecided;
-    θ more than 2σ below 0 → grows; otherwise undecided.
+    Rules (FSS_RULES): θ more than 2σ above 0 with the constant rejected by its χ² test (p < 0.05) →
+    vanishes; |θ| ≤ 2σ with the constant not rejected → persists, unless θ + 2σ > 0.25 (a slow decay not
+    excluded) → undecided; θ more than 2σ below 0 → grows; otherwise undecided. (χ²/dof > 2 was the
+    rejection before: with 3 sizes of 4 that is p ≈ 0.075, not a rejection at 5 %.)
     """
     if f["points"] < 3 or not math.isfinite(f["theta"]):
         return "undecided", f"only {f['points']} sizes with a non-zero value: no fit"
     th, s = f["theta"], f["theta_sigma"]
     rc = f["chi2_constant"] / max(f["dof_constant"], 1)
     rp = f["chi2_power"] / max(f["dof_power"], 1)
+    pc = chi2_p(f["chi2_constant"], f["dof_constant"])
     fits = (f"θ = {th:.2f} ± {s:.2f} (χ²/dof {rp:.1f}); constant {f['constant']:.3g} ± "
-            f"{f['constant_sigma']:.2g} (χ²/dof {rc:.1f}), N = {', '.join(str(int(n)) for n in f['sizes'])}")
-    if th > 2 * s and rc > 2:
+            f"{f['constant_sigma']:.2g} (χ²/dof {rc:.1f}, p = {pc:.2g}), "
+            f"N = {', '.join(str(int(n)) for n in f['sizes'])}")
+    rejected = pc < 0.05
+    if th > 2 * s and rejected:
         return "vanishes", "decreases with N: " + fits
     if th < -2 * s:
         return "grows", "grows with N: " + fits
-    if abs(th) <= 2 * s and rc <= 2:
+    if th > 2 * s:
+        return "undecided", "decreases with N, but a constant is not rejected (χ² p ≥ 0.05): " + fits
+    if not rejected:
         if th + 2 * s > 0.25:
             return "undecided", ("compatible with a constant, but a decay as fast as N^-%.2f is not excluded: "
                                  % (th + 2 * s)) + fits
         return "persists", "compatible with a constant: " + fits
-    return "undecided", "neither a constant nor a power law fits the scatter: " + fits
+    return "undecided", "no trend in N beyond 2σ, yet a constant is rejected (χ² p < 0.05): " + fits
+
+
+FSS_RULES = ("**vanishes**: θ more than 2σ above 0 and the constant rejected by its χ² test (p < 0.05, p given "
+             "beside its χ²/dof); **grows**: θ more than 2σ below 0; **persists**: |θ| ≤ 2σ, the constant not "
+             "rejected and θ + 2σ ≤ 0.25; **undecided** otherwise (the reason is said)")
 
 
 def report_blocks(cfg, path, data, wall, speed: list) -> list:
@@ -199,7 +219,8 @@ def _order_section(cfg, data, sw, star) -> list:
         Paragraph("Fits of the grid readings above (the largest change between neighbouring ν_f, the loop width): "
                   "y(N) = A N^-θ (weighted least squares on ln y) against y = constant, over the chains "
                   "(N > 1; N = 1 is deterministic and has no loop by construction: every event starts from the same "
-                  "state). analysis.finite_size_fit; rules for the words: _study_text.fss_words. The jump's place moves "
+                  "state). analysis.finite_size_fit; rules for the words (_study_text.fss_words): " + FSS_RULES
+                  + ". The jump's place moves "
                   "from interval to interval with N, so its fit follows no one transition: the next subsection "
                   "locates one."),
         Figure("fig_fss.png", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
