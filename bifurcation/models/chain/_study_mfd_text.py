@@ -303,7 +303,8 @@ def verdict_notes(cfg, data) -> dict:
                     + f") is {_span(ratio, '{:.1f}')}× the change at ν = {nu0:g}"
                     + (f", next to the lone-block threshold ν_f* = {star:.3f} (N = {', '.join(map(str, near))})"
                        if near else "")
-                    + (": the change sharpens as ν decreases, as a first-order one does" if min(ratio) > 1
+                    + (": the change sharpens as ν decreases, as a jump rounded by ν does (a continuous change "
+                       "rounded by ν sharpens too)" if min(ratio) > 1
                        else ": it does not sharpen as ν decreases" if max(ratio) <= 1 else "")
                     + f"; at ν = {nu1:g} only N ≤ {max(b['n'] for b, _ in chains)} was run, too few sizes for a "
                     "finite-size trend")
