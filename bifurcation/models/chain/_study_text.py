@@ -223,7 +223,8 @@ def _order_section(cfg, data, sw, star) -> list:
                   + ". The jump's place moves "
                   "from interval to interval with N, so its fit follows no one transition: the next subsection "
                   "locates one."),
-        Figure("fig_fss.png", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
+        Figure("fig_fss.png", "Jump (circles) and loop width (squares) of D (left) and Ψ (right) against N for the chains "
+               "(N > 1), ± standard error over seeds; solid: the fit A N^−θ, dotted: the constant fit.", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
     from ._study_transition import transition_section
 
     B += transition_section(data["transition"])
@@ -249,7 +250,9 @@ def _mfd_section(data) -> list:
                   + CSN_RULES + ". Spanning excess: observed system-spanning events over the Page fit's extrapolation "
                   "N(≥ m_span). Large events: n_blocks ≥ N/2. The raw catalogs are in catalogs.npz (the CSN fits in "
                   "csn.json, recomputed from them by tests/test_chain_report_csn.py)."),
-        Figure("fig_mfd.png", alt="mfd"),
+        Figure("fig_mfd.png", "Left: events per 0.1 in m = log10 P (all events, the 1-block atom included) for each "
+               "catalog, dashed: the Page fit over its fit range (a Gutenberg–Richter law truncated to that range); "
+               "right: the potency in each bin of m.", alt="mfd"),
         Table(["N", "ν_f", "events", "b (Page)", "fit range m (n)", "CSN (multi-block events)",
                "spanning (expected, excess)", "large events", "recurrence of large: mean, CV",
                "of spanning: mean, CV"], rows)])]

@@ -110,7 +110,10 @@ def transition_section(st: dict) -> list:
             "so the two locators are closer, but ν_½ is biased low in the same way."),
         Table(["ν", "N", "branch", "seeds", "ν_½", "ν_χ", "W", f"change across ν_½ ± {WINDOW:g} / drop", "drop of D"],
               rows),
-        Figure("fig_transition.png", alt="transition location and width against N"),
+        Figure("fig_transition.png", "Left: the located transition on the up branch, ν_½ (solid) and ν_χ (dashed) at "
+               "each ν (± the table's σ; N = 1 is the single block), gray: ν_f* (solid) and 1/2 (dotted). Right: the "
+               "width W (± the table's σ), dotted: the grid spacing 0.05, the width of a step the grid cannot resolve.",
+               alt="transition location and width against N"),
         Paragraph(
             "Fits over the chains' up branches (N > 1): the location by ν_c(N) = ν_∞ + a/N (weighted least "
             "squares; a shift ∝ 1/volume, the form usually assumed at a first-order transition, with the chain's "
