@@ -132,6 +132,10 @@ def _threshold_section(data, c) -> list:
                      *(f"{r['nu_f_cross']:.5f} ({100 * r['relative_offset']:+.2f} %)" for r in t["rows"]),
                      f"{r0['delta_below']:.3g} / {r0['delta_above']:.2e}"])
     offs = [abs(t["rows"][-1]["relative_offset"]) for t in th]
+    # creep side: k·P = Δ(ν/√k, ·) ∝ ν/√k, so the curves part by √k there; the spread and √k's, from the table
+    above = [t["rows"][-1]["delta_above"] for t in th]
+    ks = [t["rows"][-1]["k"] for t in th]
+    below = [t["rows"][-1]["delta_below"] for t in th]
     B = [Paragraph(
          "A block slipping alone among stuck neighbours has stiffness k = 1 + 2ℓ² (interior) or 1 + ℓ² (free "
          "end); docs/chain.md derives ν_f* = 1/(2√k). Measured on the chain engine (threshold.py: the one "
@@ -142,8 +146,14 @@ def _threshold_section(data, c) -> list:
          Paragraph(f"The crossing lies above ν_f* and closes on it as ν decreases (largest offset at ν = {nus[-1]:g}: "
                    f"{100 * max(offs):.2f} %), like the single block's own transition at ν_f = 1/2, which finite ν "
                    "smooths towards larger ν_f (docs/physics.md). The curves k·P against ν_f/ν_f* fall on one "
-                   "curve for every ℓ and both ends (the single block's Δ):"),
-         Figure("fig_threshold.png", alt="threshold")]
+                   f"curve below ν_f* for every ℓ and both ends (k·P at 0.8 ν_f* = "
+                   + (f"{min(below):.3g}" if f"{min(below):.3g}" == f"{max(below):.3g}"
+                      else f"{min(below):.3g}–{max(below):.3g}") + ": "
+                   "the single block's Δ); above it, in creep, k·P is the single block's Δ at ν/√k, O(ν/√k), so the "
+                   f"curves part by √k there (at 1.25 ν_f* and ν = {nus[-1]:g}: {min(above):.3g}–{max(above):.3g}, a factor "
+                   f"{max(above) / min(above):.2f}, against √k's {math.sqrt(max(ks) / min(ks)):.2f}):"),
+         Figure("fig_threshold.png", "k·P of the one slipping block against ν_f/ν_f* for each ℓ and end, at the "
+                "ν in the figure's title; gray: ν_f = ν_f*.", alt="threshold")]
     cats = data["catalogs"]
     if cats:
         rows = []
