@@ -27,8 +27,13 @@ def _g(x, s) -> str:
 def _law(f) -> str:
     if not math.isfinite(f.get("theta", math.nan)):
         return f"no fit ({f['points']} sizes)"
-    return (f"∝ N^{-f['theta']:.2f}±{f['theta_sigma']:.2f} (χ²/dof {f['chi2_power'] / max(f['dof_power'], 1):.1f}; "
-            f"N = {', '.join(str(int(n)) for n in f['sizes'])})")
+    sizes = f"N = {', '.join(str(int(n)) for n in f['sizes'])}"
+    if f["dof_power"] < 1:      # two sizes: the line passes through both points, there is no χ² to judge it by
+        return f"∝ N^{-f['theta']:.2f}±{f['theta_sigma']:.2f} (2 sizes, no χ²; {sizes})"
+    r = f["chi2_power"] / f["dof_power"]
+    # σ from the weights alone; where the scatter exceeds the error bars, the σ scaled by √(χ²/dof) beside it
+    scaled = f", σ×√(χ²/dof) = {f['theta_sigma'] * math.sqrt(r):.2f}" if r > 1 else ""
+    return f"∝ N^{-f['theta']:.2f}±{f['theta_sigma']:.2f} (χ²/dof {r:.1f}{scaled}; {sizes})"
 
 
 def near_half_section(cfg, nh) -> list:
@@ -72,7 +77,10 @@ def near_half_section(cfg, nh) -> list:
                  "spanning: count, fraction (per cycle)", "excess over GR",
                  "slipping fraction (events per block and cycle)", "CPU s"], rows),
           Paragraph("Finite-size fits over N (analysis.finite_size_fit, power law y = A N^a with a = −θ, weighted on "
-          "ln y; spanning fraction over the sizes with at least one spanning event) and the reading "
+          "ln y, σ of the exponent from the points' error bars; where χ²/dof > 1 that σ scaled by √(χ²/dof) is given "
+          "beside it, and a χ²/dof far above 1 means the points scatter about the power law far beyond their errors, "
+          "so the exponent is a mean slope, not a scaling law; spanning fraction over the sizes with at least one "
+          "spanning event) and the reading "
           "(scaling.mfd_reading: *critical-like* = the cutoff grows with N, every N has a CSN power-law stretch "
           "(the power law plausible over ≥ 1 decade), the tapered b is > 0 "
           "and the same at every N, and no N has a spanning excess; *characteristic-size* = an exponential law (b ≈ 0) "
