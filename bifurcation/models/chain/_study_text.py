@@ -287,6 +287,12 @@ def _verdict(cfg, data, sw, star) -> list:
     loops = [(r["n"], r["slip_per_block"]["width"], r["slip_per_block"]["width_sigma"]) for r in table if r["n"] > 1]
     sig = [n for n, w, s in loops if w > 2 * s]
     loop_txt = "; ".join(f"N = {n}: {_pm(w, s)}" for n, w, s in loops)
+    # the width is a maximum over noisy differences (biased up by ~1σ); the signed area is not: it decides
+    areas = [(r["n"], r["slip_per_block"]["area"], r["slip_per_block"]["area_sigma"]) for r in table if r["n"] > 1]
+    area_txt = "; ".join(f"N = {n}: {_pm(x, s, 4)}" for n, x, s in areas)
+    asig = [(n, x) for n, x, s in areas if abs(x) > 2 * s]
+    loop_word = ("loop area beyond 2σ for N = " + ", ".join(
+        f"{n} ({'down above up' if x > 0 else 'up above down'})" for n, x in asig) if asig else "loop areas within 2σ")
     big = table[-1]
     psi = big["psi"]
     a, b = psi["jump_at"]
@@ -329,10 +335,10 @@ def _verdict(cfg, data, sw, star) -> list:
          f"closed-form potency to {dev:.1e}. Chain, order parameter D, its transition located and scaled (section "
          f"\"Finite-size scaling of a defined transition\"; N = 1 is the single block, whose first-order jump from "
          f"Δ0 = 0.1507 to 0 at ν_f = 1/2 as ν → 0, docs/physics.md, is smeared at ν = {nu:g}: {smear}): {defined} "
-         f"Loop widths of D: {loop_txt} ({len(sig)} of {len(loops)} above 2σ); FSS: {ww}. (The earlier reading, the "
+         f"Loop widths of D: {loop_txt} ({len(sig)} of {len(loops)} above 2σ, each biased up by ~1σ); signed loop "
+         f"areas Σ(down − up)Δν_f (unbiased): {area_txt}; FSS: {ww}. (The earlier reading, the "
          f"largest change between neighbouring ν_f, sits in a different interval for each N: {jumps}; it follows "
-         "no one transition and is not read.)", f"lone block: {lone}. Chain: **{chain_word}**; loops "
-         f"{'resolved at 2σ for N = ' + ', '.join(map(str, sig)) if sig else 'within the noise'}"),
+         "no one transition and is not read.)", f"lone block: {lone}. Chain: **{chain_word}**; {loop_word}"),
          ("Carlson & Langer (1989): power-law small events with an excess of large ones", f"{mfd_cells}. "
          f"{notes['cl'][0]}", f"**{notes['cl'][1] or cl}**"
          + (" (ν_f = " + ", ".join(sorted({f"{s['nu_f']:g}" for s in cats})) + "; near ν_f = 1/2 see Mori & Kawamura)"
