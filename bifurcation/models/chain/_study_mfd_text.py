@@ -56,7 +56,8 @@ def near_half_section(cfg, nh) -> list:
          "the whole chain is stuck, so where this is near 1 one catalogued event holds many separate slips "
          "(the events per block and loading cycle fall with N) and its potency adds them up."),
          Figure("fig_mfd_half.png", "Events with potency ≥ P per loading cycle against m = log10 P, one panel per "
-                "(ν, ν_f), one line per N with ≥ 20 events (whole catalogued events); last panel: the cutoff P_c = ⟨P²⟩/⟨P⟩ against N "
+                "(ν, ν_f), one line per N with ≥ 20 events (whole catalogued events); last panel: the cutoff "
+                "P_c = ⟨P²⟩/⟨P⟩ against N "
                 "(± batch-means σ), solid ν = 0.001, dashed ν = 0.0001.", alt="mfd near 1/2")]
     rows = []
     for r in nh["rows"]:

@@ -150,7 +150,8 @@ def _threshold_section(data, c) -> list:
                    + (f"{min(below):.3g}" if f"{min(below):.3g}" == f"{max(below):.3g}"
                       else f"{min(below):.3g}–{max(below):.3g}") + ": "
                    "the single block's Δ); above it, in creep, k·P is the single block's Δ at ν/√k, O(ν/√k), so the "
-                   f"curves part by √k there (at 1.25 ν_f* and ν = {nus[-1]:g}: {min(above):.3g}–{max(above):.3g}, a factor "
+                   f"curves part by √k there (at 1.25 ν_f* and ν = {nus[-1]:g}: "
+                   f"{min(above):.3g}–{max(above):.3g}, a factor "
                    f"{max(above) / min(above):.2f}, against √k's {math.sqrt(max(ks) / min(ks)):.2f}):"),
          Figure("fig_threshold.png", "k·P of the one slipping block against ν_f/ν_f* for each ℓ and end, at the "
                 "ν in the figure's title; gray: ν_f = ν_f*.", alt="threshold")]
@@ -233,8 +234,9 @@ def _order_section(cfg, data, sw, star) -> list:
                   + ". The jump's place moves "
                   "from interval to interval with N, so its fit follows no one transition: the next subsection "
                   "locates one."),
-        Figure("fig_fss.png", "Jump (circles) and loop width (squares) of D (left) and Ψ (right) against N for the chains "
-               "(N > 1), ± standard error over seeds; solid: the fit A N^−θ, dotted: the constant fit.", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
+        Figure("fig_fss.png", "Jump (circles) and loop width (squares) of D (left) and Ψ (right) against N "
+               "for the chains (N > 1), ± standard error over seeds; solid: the fit A N^−θ, dotted: the constant "
+               "fit.", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
     from ._study_transition import transition_section
 
     B += transition_section(data["transition"])

@@ -238,6 +238,7 @@ def transition_evidence(st: dict) -> dict:
                         + (": the change sharpens as ν decreases (every ratio + 2σ < 1), as a jump rounded by ν "
                            "does; a continuous change rounded by ν also sharpens, down to its own width, so this "
                            "alone does not decide between them" if all(q + 2 * e < 1 for q, e in rs) else "")
-                        + f"; at ν = {nu1:g} only N ≤ {max(n for n, _, _ in w1)} was run, too few sizes for a trend in N")
+                        + f"; at ν = {nu1:g} only N ≤ {max(n for n, _, _ in w1)} was run, too few sizes for a "
+                        "trend in N")
         sak = vas = "undecided: " + why
     return {"sentences": out, "sak": sak, "vas": vas}
