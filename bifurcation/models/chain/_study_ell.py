@@ -247,14 +247,19 @@ def ell_scan_section(cfg, st: dict) -> list:
             f"fixed N/ℓ = {', '.join(f'{c:g}' for c in s.get('continuum', [])) or '–'} (toward the continuum limit "
             f"ℓ → ∞, the chain's length in coupling lengths held fixed). The grid is in units of each ℓ's lone-block "
             f"threshold ν_f*(ℓ) = 1/(2√(1 + 2ℓ²)): ν_f/ν_f* = {grid}. The random start has amplitude "
-            f"{s['amplitude']:g}/ℓ² (the same start stress spread at every ℓ: from amplitude 0.1 at ℓ = 10 the spread is "
+            f"{s['amplitude']:g}/ℓ² (the same start stress spread at every ℓ: from amplitude 0.1 at ℓ = 10, N = 16 "
+            "the spread is "
             "30.6 and takes 10–14 loading cycles to relax, docs/chain.md, \"ℓ scan\"). D is left out at steps where some "
             f"seed's event lasted more than {s.get('longest_event', 0.5):g} loading cycles (merged slides). Located as in the "
             "section above (crossing.locate: ν_½ with bootstrap and grid errors, ν_χ, W), here in units of ν_f*; "
             f"{st['runs']} runs, {st['events']} events, {st['cpu']:.0f} CPU s in all."),
         Table(["ℓ", "N", "N/ℓ", "ν_f*", "seeds", "ν_½/ν_f*", "ν_½", "ν_χ/ν_f*", "W/ν_f*",
                "D: smallest ν_f → minimum", "left out (ν_f/ν_f*, up)", "CPU s"], rows),
-        Figure("fig_ell_scan.png", alt="D against nu_f over nu_f* per ell and N, and the located transition"),
+        Figure("fig_ell_scan.png", "Left: D on the up branch (mean over seeds ± standard error) against ν_f/ν_f*(ℓ), "
+               "colour by ℓ; circles and solid lines N ≥ 16, squares and dotted lines N < 16 (fainter for smaller N); "
+               "steps left out are gaps; gray: ν_f = ν_f*. Right: ν_½/ν_f*(ℓ) against N (± bootstrap and grid error "
+               "in quadrature), gray: ν_f*.",
+               alt="D against nu_f over nu_f* per ell and N, and the located transition"),
         Paragraph("Per ℓ, the location against N (sizes of the scan, N > 1) by ν_c(N) = ν_∞ + a/N and the words of "
                   "the section above (crossing.location_words: **approaches ν_f*** when ν_∞ is within 2σ of ν_f*(ℓ) "
                   "and beyond 2σ of 1/2; undecided with fewer than 3 located sizes or χ²/dof > 2):"),

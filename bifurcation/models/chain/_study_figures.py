@@ -55,8 +55,10 @@ def figures(out: Path, data: dict) -> None:
                 nn = np.geomspace(ns.min(), ns.max(), 50)
                 a.plot(nn, f["amplitude"] * nn ** -f["theta"], "-", color=line[0].get_color(), lw=0.8,
                        label=f"A N^-θ, θ = {f['theta']:.2f} ± {f['theta_sigma']:.2f}")
-                a.axhline(f["constant"], color=line[0].get_color(), lw=0.6, ls=":")
-        a.set(xscale="log", yscale="log", xlabel="N", title=f"finite-size scaling of {title}")
+                a.axhline(f["constant"], color=line[0].get_color(), lw=0.6, ls=":",
+                          label=f"constant {f['constant']:.3g}")
+        a.set(xscale="log", yscale="log", xlabel="N", title=f"finite-size scaling of {title}",
+              ylabel=f"{title}: |jump|, loop width (± s.e. over seeds)")
         a.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "fig_fss.png", dpi=110, metadata=_NO_SOFTWARE)

@@ -6,7 +6,7 @@ import math
 
 from ...report.document import Figure, Paragraph, Section, Table
 
-__all__ = ["fss_words", "report_blocks"]
+__all__ = ["FSS_RULES", "chi2_p", "fss_words", "report_blocks"]
 
 
 def _pm(x, s, d=3) -> str:
@@ -15,30 +15,50 @@ def _pm(x, s, d=3) -> str:
     return f"{x:.{d}f} ± {s:.{d}f}" if math.isfinite(s) else f"{x:.{d}f}"
 
 
+def chi2_p(chi2: float, dof: int) -> float:
+    """P(χ² ≥ chi2) for ``dof`` degrees of freedom: the goodness-of-fit test of a weighted least-squares fit."""
+    import mpmath
+
+    if dof < 1 or not math.isfinite(chi2):
+        return math.nan
+    return float(mpmath.gammainc(dof / 2, chi2 / 2, mpmath.inf, regularized=True))
+
+
 def fss_words(f: dict) -> tuple[str, str]:
     """(short verdict, sentence) for a finite-size fit of ``analysis.finite_size_fit``.
 
-    Rules: θ more than 2σ above 0 with the constant rejected (χ²/dof > 2) → vanishes; |θ| ≤ 2σ with
-    an acceptable constant → persists, unless θ + 2σ > 0.25 (a slow decay not excluded) → undecided;
-    θ more than 2σ below 0 → grows; otherwise undecided.
+    Rules (FSS_RULES): θ more than 2σ above 0 with the constant rejected by its χ² test (p < 0.05) →
+    vanishes; |θ| ≤ 2σ with the constant not rejected → persists, unless θ + 2σ > 0.25 (a slow decay not
+    excluded) → undecided; θ more than 2σ below 0 → grows; otherwise undecided. (χ²/dof > 2 was the
+    rejection before: with 3 sizes of 4 that is p ≈ 0.075, not a rejection at 5 %.)
     """
     if f["points"] < 3 or not math.isfinite(f["theta"]):
         return "undecided", f"only {f['points']} sizes with a non-zero value: no fit"
     th, s = f["theta"], f["theta_sigma"]
     rc = f["chi2_constant"] / max(f["dof_constant"], 1)
     rp = f["chi2_power"] / max(f["dof_power"], 1)
+    pc = chi2_p(f["chi2_constant"], f["dof_constant"])
     fits = (f"θ = {th:.2f} ± {s:.2f} (χ²/dof {rp:.1f}); constant {f['constant']:.3g} ± "
-            f"{f['constant_sigma']:.2g} (χ²/dof {rc:.1f}), N = {', '.join(str(int(n)) for n in f['sizes'])}")
-    if th > 2 * s and rc > 2:
+            f"{f['constant_sigma']:.2g} (χ²/dof {rc:.1f}, p = {pc:.2g}), "
+            f"N = {', '.join(str(int(n)) for n in f['sizes'])}")
+    rejected = pc < 0.05
+    if th > 2 * s and rejected:
         return "vanishes", "decreases with N: " + fits
     if th < -2 * s:
         return "grows", "grows with N: " + fits
-    if abs(th) <= 2 * s and rc <= 2:
+    if th > 2 * s:
+        return "undecided", "decreases with N, but a constant is not rejected (χ² p ≥ 0.05): " + fits
+    if not rejected:
         if th + 2 * s > 0.25:
             return "undecided", ("compatible with a constant, but a decay as fast as N^-%.2f is not excluded: "
                                  % (th + 2 * s)) + fits
         return "persists", "compatible with a constant: " + fits
-    return "undecided", "neither a constant nor a power law fits the scatter: " + fits
+    return "undecided", "no trend in N beyond 2σ, yet a constant is rejected (χ² p < 0.05): " + fits
+
+
+FSS_RULES = ("**vanishes**: θ more than 2σ above 0 and the constant rejected by its χ² test (p < 0.05, p given "
+             "beside its χ²/dof); **grows**: θ more than 2σ below 0; **persists**: |θ| ≤ 2σ, the constant not "
+             "rejected and θ + 2σ ≤ 0.25; **undecided** otherwise (the reason is said)")
 
 
 def report_blocks(cfg, path, data, wall, speed: list) -> list:
@@ -112,6 +132,10 @@ def _threshold_section(data, c) -> list:
                      *(f"{r['nu_f_cross']:.5f} ({100 * r['relative_offset']:+.2f} %)" for r in t["rows"]),
                      f"{r0['delta_below']:.3g} / {r0['delta_above']:.2e}"])
     offs = [abs(t["rows"][-1]["relative_offset"]) for t in th]
+    # creep side: k·P = Δ(ν/√k, ·) ∝ ν/√k, so the curves part by √k there; the spread and √k's, from the table
+    above = [t["rows"][-1]["delta_above"] for t in th]
+    ks = [t["rows"][-1]["k"] for t in th]
+    below = [t["rows"][-1]["delta_below"] for t in th]
     B = [Paragraph(
          "A block slipping alone among stuck neighbours has stiffness k = 1 + 2ℓ² (interior) or 1 + ℓ² (free "
          "end); docs/chain.md derives ν_f* = 1/(2√k). Measured on the chain engine (threshold.py: the one "
@@ -122,8 +146,15 @@ def _threshold_section(data, c) -> list:
          Paragraph(f"The crossing lies above ν_f* and closes on it as ν decreases (largest offset at ν = {nus[-1]:g}: "
                    f"{100 * max(offs):.2f} %), like the single block's own transition at ν_f = 1/2, which finite ν "
                    "smooths towards larger ν_f (docs/physics.md). The curves k·P against ν_f/ν_f* fall on one "
-                   "curve for every ℓ and both ends (the single block's Δ):"),
-         Figure("fig_threshold.png", alt="threshold")]
+                   f"curve below ν_f* for every ℓ and both ends (k·P at 0.8 ν_f* = "
+                   + (f"{min(below):.3g}" if f"{min(below):.3g}" == f"{max(below):.3g}"
+                      else f"{min(below):.3g}–{max(below):.3g}") + ": "
+                   "the single block's Δ); above it, in creep, k·P is the single block's Δ at ν/√k, O(ν/√k), so the "
+                   f"curves part by √k there (at 1.25 ν_f* and ν = {nus[-1]:g}: "
+                   f"{min(above):.3g}–{max(above):.3g}, a factor "
+                   f"{max(above) / min(above):.2f}, against √k's {math.sqrt(max(ks) / min(ks)):.2f}):"),
+         Figure("fig_threshold.png", "k·P of the one slipping block against ν_f/ν_f* for each ℓ and end, at the "
+                "ν in the figure's title; gray: ν_f = ν_f*.", alt="threshold")]
     cats = data["catalogs"]
     if cats:
         rows = []
@@ -199,10 +230,13 @@ def _order_section(cfg, data, sw, star) -> list:
         Paragraph("Fits of the grid readings above (the largest change between neighbouring ν_f, the loop width): "
                   "y(N) = A N^-θ (weighted least squares on ln y) against y = constant, over the chains "
                   "(N > 1; N = 1 is deterministic and has no loop by construction: every event starts from the same "
-                  "state). analysis.finite_size_fit; rules for the words: _study_text.fss_words. The jump's place moves "
+                  "state). analysis.finite_size_fit; rules for the words (_study_text.fss_words): " + FSS_RULES
+                  + ". The jump's place moves "
                   "from interval to interval with N, so its fit follows no one transition: the next subsection "
                   "locates one."),
-        Figure("fig_fss.png", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
+        Figure("fig_fss.png", "Jump (circles) and loop width (squares) of D (left) and Ψ (right) against N "
+               "for the chains (N > 1), ± standard error over seeds; solid: the fit A N^−θ, dotted: the constant "
+               "fit.", alt="fss"), Table(["quantity", "reading"], rows)], level=3))
     from ._study_transition import transition_section
 
     B += transition_section(data["transition"])
@@ -228,7 +262,9 @@ def _mfd_section(data) -> list:
                   + CSN_RULES + ". Spanning excess: observed system-spanning events over the Page fit's extrapolation "
                   "N(≥ m_span). Large events: n_blocks ≥ N/2. The raw catalogs are in catalogs.npz (the CSN fits in "
                   "csn.json, recomputed from them by tests/test_chain_report_csn.py)."),
-        Figure("fig_mfd.png", alt="mfd"),
+        Figure("fig_mfd.png", "Left: events per 0.1 in m = log10 P (all events, the 1-block atom included) for each "
+               "catalog, dashed: the Page fit over its fit range (a Gutenberg–Richter law truncated to that range); "
+               "right: the potency in each bin of m.", alt="mfd"),
         Table(["N", "ν_f", "events", "b (Page)", "fit range m (n)", "CSN (multi-block events)",
                "spanning (expected, excess)", "large events", "recurrence of large: mean, CV",
                "of spanning: mean, CV"], rows)])]
@@ -253,6 +289,12 @@ def _verdict(cfg, data, sw, star) -> list:
     loops = [(r["n"], r["slip_per_block"]["width"], r["slip_per_block"]["width_sigma"]) for r in table if r["n"] > 1]
     sig = [n for n, w, s in loops if w > 2 * s]
     loop_txt = "; ".join(f"N = {n}: {_pm(w, s)}" for n, w, s in loops)
+    # the width is a maximum over noisy differences (biased up by ~1σ); the signed area is not: it decides
+    areas = [(r["n"], r["slip_per_block"]["area"], r["slip_per_block"]["area_sigma"]) for r in table if r["n"] > 1]
+    area_txt = "; ".join(f"N = {n}: {_pm(x, s, 4)}" for n, x, s in areas)
+    asig = [(n, x) for n, x, s in areas if abs(x) > 2 * s]
+    loop_word = ("loop area beyond 2σ for N = " + ", ".join(
+        f"{n} ({'down above up' if x > 0 else 'up above down'})" for n, x in asig) if asig else "loop areas within 2σ")
     big = table[-1]
     psi = big["psi"]
     a, b = psi["jump_at"]
@@ -295,10 +337,10 @@ def _verdict(cfg, data, sw, star) -> list:
          f"closed-form potency to {dev:.1e}. Chain, order parameter D, its transition located and scaled (section "
          f"\"Finite-size scaling of a defined transition\"; N = 1 is the single block, whose first-order jump from "
          f"Δ0 = 0.1507 to 0 at ν_f = 1/2 as ν → 0, docs/physics.md, is smeared at ν = {nu:g}: {smear}): {defined} "
-         f"Loop widths of D: {loop_txt} ({len(sig)} of {len(loops)} above 2σ); FSS: {ww}. (The earlier reading, the "
+         f"Loop widths of D: {loop_txt} ({len(sig)} of {len(loops)} above 2σ, each biased up by ~1σ); signed loop "
+         f"areas Σ(down − up)Δν_f (unbiased): {area_txt}; FSS: {ww}. (The earlier reading, the "
          f"largest change between neighbouring ν_f, sits in a different interval for each N: {jumps}; it follows "
-         "no one transition and is not read.)", f"lone block: {lone}. Chain: **{chain_word}**; loops "
-         f"{'resolved at 2σ for N = ' + ', '.join(map(str, sig)) if sig else 'within the noise'}"),
+         "no one transition and is not read.)", f"lone block: {lone}. Chain: **{chain_word}**; {loop_word}"),
          ("Carlson & Langer (1989): power-law small events with an excess of large ones", f"{mfd_cells}. "
          f"{notes['cl'][0]}", f"**{notes['cl'][1] or cl}**"
          + (" (ν_f = " + ", ".join(sorted({f"{s['nu_f']:g}" for s in cats})) + "; near ν_f = 1/2 see Mori & Kawamura)"

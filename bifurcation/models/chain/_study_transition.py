@@ -110,7 +110,10 @@ def transition_section(st: dict) -> list:
             "so the two locators are closer, but ν_½ is biased low in the same way."),
         Table(["ν", "N", "branch", "seeds", "ν_½", "ν_χ", "W", f"change across ν_½ ± {WINDOW:g} / drop", "drop of D"],
               rows),
-        Figure("fig_transition.png", alt="transition location and width against N"),
+        Figure("fig_transition.png", "Left: the located transition on the up branch, ν_½ (solid) and ν_χ (dashed) at "
+               "each ν (± the table's σ; N = 1 is the single block), gray: ν_f* (solid) and 1/2 (dotted). Right: the "
+               "width W (± the table's σ), dotted: the grid spacing 0.05, the width of a step the grid cannot resolve.",
+               alt="transition location and width against N"),
         Paragraph(
             "Fits over the chains' up branches (N > 1): the location by ν_c(N) = ν_∞ + a/N (weighted least "
             "squares; a shift ∝ 1/volume, the form usually assumed at a first-order transition, with the chain's "
@@ -220,14 +223,22 @@ def transition_evidence(st: dict) -> dict:
                "whose N-trend cannot tell a persisting first-order jump from one that turns continuous")
         if len(per_nu) > 1:
             nu1 = per_nu[1][0]
-            w0 = {r["n"]: r["width"]["value"] for r in st["rows"] if r["nu"] == nu0 and r["branch"] == "up"}
-            w1 = [(r["n"], r["width"]["value"]) for r in st["rows"] if r["nu"] == nu1 and r["branch"] == "up"
-                  and r["n"] > 1 and r["n"] in w0]
-            ratio = [w / w0[n] for n, w in w1 if math.isfinite(w / w0[n])]
+            w0 = {r["n"]: (r["width"]["value"], r["width"]["sigma"]) for r in st["rows"]
+                  if r["nu"] == nu0 and r["branch"] == "up"}
+            w1 = [(r["n"], r["width"]["value"], r["width"]["sigma"]) for r in st["rows"]
+                  if r["nu"] == nu1 and r["branch"] == "up" and r["n"] > 1 and r["n"] in w0]
+            # the ratio and its error (first-order propagation of both W's bootstrap σ)
+            rs = [(w / w0[n][0], w / w0[n][0] * math.hypot(s / w, w0[n][1] / w0[n][0])) for n, w, s in w1
+                  if w > 0 and math.isfinite(w / w0[n][0])]
+            ratio = [q for q, _ in rs]
             if ratio:
                 why += (f"; at ν = {nu1:g} W is {min(ratio):.2f}–{max(ratio):.2f}× its ν = {nu0:g} value "
-                        f"(N = {', '.join(str(n) for n, _ in w1)})"
-                        + (": the change sharpens as ν decreases, as a first-order one does" if max(ratio) < 1 else "")
-                        + f"; at ν = {nu1:g} only N ≤ {max(n for n, _ in w1)} was run, too few sizes for a trend in N")
+                        f"(N = {', '.join(str(n) for n, _, _ in w1)}; ratio ± σ "
+                        + ", ".join(f"{q:.2f} ± {e:.2f}" for q, e in rs) + ")"
+                        + (": the change sharpens as ν decreases (every ratio + 2σ < 1), as a jump rounded by ν "
+                           "does; a continuous change rounded by ν also sharpens, down to its own width, so this "
+                           "alone does not decide between them" if all(q + 2 * e < 1 for q, e in rs) else "")
+                        + f"; at ν = {nu1:g} only N ≤ {max(n for n, _, _ in w1)} was run, too few sizes for a "
+                        "trend in N")
         sak = vas = "undecided: " + why
     return {"sentences": out, "sak": sak, "vas": vas}

@@ -180,7 +180,7 @@ def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
             f"{FIT['block_bootstrap']} moving-block resamples (the catalog's events are correlated; the i.i.d. "
             f"error (α − 1)/√n_tail beside it); b_P = α − 1 (N(≥ P) ∝ P^−b_P) and b_M = 1.5 b_P in moment "
             f"magnitude; p from {FIT['bootstrap']} parametric-bootstrap samples (the power law is ruled out when "
-            f"the one-sided 95 % Clopper–Pearson bound on p is ≤ 0.1, undecided when p ≤ 0.1 without it), "
+            f"the one-sided 95 % Clopper–Pearson bound on p is ≤ 0.1, plausible when p > 0.1, undecided otherwise), "
             f"no power-law reading when the tail above x_min spans less than {MIN_DECADES:g} decade, the verdict with the likelihood ratios against the exponential, lognormal and truncated power "
             f"law (seed {FIT['seed']}). A run is fitted only with ≥ {MIN_FIT} sizes spanning ≥ {MIN_DECADES:g} decade."))
         body.append(Table(("run", "events kept", "n_tail", "x_min", "α ± error", "b_P", "b_M", "KS distance",
