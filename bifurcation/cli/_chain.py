@@ -237,12 +237,14 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
     if as_json:
         echo_json(r.to_json())
     else:
-        click.echo(f"{'event':>6s} " + " ".join(f"{k:>22s}" for k in CATALOG_FIELDS))
+        # numbers as `query` prints them: the shortest text that reads back to the same double (repr), at
+        # most 24 characters (-1.7976931348623157e+308); was %.15g, which rounded away the last digits
+        click.echo(f"{'event':>6s} " + " ".join(f"{k:>24s}" for k in CATALOG_FIELDS))
         for i in range(r.events):
-            cells = [f"{r[k][i]:22d}" if k in ("hypocentre", "n_blocks") else f"{r[k][i]:22.15g}"
+            cells = [f"{r[k][i]:24d}" if k in ("hypocentre", "n_blocks") else f"{float(r[k][i])!r:>24s}"
                      for k in CATALOG_FIELDS]
             click.echo(f"{i:6d} " + " ".join(cells))
-        click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; membership {r.membership}" if r.v_threshold else "")
+        click.echo(f"status {r.status}; t = {float(r.t)!r}" + (f"; membership {r.membership}" if r.v_threshold else "")
                    + (f"; {r.message}" if r.message else "") + _over_bound(r, work, n, float(nu), engine))
         click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
         below = sum(1 for i in range(r.events) if r["n_blocks"][i] == 0) if r.v_threshold else 0
