@@ -65,10 +65,11 @@ def _progress(started: float):
     line = event_lines("chain", started)
 
     def report(done: int, events: int, t: float) -> None:
-        report.done, report.last_event = done, time.perf_counter()
+        report.done, report.last_event, report.compiling = done, time.perf_counter(), None
         line(done, events, t)
 
-    report.done, report.last_event = 0, started
+    # compiling: set by the compiled engine before numba compiles its loop (what the cache allows), None after
+    report.done, report.last_event, report.compiling = 0, started, None
     return report
 
 
@@ -93,7 +94,15 @@ def _still_running(report, events: int, n: int, nu: float, work: float = MAX_WOR
                 hint = (f"; at N·ν = {n * nu:.3g} blocks fail faster than events end and this one may not "
                         f"end (it stops at {work:.3g} block-steps, minutes at this N): interrupt and give a "
                         "smaller --nu or --n (N·ν < 1)") if n * nu >= 1 else ""
-                if not counted:   # the compiled engine with --verify reports nothing until the end
+                compiling = getattr(report, "compiling", None)
+                if compiling is not None:   # numba compiling the engine: no event has started (was "still sliding")
+                    from ..models.chain._compiled import COMPILE_SECONDS
+
+                    then = "; with --verify no progress is reported until the end" if not counted else ""
+                    click.echo(f"bifurcation: chain: {'still compiling' if counted else 'compiling or running'} "
+                               f"the chain engine (numba) after {now - report.started:.0f} s (~{COMPILE_SECONDS} s "
+                               f"of CPU; {compiling}{then})", err=True)
+                elif not counted:   # the compiled engine with --verify reports nothing until the end
                     click.echo(f"bifurcation: chain: still running after {now - report.started:.0f} s (with "
                                f"--verify no progress is reported until the end){hint}", err=True)
                 else:
