@@ -208,6 +208,7 @@ def test_report_says_on_stderr_what_it_is_doing(store, tmp_path, monkeypatch):
         return fit(potency)
 
     monkeypatch.setattr(_analysis, "STILL_SECONDS", 0.15)
+    monkeypatch.setattr(_analysis, "QUIET_SECONDS", 0.0)   # (5 s: a short report, or an error, prints no stage)
     monkeypatch.setattr(store_report, "size_fit", slow_fit)
     result = CliRunner().invoke(cli, ["report", "--store", str(store), "--out", str(tmp_path / "r")])
     assert result.exit_code == 0, result.output
