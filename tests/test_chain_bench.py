@@ -86,3 +86,27 @@ def test_the_stop_phase_model_stops_where_the_lone_trajectory_stops():
         for var in ("tau", "s", "v"):
             assert abs(row[f"stop_{var}"] - t_ref) <= 1e-11, (row, var)
         assert 1 <= row["s"] <= row["tau"]
+
+
+def test_bench_suite_chain_says_on_stderr_which_case_runs(monkeypatch):
+    """`bifurcation bench --suite chain` printed its header, then nothing for over 120 s (issue 21, walk 4):
+    now each case and stage is a line on stderr (the numba compile too, or that it loads from the cache),
+    the results stay on stdout. A one-case suite (the CLI's own hook, smaller defaults)."""
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    monkeypatch.setitem(run_chain_bench.__kwdefaults__, "cases", ((1e-3, 8, 20, 5),))
+    monkeypatch.setitem(run_chain_bench.__kwdefaults__, "dts", (0.2,))
+    monkeypatch.setitem(run_chain_bench.__kwdefaults__, "verify", 0.25)
+    result = CliRunner().invoke(cli, ["bench", "--suite", "chain"])
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.splitlines()
+    assert lines and all(l.startswith("bifurcation: bench: ") and l.endswith(" s]") for l in lines), lines
+    assert ("compiling the chain engine for carlson-langer" in lines[0]
+            or "loading them from numba's disk cache" in lines[0]), lines[0]
+    stages = [l.split(": ", 3)[-1] for l in lines[1:]]
+    assert stages[0].startswith("5 transient events, then 20 timed events") and "case 1 of 1 (ν = 0.001, N = 8)" in lines[1]
+    for what in ("DOP853", "verify", "exact (heyoka)", "numba RK4", "interpreted numpy RK4"):
+        assert any(what in s for s in stages), (what, stages)
+    assert "bifurcation: bench" not in result.stdout and "ν = 0.001, N =     8: compiled" in result.stdout

@@ -37,6 +37,29 @@ def test_table_output_with_u0():
     assert "hypocentre" in res.output and "status complete" in res.output
 
 
+def test_table_numbers_are_query_s_shortest_exact_form():
+    """The table prints each double as `query` does (repr: the shortest text that reads back to the same
+    double; was %.15g, which lost up to 2 digits): every cell read back equals the API's value bit for bit
+    (issue 21, walk 4)."""
+    from bifurcation.store.query import _cell
+
+    res = _run(BASE + ["--n", "4", "--amplitude", "0.1", "--seed", "3", "--events", "5"])
+    assert res.exit_code == 0, res.output
+    api = bf.chain("carlson-langer", n=4, ell=1.0, nu=1e-6, nu_f=0.3, amplitude=0.1, seed=3, events=5)
+    lines = res.output.splitlines()
+    assert lines[0].split() == ["event", *CATALOG_FIELDS]
+    for i, line in enumerate(lines[1:6]):
+        cells = line.split()
+        assert int(cells[0]) == i
+        for key, text in zip(CATALOG_FIELDS, cells[1:]):
+            value = api[key][i]
+            if key in ("hypocentre", "n_blocks"):
+                assert int(text) == value, key
+            else:
+                assert text == _cell(float(value)) and float(text) == value, key
+    assert f"status complete; t = {float(api.t)!r}\n" in res.output
+
+
 _DEFAULTS = {"--law": "carlson-langer", "--ell": "1", "--nu": "1e-6", "--nu-f": "0.3", "--n": "3", "--seed": "1",
              "--amplitude": "0.1", "--events": "3"}
 

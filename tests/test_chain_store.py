@@ -270,6 +270,42 @@ def test_a_run_killed_between_checkpoints_resumes_bit_identical(workflow, serial
     assert_same(cat["potency"], serial["potency"][0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0], "potency")
 
 
+def test_query_catalog_of_a_run_killed_mid_run_names_its_checkpointed_events(workflow, tmp_path, monkeypatch):
+    """A run killed after its 2nd checkpoint (C = 8: 16 events saved) is not done: `query --catalog` says
+    how many events are checkpointed and how to resume (the store's own submit command), not "has not
+    computed this run yet" (issue 21, walk 4). Like status and report it shows no catalog of an unfinished run."""
+    from bifurcation.store.catalog import Checkpoints
+
+    path = tmp_path / "ck.zarr"
+    run_id = create_store(path, workflow, command="bifurcation submit chain.toml --store ck.zarr --new-store")["run_id"]
+    tile = next(t for t in iter_tiles(workflow) if t.index == (0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0))
+    calls = []
+    original = Checkpoints.save
+
+    def dying(self, i, *args, **kwargs):
+        original(self, i, *args, **kwargs)
+        calls.append(i)
+        if calls.count(0) == 2:
+            raise KeyboardInterrupt("killed")
+
+    monkeypatch.setattr(Checkpoints, "save", dying)
+    with pytest.raises(KeyboardInterrupt):
+        compute_tile(tile, tile_checkpoints(path, run_id, tile))
+    monkeypatch.undo()
+    args = ["query", "--store", str(path), "--law", "carlson-langer", "--n", "6", "--nu-f", "0.3",
+            "--events", "30", "--periodic", "0", "--catalog"]
+    result = CliRunner().invoke(cli, args)
+    assert result.exit_code == 2, result.output
+    assert len(result.output.strip().splitlines()) == 1 and "Traceback" not in result.output
+    assert "has 16 events of this run checkpointed, run not finished" in result.output
+    # the resume command is the store's own, less --new-store (which would drop the checkpoints)
+    assert "resume with `bifurcation submit chain.toml --store ck.zarr`" in result.output
+    # a run of the same store with no checkpoint: still "not computed yet"
+    other = CliRunner().invoke(cli, [*args[:-4], "12", "--periodic", "1", "--catalog"])
+    assert other.exit_code == 2 and "has not computed this run yet" in other.output
+    assert "checkpoint" not in other.output
+
+
 # -- a real `dask worker` killed with -9 in the middle of a run ------------------------------------------
 KILL = textwrap.dedent("""
     [study]

@@ -124,3 +124,53 @@ def test_chain_still_running_line_with_verify_does_not_claim_an_event(monkeypatc
     lines = capsys.readouterr().err.splitlines()
     assert lines and all(l.startswith("bifurcation: chain: still running after ") and "--verify" in l
                          and "event" not in l for l in lines), lines
+
+
+def test_chain_compiling_says_compiling_not_still_sliding(monkeypatch):
+    """While numba compiles the compiled engine (~42 s of CPU on a cold cache) no event has started: the
+    still-running line said 'event 1 of 3 still sliding after 30 s' (issue 21, walk 4). A stand-in compile
+    (0.6 s inside the first call of the engine) with no writable cache: both lines say compiling, and that
+    every run compiles again; none claims an event."""
+    from bifurcation.cli import _chain
+    from bifurcation.models.chain import _compiled
+
+    real = _compiled.CompiledChain.run
+    calls = []
+
+    def first_compiles(self, k):
+        if not calls:
+            time.sleep(0.6)
+        calls.append(k)
+        return real(self, k)
+
+    monkeypatch.setattr(_chain, "STILL_RUNNING_SECONDS", 0.2)
+    monkeypatch.setattr(_compiled, "_CACHE", False)
+    monkeypatch.setattr(_compiled.CompiledChain, "compiled", lambda self: False)
+    monkeypatch.setattr(_compiled.CompiledChain, "run", first_compiles)
+    result = CliRunner().invoke(cli, ["chain", "--law", "carlson-langer", "--n", "4", "--ell", "1", "--nu", "1e-3",
+                                      "--nu-f", "0.3", "--amplitude", "0.1", "--seed", "1", "--events", "3",
+                                      "--engine", "compiled"])
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.splitlines()
+    notice = [i for i, l in enumerate(lines) if l.startswith(
+        "bifurcation: chain: compiling the chain engine for carlson-langer (every run: numba cannot write its disk cache")]
+    assert len(notice) == 1, lines
+    # (lines before the notice: the setup outlasting the stand-in's 0.2 s; the real bound is 30 s)
+    during = [l for l in lines[notice[0] + 1:] if "after" in l][:2]   # the 0.6 s stand-in: 2-3 lines
+    assert during and all(l.startswith("bifurcation: chain: still compiling the chain engine (numba) after ")
+                          and "every run" in l for l in during), lines
+    assert "Warning" not in result.stderr
+
+
+def test_chain_still_running_line_after_the_compile_counts_events_again(monkeypatch, capsys):
+    """The first progress call ends the compile: a line after it names the event again."""
+    from bifurcation.cli import _chain
+
+    monkeypatch.setattr(_chain, "STILL_RUNNING_SECONDS", 0.15)
+    report = _chain._progress(time.perf_counter())
+    report.compiling = "first run only"
+    report(0, 5, 0.0)   # (the engine's first progress call)
+    with _chain._still_running(report, 5, 4, 1e-3):
+        time.sleep(0.5)
+    lines = [l for l in capsys.readouterr().err.splitlines() if "after" in l]
+    assert lines and all(l.startswith("bifurcation: chain: event 1 of 5 still sliding after") for l in lines), lines

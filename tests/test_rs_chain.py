@@ -312,3 +312,23 @@ def test_massless_undamped_blow_up_is_a_status_not_a_number():
     assert r.status == RSChainStatus.NONFINITE and r.events < 5
     assert "give η > 0 or M > 0" in r.message
     assert np.all(np.isfinite(r.potency))
+
+
+@pytest.mark.slow   # numba compiles the DOP853 loop (~4 s of CPU), then a one-case suite
+def test_bench_suite_rs_chain_says_on_stderr_which_case_runs(monkeypatch):
+    """`bifurcation bench --suite rs-chain` printed its header, then nothing for over 120 s (issue 21, walk 4):
+    the compile and each case's stages are lines on stderr; the results stay on stdout."""
+    from bifurcation.models.rs_chain._bench import run_rs_chain_bench
+
+    # its defaults (repeat, cases, rtols, lsoda_rtols, engine_tols, grid_seeds, echo, progress) made small
+    assert len(run_rs_chain_bench.__defaults__) == 8
+    monkeypatch.setattr(run_rs_chain_bench, "__defaults__", (1, ((2, 1.0, 12),), (1e-8,), (1e-8,), (1e-10,), 2,
+                                                             print, None))
+    result = CliRunner().invoke(cli, ["bench", "--suite", "rs-chain"])
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.splitlines()
+    assert lines and all(l.startswith("bifurcation: bench: ") and l.endswith(" s]") for l in lines), lines
+    assert lines[0].startswith("bifurcation: bench: compiling the numba baselines"), lines
+    assert "case 1 of 1 (N = 2, ℓ = 1): 12 events by the engine" in lines[1]
+    assert any("scipy LSODA" in l for l in lines) and any("a grid of 2 chains" in l for l in lines), lines
+    assert "bifurcation: bench" not in result.stdout and "N =    2 ℓ = 1, 12 events: engine" in result.stdout

@@ -188,3 +188,34 @@ def test_a_tail_shorter_than_a_decade_gets_no_power_law_reading():
     assert row[8] == ("no power-law reading: the tail (90 of 90000 sizes) spans 0.76 decade (< 1); CSN's test: "
                       "power law plausible (p = 0.53)")
     assert _fit_row("the run", SizeFit(10000, sizes, fit(18.0)))[8] == "power law plausible (p = 0.53)"   # 2.0 decades
+
+
+def test_report_says_on_stderr_what_it_is_doing(store, tmp_path, monkeypatch):
+    """`bifurcation report` on the rs-chain study's store printed nothing for ~150 s (its Clauset fit of 9·10^4
+    sizes; issue 21, walk 4): each stage is a line on stderr, and a stage that lasts (the fit, slowed here by
+    0.5 s) gets 'still running' lines. The report itself is the one written without progress."""
+    import time
+
+    from click.testing import CliRunner
+
+    from bifurcation.cli import _analysis, cli
+    from bifurcation.models.rs_chain import store_report
+
+    fit = store_report.size_fit
+
+    def slow_fit(potency):
+        time.sleep(0.5)
+        return fit(potency)
+
+    monkeypatch.setattr(_analysis, "STILL_SECONDS", 0.15)
+    monkeypatch.setattr(_analysis, "QUIET_SECONDS", 0.0)   # (5 s: a short report, or an error, prints no stage)
+    monkeypatch.setattr(store_report, "size_fit", slow_fit)
+    result = CliRunner().invoke(cli, ["report", "--store", str(store), "--out", str(tmp_path / "r")])
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.splitlines()
+    assert lines and all(l.startswith("bifurcation: report: ") and l.endswith(" s]") for l in lines), lines
+    assert "store 1 of 1" in lines[0] and "model rs-chain" in lines[0]
+    fits = [i for i, l in enumerate(lines) if ": fitting 300 event sizes (Clauset" in l and "still" not in l]
+    assert len(fits) == 2, lines          # ℓ = 1 and ℓ = 3
+    assert lines[fits[0] + 1].startswith("bifurcation: report: still running: ell = 1.0: fitting"), lines
+    assert lines[-1].startswith("bifurcation: report: writing REPORT.md") and result.stdout.startswith("wrote ")

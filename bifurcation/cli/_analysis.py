@@ -145,12 +145,65 @@ def report(stores, out: str, force: bool, as_json: bool) -> None:
     check_writable_dir(out)   # before the analysis, not after it (and nothing made if a store is refused)
     check_replace(out, REPORT_FILES, given=True, force=force)
     sources = _stores(stores)
-    with _with_options(_NAMES), _undone_on_error(out):
-        files = write_store_report(sources, out)
+    with _with_options(_NAMES), _undone_on_error(out), _stages("report") as progress:
+        files = write_store_report(sources, out, progress=progress)
     if as_json:
         echo_json(_written(files))
         return
     click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figure{'' if len(files['figures']) == 1 else 's'}")
+
+
+#: Seconds without a new stage before a line says the current one is still running, and between them.
+STILL_SECONDS = 30.0
+#: Seconds a command runs before its stages are shown: a short report (or an error found at once, which
+#: stays one line on stderr) prints none.
+QUIET_SECONDS = 5.0
+
+
+@contextlib.contextmanager
+def _stages(label: str):
+    """A ``progress(text)`` for a long command: after QUIET_SECONDS each stage is a line on stderr with the
+    elapsed time, and while one stage lasts (a Clauset fit of 10^5 sizes: minutes) a line every STILL_SECONDS
+    says it still runs. (``report`` of the rs-chain study's store printed nothing for ~150 s, issue 21 walk 4.)"""
+    import threading
+
+    started = time.perf_counter()
+    state = {"stage": None, "since": started, "shown": False}
+    lock = threading.Lock()
+
+    def show(now: float, still: bool = False) -> None:
+        state["shown"] = True
+        click.echo(f"bifurcation: {label}: {'still running: ' if still else ''}{state['stage']} "
+                   f"[{now - started:.0f} s]", err=True)
+
+    def progress(text: str) -> None:
+        with lock:
+            now = time.perf_counter()
+            state.update(stage=text, since=now, shown=False)
+            if now - started >= QUIET_SECONDS:
+                show(now)
+
+    stop = threading.Event()
+
+    def watch() -> None:
+        while not stop.wait(max(0.05, min(STILL_SECONDS, QUIET_SECONDS or STILL_SECONDS) / 3)):
+            with lock:
+                now = time.perf_counter()
+                if state["stage"] is None or now - started < QUIET_SECONDS:
+                    continue
+                if not state["shown"]:
+                    show(now)
+                elif now - state["since"] >= STILL_SECONDS:
+                    state["since"] = now
+                    show(now, still=True)
+
+    thread = threading.Thread(target=watch, name=f"{label}-stages", daemon=True)
+    thread.start()
+    try:
+        yield progress
+    finally:
+        stop.set()
+        thread.join()
 
 
 @contextlib.contextmanager

@@ -65,10 +65,11 @@ def _progress(started: float):
     line = event_lines("chain", started)
 
     def report(done: int, events: int, t: float) -> None:
-        report.done, report.last_event = done, time.perf_counter()
+        report.done, report.last_event, report.compiling = done, time.perf_counter(), None
         line(done, events, t)
 
-    report.done, report.last_event = 0, started
+    # compiling: set by the compiled engine before numba compiles its loop (what the cache allows), None after
+    report.done, report.last_event, report.compiling = 0, started, None
     return report
 
 
@@ -93,7 +94,15 @@ def _still_running(report, events: int, n: int, nu: float, work: float = MAX_WOR
                 hint = (f"; at N·ν = {n * nu:.3g} blocks fail faster than events end and this one may not "
                         f"end (it stops at {work:.3g} block-steps, minutes at this N): interrupt and give a "
                         "smaller --nu or --n (N·ν < 1)") if n * nu >= 1 else ""
-                if not counted:   # the compiled engine with --verify reports nothing until the end
+                compiling = getattr(report, "compiling", None)
+                if compiling is not None:   # numba compiling the engine: no event has started (was "still sliding")
+                    from ..models.chain._compiled import COMPILE_SECONDS
+
+                    then = "; with --verify no progress is reported until the end" if not counted else ""
+                    click.echo(f"bifurcation: chain: {'still compiling' if counted else 'compiling or running'} "
+                               f"the chain engine (numba) after {now - report.started:.0f} s (~{COMPILE_SECONDS} s "
+                               f"of CPU; {compiling}{then})", err=True)
+                elif not counted:   # the compiled engine with --verify reports nothing until the end
                     click.echo(f"bifurcation: chain: still running after {now - report.started:.0f} s (with "
                                f"--verify no progress is reported until the end){hint}", err=True)
                 else:
@@ -239,12 +248,14 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
     if as_json:
         echo_json(r.to_json())
     else:
-        click.echo(f"{'event':>6s} " + " ".join(f"{k:>22s}" for k in CATALOG_FIELDS))
+        # numbers as `query` prints them: the shortest text that reads back to the same double (repr), at
+        # most 24 characters (-1.7976931348623157e+308); was %.15g, which rounded away the last digits
+        click.echo(f"{'event':>6s} " + " ".join(f"{k:>24s}" for k in CATALOG_FIELDS))
         for i in range(r.events):
-            cells = [f"{r[k][i]:22d}" if k in ("hypocentre", "n_blocks") else f"{r[k][i]:22.15g}"
+            cells = [f"{r[k][i]:24d}" if k in ("hypocentre", "n_blocks") else f"{float(r[k][i])!r:>24s}"
                      for k in CATALOG_FIELDS]
             click.echo(f"{i:6d} " + " ".join(cells))
-        click.echo(f"status {r.status}; t = {r.t:.17g}" + (f"; membership {r.membership}" if r.v_threshold else "")
+        click.echo(f"status {r.status}; t = {float(r.t)!r}" + (f"; membership {r.membership}" if r.v_threshold else "")
                    + (f"; {r.message}" if r.message else "") + _over_bound(r, work, n, float(nu), engine))
         click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
         below = sum(1 for i in range(r.events) if r["n_blocks"][i] == 0) if r.v_threshold else 0

@@ -113,6 +113,8 @@ def bench(points: int, subset: int, pipeline_points: int, suite: str, as_json: b
     if missing:
         raise click.UsageError(f"the {suite} benchmark's baselines need {', '.join(missing)}; install them with "
                                "python -m pip install -e \".[bench]\"")
+    # a suite that says what it is doing (minutes between its result lines; numba's first compile) says it on stderr
+    options["progress"] = lambda text: click.echo(f"bifurcation: bench: {text}", err=True)
     report = run(echo=None if as_json else click.echo, **{k: v for k, v in options.items() if k in accepted})
     if as_json:
         echo_json(report)

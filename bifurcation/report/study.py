@@ -13,6 +13,7 @@ a law the stores do not hold, and the laws the user wrote are the ones named.
 
 from __future__ import annotations
 
+import contextvars
 import math
 from pathlib import Path
 
@@ -21,7 +22,18 @@ import numpy as np
 from . import figures as F
 from .document import Figure, Heading, Items, Paragraph, Section, Table, to_html, to_markdown
 
-__all__ = ["MIN_SERIES", "block_section", "single_block_section", "write_store_report"]
+__all__ = ["MIN_SERIES", "block_section", "note", "single_block_section", "write_store_report"]
+
+#: Where ``note`` sends what the report is doing: ``write_store_report``'s ``progress`` while it runs.
+_PROGRESS = contextvars.ContextVar("bifurcation_report_progress", default=None)
+
+
+def note(text: str) -> None:
+    """Tell the caller of ``write_store_report`` what the report is doing (a model's ``report`` hook calls
+    it before a long step, e.g. a Clauset fit of 10^5 sizes; the CLI prints it on stderr)."""
+    sink = _PROGRESS.get()
+    if sink is not None:
+        sink(text)
 
 #: Finished points along ν (at ν ≤ 1e-6) that an extrapolation or a recurrence-time fit needs: the
 #: expansions have up to 6 terms, fitted over three windows.
@@ -327,11 +339,20 @@ def _holds_paper_laws(stores) -> bool:
     return all(any(_single_block(ds) and _law_index(ds, law) is not None for ds in stores) for law in _PAPER_LAWS)
 
 
-def write_store_report(sources, out) -> dict:
+def write_store_report(sources, out, *, progress=None) -> dict:
     """Report what the stores ``sources`` (paths or Datasets) hold into directory ``out``.
 
-    Returns ``{"markdown": …, "html": …, "figures": [...]}``.
+    Returns ``{"markdown": …, "html": …, "figures": [...]}``. ``progress(text)``, if given, is told what
+    the report is doing (which store, and the long steps of a model's section: ``note``).
     """
+    token = _PROGRESS.set(progress)
+    try:
+        return _write_store_report(sources, out)
+    finally:
+        _PROGRESS.reset(token)
+
+
+def _write_store_report(sources, out) -> dict:
     from .. import __version__
     from ..analysis import claims_table, load_stores
     from ..models import get_model
@@ -352,7 +373,10 @@ def write_store_report(sources, out) -> dict:
     blocks: list = [Heading(f"Study report: {titles}", 1),
                     Paragraph(f"Every number below is read from the stores or computed from them by this package; "
                               f"{units}.")]
-    blocks += [_store_section(ds, out, figures, f"store{k}") for k, ds in enumerate(stores)]
+    for k, ds in enumerate(stores):
+        note(f"store {k + 1} of {len(stores)} ({ds.attrs.get('store_path', 'in memory')}, model "
+             f"{store_model(ds.attrs)}): reading it and drawing its section")
+        blocks.append(_store_section(ds, out, figures, f"store{k}"))
     if _holds_paper_laws(stores):
         blocks.append(Section("The paper's claims (the stores hold its two laws)",
                               [paper_claims_table(claims_table(stores))]))
@@ -363,6 +387,7 @@ def write_store_report(sources, out) -> dict:
                     f"sha256 {str(a.get('workflow_sha256', '?'))[:16]}, precision {a.get('precision', '?')}, "
                     f"{math.prod(ds['status'].shape)} points, written by bifurcation {a.get('version_bifurcation', '?')}")
     blocks.append(Section("Provenance", [Items(prov)]))
+    note("writing REPORT.md and report.html")
     md, page = out / "REPORT.md", out / "report.html"
     md.write_text(to_markdown(blocks), encoding="utf-8")
     page.write_text(to_html(blocks, out), encoding="utf-8")

@@ -294,11 +294,10 @@ def read_catalog(store, *, law=None, nearest: bool = False, notes=None, **axes) 
     tile = tuple(i // c for i, c in zip(index, plan.reader.chunks))
     values = plan.reader.read(tile)
     local = tuple(i - t * c for i, t, c in zip(index, tile, plan.reader.chunks))
-    if not values["done"][local]:
-        raise InputError("store", str(store), "has not computed this run yet",
-                         "submit the workflow again (it resumes), or query another run")
-    cat = _Catalog(plan.reader.path)
     run = int(np.ravel_multi_index(index, plan.reader.shape))
+    if not values["done"][local]:
+        raise _not_done(plan.reader.path, run)
+    cat = _Catalog(plan.reader.path)
     count = int(values[cat.count][local])
     names = [n for n in plan.reader.variables if n != "done"]
     record = plan.maker.make(plan.labels[plan.dims[0]][index[0]],
@@ -307,6 +306,49 @@ def read_catalog(store, *, law=None, nearest: bool = False, notes=None, **axes) 
     out = {"run": record}
     out.update(cat.read(run, count, [o.name for o in model.catalog_outputs]))
     return out
+
+
+def _not_done(path, run: int) -> InputError:
+    """The error for a run not done: what the store holds of it (a checkpoint's events; status and report
+    count only done runs, so they are not shown as a catalog), who is writing it, and how to resume."""
+    from .lock import holder
+    from .zarr_store import read_attrs
+
+    events = checkpointed_events(path, run)
+    found = holder(path)
+    attrs = read_attrs(path)
+    if found is not None:
+        fix = f"it is being written by {found.describe()}: query it when that run ends"
+    else:
+        import shlex
+
+        try:   # the command that created the store, less --new-store (which would drop the checkpoints)
+            words = [w for w in shlex.split(str(attrs.get("command") or "")) if w != "--new-store"]
+        except ValueError:
+            words = []
+        again = f"`{shlex.join(words)}`" if words[:2] == ["bifurcation", "submit"] else \
+            "its workflow with `bifurcation submit WORKFLOW --store STORE`"
+        fix = f"resume with {again} (it continues from the checkpoint), or query another run"
+    if events:
+        return InputError("store", str(path), f"has {events} events of this run checkpointed, run not finished "
+                          "(a catalog is shown only for a finished run)", fix)
+    return InputError("store", str(path), "has not computed this run yet",
+                      fix.replace(" (it continues from the checkpoint)", ""))
+
+
+def checkpointed_events(path, run: int) -> int:
+    """Events of ``run`` saved by its last checkpoint in the store at ``path`` (0: none, or a checkpoint of
+    another run_id, i.e. of a store this one replaced). Reads the checkpoint's metadata only."""
+    from .zarr_store import read_attrs
+
+    try:
+        with np.load(_checkpoint_file(path, run), allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+    except (OSError, ValueError, KeyError):
+        return 0
+    if meta.get("run") != run or meta.get("run_id") != read_attrs(path).get("run_id"):
+        return 0
+    return int(meta.get("events", 0))
 
 
 # -- checkpoints ---------------------------------------------------------------------------------------

@@ -178,7 +178,7 @@ def _steady_start_compiled(law_obj, n, ell, nu, nu_f, u0, events) -> np.ndarray:
 
 def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu_f: float = 0.2, cases=CASES,
                     dts=(0.2, 0.1), amplitude: float = 0.1, seed: int = 1, compact_above: int = 32,
-                    verify: float = 0.01, echo=print) -> dict:
+                    verify: float = 0.01, echo=print, progress=None) -> dict:
     """Events per CPU second, side by side in one process, from the same steady start, of: the compiled
     engine (``_compiled``, tolerance 1e-12, its ``verify`` sample re-run by the exact engine, untimed),
     the exact heyoka engine (N ≤ ``EXACT_UP_TO``), numba RK4 with an active set and of the whole
@@ -188,24 +188,36 @@ def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu_f: floa
     The start: the random start of amplitude ``amplitude`` run through the case's transient by the
     compiled engine, so the timed events are the chain's steady state. Every numba function is
     compiled before the timings (a tiny run of each). KS distances of catalogs this short are within
-    their sampling noise (shown): equal statistics are resolved by ``run_ks_study``.
+    their sampling noise (shown): equal statistics are resolved by ``run_ks_study``. ``progress(text)``
+    (the CLI: a line on stderr) is told which case and which code runs, and when numba compiles.
     """
     from ...laws import resolve_law
     from ._bench_rk4 import run_rk4
     from ._compiled import CompiledChain, run_verified
     from ._validate import check_initial
+    from .simulate import compile_notice, compile_when
 
     say = echo or (lambda *_: None)
+    started = time.perf_counter()
+
+    def note(text: str) -> None:   # minutes pass between two result lines (the first case alone > 120 s)
+        if progress is not None:
+            progress(f"{text} [{time.perf_counter() - started:.0f} s]")
     law_obj = resolve_law(law)
     rows = []
     say(f"chain bench: {law}, ℓ = {ell}, ν_f = {nu_f}, free ends, random start A = {amplitude}, seed {seed}, "
         f"run through a transient by the compiled engine; RK4 steps {list(dts)}; rates per CPU second of this "
         f"process (wall in brackets); ratio = compiled engine / baseline")
     tiny = check_initial(8, ell, "free", None, amplitude, seed)          # compile every numba path first
-    CompiledChain(law_obj, 8, ell, 1e-3, nu_f, "free", tiny).run(3)
+    first = CompiledChain(law_obj, 8, ell, 1e-3, nu_f, "free", tiny)
+    note(compile_notice(law) + ", then the numba RK4 baselines" if not first.compiled() else
+         "the compiled engine and the numba RK4 baselines: loading them from numba's disk cache")
+    first.run(3)
     for kind in ("active", "plain"):
         run_rk4(kind, law, n=8, ell=ell, nu=1e-3, nu_f=nu_f, u0=tiny, events=3, dt=0.1)
-    for nu, n, k, skip in cases:
+    for case, (nu, n, k, skip) in enumerate(cases, 1):
+        step = (lambda what, case=case, nu=nu, n=n: note(f"case {case} of {len(cases)} (ν = {nu:g}, N = {n}): {what}"))
+        step(f"{skip} transient events, then {k} timed events of the compiled engine")
         u0 = _steady_start_compiled(law_obj, n, ell, nu, nu_f, check_initial(n, ell, "free", None, amplitude, seed),
                                     skip)
         run = CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0)
@@ -220,16 +232,21 @@ def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu_f: floa
         if CompiledChain(law_obj, 1, ell, nu, nu_f, "free", np.zeros(1)).taylor:
             # the same engine with DOP853 steps (its integrator before the Taylor method), side by side
             dop = CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0, taylor=False)
+            step("the same engine with DOP853 steps" + ("" if dop.compiled() else
+                                                         f" (numba compiles this variant first: {compile_when()})"))
             dout, _, dcpu = _timed(lambda: dop.run(k))
             row["dop853_events_per_s"] = k / dcpu
             row["dop853_steps_per_event"] = float(dout["catalog"]["steps"].mean())
         if verify:
+            step(f"verify: {verify:g} of the events re-run by the exact (heyoka) engine")
             _, rep = run_verified(CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0), k, verify)
             row["verify"] = rep
         if n <= EXACT_UP_TO:
+            step(f"the exact (heyoka) engine, {k} events (it first compiles an integrator per window size up to N)")
             _, ecat, ewall, ecpu, compile_s = _exact(law_obj, n, ell, nu, nu_f, u0, k, compact_above)
             row["exact_events_per_s"] = k / ecpu
             row["exact_compile_s"] = compile_s
+        step(f"numba RK4 (active set and whole chain) at dt = {', '.join(map(str, dts))}, {k} events each")
         for kind in ("active", "plain"):
             for dt in dts:
                 base, s, c = _timed(lambda: run_rk4(kind, law, n=n, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=k, dt=dt))
@@ -237,6 +254,7 @@ def run_chain_bench(*, law: str = "carlson-langer", ell: float = 1.0, nu_f: floa
                                      "ks": ks_distance(sizes_, base["n_blocks"]),
                                      "ks_magnitude": ks_distance(mags, _magnitudes(base["potency"])),
                                      "ratio": rate / (k / c)})
+        step(f"interpreted numpy RK4 at dt = {', '.join(map(str, dts))}, {min(k, 300)} events each")
         for dt in dts:
             kk = min(k, 300)
             base, s, c = _timed(lambda: rk4_chain(law, n=n, ell=ell, nu=nu, nu_f=nu_f, u0=u0, events=kk, dt=dt))

@@ -76,7 +76,8 @@ def chain(law=None, *, n: int | None = None, ell: float | None = None, nu: float
         ``progress(events_done, events, t)``, called about every second of computing (the CLI's line
         on stderr for a long run); the events are the same with or without it (either engine; not
         called when the compiled engine runs with ``verify``). With it, the compiled engine also says
-        on stderr when it is about to compile its loop (no disk cache yet for this kind of law).
+        on stderr when it is about to compile its loop (no disk cache yet for this kind of law), and sets
+        ``progress.compiling`` (if it has that attribute) to when it compiles ("first run only", ...).
     engine : {"exact", "compiled"}
         ``"exact"``: heyoka's Taylor integrator (the reference). ``"compiled"``: the numba engine
         (``_compiled``; double precision, no energy budget), an order-20 Taylor method for
@@ -203,6 +204,23 @@ def _check_compiled_drop(law, sigma: float) -> None:
                          "(exp(-x-4x^2), σ = 0.993) with an error estimate of 6e-12", "use the exact engine here (engine='exact', --engine exact: the default)")
 
 
+def compile_when() -> str:
+    """How often numba compiles the compiled engine here: once (its disk cache), or every run."""
+    from ._compiled import _CACHE
+
+    return ("first run only" if _CACHE else
+            "every run: numba cannot write its disk cache (give NUMBA_CACHE_DIR a writable directory)")
+
+
+def compile_notice(law_name: str) -> str:
+    """The line said before numba compiles the compiled engine for a law (``chain --engine compiled``,
+    ``bench --suite chain``): how often, and its measured cost (``_compiled.COMPILE_SECONDS``)."""
+    from ._compiled import COMPILE_SECONDS
+
+    return (f"compiling the chain engine for {law_name} ({compile_when()}; ~{COMPILE_SECONDS} s of CPU, longer in "
+            "wall time on a busy machine)")
+
+
 def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max_steps, verify,
                   progress=None) -> ChainResult:
     from ._compiled import CompiledChain, run_verified
@@ -211,12 +229,10 @@ def _compiled_run(law, n, ell, nu, nu_f, ends, u, events, sigma, tol, t_max, max
     if progress is not None and not run.compiled():   # (the CLI: say why the first line is late)
         import sys
 
-        from ._compiled import _CACHE, COMPILE_SECONDS
-
-        when = "first run only" if _CACHE else "every run: numba has no writable cache directory, see NUMBA_CACHE_DIR"
-        print(f"bifurcation: chain: compiling the chain engine for {law.name} ({when}; ~{COMPILE_SECONDS} s of CPU, "
-              "longer in wall time on a busy machine)",
-              file=sys.stderr, flush=True)
+        when = compile_when()
+        print(f"bifurcation: chain: {compile_notice(law.name)}", file=sys.stderr, flush=True)
+        if hasattr(progress, "compiling"):   # the CLI's still-running line: compiling, not an event sliding
+            progress.compiling = when
     report = None
     if verify > 0:
         out, report = run_verified(run, events, verify)

@@ -187,14 +187,24 @@ def _grid(spec, events: int, seeds: int, repeat: int, rtol: float, say, tol=None
 
 
 def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_rtols=LSODA_RTOLS,
-                       engine_tols=ENGINE_TOLS, grid_seeds=GRID_SEEDS, echo=print) -> dict:
-    """Events per CPU second of the engine, the compiled DOP853 and scipy's LSODA, per (N, ℓ, K)."""
+                       engine_tols=ENGINE_TOLS, grid_seeds=GRID_SEEDS, echo=print, progress=None) -> dict:
+    """Events per CPU second of the engine, the compiled DOP853 and scipy's LSODA, per (N, ℓ, K).
+    ``progress(text)`` (the CLI: a line on stderr) is told which case and which stage runs."""
     import os
+    import time
 
     from ._baseline import build, dop853_catalog
     from .simulate import RSChainSpec, initial_state, run
 
     say = echo or (lambda *_: None)
+    started = time.perf_counter()
+
+    def note(text: str) -> None:   # minutes pass between two result lines (over 120 s before the first)
+        if progress is not None:
+            progress(f"{text} [{time.perf_counter() - started:.0f} s]")
+    # measured: build() 0.5 s and the first dop853_catalog 4.0 s of CPU (N = 4, 2026-11-26); cache=False closures
+    note("compiling the numba baselines (compiled DOP853, LSODA's right-hand side and Jacobian; ~5 s of CPU, "
+         "every run: they are not cached)")
     kernels = build()
     load = os.getloadavg()
     rows = []
@@ -208,7 +218,10 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
         "grid: the same chains by the scalar engine, the batch engine (SIMD lanes) and the compiled DOP853; "
         f"err: largest relative difference from the engine's catalog over the first {FIRST} events; "
         "ratio = baseline time / engine time (> 1: the engine is faster)")
-    for n, ell, events in cases:
+    for case, (n, ell, events) in enumerate(cases, 1):
+        step = (lambda what, case=case, n=n, ell=ell: note(f"case {case} of {len(cases)} (N = {n}, ℓ = {ell:g}): {what}"))
+        step(f"{events} events by the engine (exact, and at tol {', '.join(f'{t:g}' for t in engine_tols)}, with and "
+             f"without maxima) and the compiled DOP853 at {len(rtols)} rtols, best of {repeat}")
         spec = RSChainSpec(n=n, ell=ell, **_COMMON)
         s0 = initial_state(spec, 1.0, 1)
         run(spec, s0, 2)                                      # compile outside the timing
@@ -241,6 +254,7 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
                "engine_balance_max": float(np.max(ref.balance)),
                "dop853": [_row(dop[r][1], ref, dop[r][0], t_ours, events, r) for r in rtols], "lsoda": [],
                "engine_tol": [_engine_row(loose[tol], ref, t_ours, tol) for tol in engine_tols]}
+        step(f"scipy LSODA at rtol {', '.join(f'{r:g}' for r in lsoda_rtols)}, best of {repeat}")
         for rtol in lsoda_rtols:
             t_base, base = _cpu(lambda rtol=rtol: lsoda_catalog(kernels, spec, s0, t_end, rtol, rtol), repeat)
             row["lsoda"].append(_row(base, ref, t_base, t_ours, events, rtol))
@@ -277,6 +291,9 @@ def run_rs_chain_bench(repeat: int = 3, cases=CASES, rtols=DOP853_RTOLS, lsoda_r
             say(f"    at equal accuracy (engine tol {eq['engine_tol'] or 'exact'}, err no larger than the "
                 f"baseline's): the compiled DOP853 takes {eq['ratio']:.2f}x the engine's time, "
                 f"{eq['ratio_no_maxima']:.2f}x without maxima")
+        if grid_seeds:
+            step(f"a grid of {grid_seeds} chains by the scalar engine, the batch engine and the compiled DOP853, "
+                 f"best of {repeat}")
         row["grid"] = _grid(spec, events, grid_seeds, repeat, best["rtol"], say,
                             tol=(eq or {}).get("engine_tol")) if grid_seeds else None
     return {"suite": "rs-chain", "repeat": repeat, "load_average": list(load), "cases": rows,

@@ -111,6 +111,7 @@ def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
     """Report blocks for an ``rs-chain`` store ``ds`` (the model's ``report`` hook); with ``out`` (a
     directory) also the size, space–time and stress-balance figures, their paths appended to ``figures``."""
     from ...report.document import Paragraph, Section, Table
+    from ...report.study import note
     from ...store.catalog import open_catalog
 
     path = ds.attrs.get("store_path")
@@ -142,6 +143,8 @@ def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
             spanning = f"{float(np.mean(cat['n_blocks'] == n)):.3f}"
             if r in drawn:
                 label = ", ".join(f"{d} = {c}" for d, c in zip(varying, cells)) or "the run"
+                note(f"{label}: fitting {k} event sizes (Clauset: {FIT['bootstrap']} bootstrap samples and "
+                     f"{FIT['block_bootstrap']} block resamples; minutes for 10^5 events)")
                 s = size_fit(cat["potency"])
                 fits.append((label, s))
                 t = np.asarray(cat["t_start"], dtype=float)
@@ -186,6 +189,7 @@ def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
         body.append(Table(("run", "events kept", "n_tail", "x_min", "α ± error", "b_P", "b_M", "KS distance",
                            "verdict"), tuple(_fit_row(label, s) for label, s in fits)))
     if out is not None and fits:
+        note(f"drawing the size, space-time and stress-balance figures of {len(fits)} run(s)")
         body += _figures(out, figures, stem, fits, panels, runs, count, balance, varying, dims, ds)
     if out is not None:
         body.append(Paragraph(
