@@ -80,8 +80,8 @@ def _compiled(key: tuple):
 
 
 def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps: int = 10_000_000,
-              maxima: bool = True, tol: float = EXACT_TOL) -> list[RSChainResult]:
-    """``simulate.run`` for chains of one structure, ``LANES`` at a time; one result per spec, in order.
+              maxima: bool = True, tol: float = EXACT_TOL, lanes: int = LANES) -> list[RSChainResult]:
+    """``simulate.run`` for chains of one structure, ``lanes`` at a time; one result per spec, in order.
 
     ``specs`` share state law, N, inertia, ends and damping (η > 0 or not), and have M > 0 or η > 0;
     ``states0`` are their starts (``initial_state``). A lane that has its events takes the next chain
@@ -103,11 +103,14 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
                              "run it with simulate.run: it may blow up in finite time, which stops a batch")
     if int(events) < 1:
         raise InputError("events", events, "must be >= 1", "give the number of events to catalogue")
+    if isinstance(lanes, bool) or not isinstance(lanes, (int, np.integer)) or not 1 <= lanes <= 64:
+        raise InputError("lanes", lanes, "is not a lane count from 1 to 64", f"give e.g. {LANES}")
+    lanes = int(lanes)
     tol = _number("tol", tol, positive=True, fix=f"give a tolerance from {EXACT_TOL:.3g} to {LOOSEST_TOL:g}")
     if not EXACT_TOL <= tol <= LOOSEST_TOL:
         raise InputError("tol", tol, f"is outside [{EXACT_TOL:.3g}, {LOOSEST_TOL:g}]",
                          f"give a tolerance from {EXACT_TOL:.3g} (the exact default) to {LOOSEST_TOL:g}")
-    ta, layout, buffer = _compiled((*structure, bool(maxima), tol, LANES))
+    ta, layout, buffer = _compiled((*structure, bool(maxima), tol, lanes))
     starts = [np.asarray(s, dtype=float) for s in states0]
     if len(starts) != len(specs) or any(s.shape != (layout.size,) for s in starts):
         raise InputError("states0", [s.shape for s in starts], f"are not {len(specs)} states of {layout.size} "
@@ -115,15 +118,15 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
     buffer.clear()
     state, pars, p_index = ta.state, ta.pars, layout.potency
     queue = list(range(len(specs)))
-    run_of: list = [None] * LANES           # the chain each lane integrates (None: idle)
-    assemblers: list = [None] * LANES
-    status: list = [None] * LANES
+    run_of: list = [None] * lanes           # the chain each lane integrates (None: idle)
+    assemblers: list = [None] * lanes
+    status: list = [None] * lanes
     results: list = [None] * len(specs)
     bounded_t = math.isfinite(t_max)
     # steps counted once for all lanes (every lane takes one step per batch step): a lane's steps are
     # the count now less the count when its chain was loaded, or when its last event ended
     clock = {"now": 0, "deadline": 0, "idle": np.zeros(0, dtype=np.intp)}
-    loaded, last_end, ended_at = [0] * LANES, [0] * LANES, [0] * LANES
+    loaded, last_end, ended_at = [0] * lanes, [0] * lanes, [0] * lanes
     p_row = state[p_index]                  # a view: P of every lane
 
     def load(lane: int, chain: int) -> None:
@@ -145,7 +148,7 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
             max_velocity=np.array(cols[5], dtype=float) if maxima else np.full(len(asm.rows), np.nan),
             stress_drop=np.array(cols[6], dtype=float), balance=np.array(cols[7], dtype=float),
             t_end=asm.t_last if asm.rows else math.nan, steps=ended_at[lane] - loaded[lane],
-            status=status[lane][0], message=status[lane][1], meta={"lanes": LANES})
+            status=status[lane][0], message=status[lane][1], meta={"lanes": lanes})
         run_of[lane] = None
 
     def state_at(lane: int):
@@ -155,11 +158,11 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
             return ta.update_d_output(times)[:, lane]
         return at
 
-    readers = [state_at(lane) for lane in range(LANES)]
+    readers = [state_at(lane) for lane in range(lanes)]
     ended: list = []                        # lanes whose chain ended in this propagation
 
     def running() -> list:
-        return [lane for lane in range(LANES) if run_of[lane] is not None and lane not in ended]
+        return [lane for lane in range(lanes) if run_of[lane] is not None and lane not in ended]
 
     def retune() -> None:
         """After roots or a refill: the lanes between events (P reset each step) and the step deadline."""
@@ -203,7 +206,7 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
         # stop to give an ended lane the next chain, or when no lane has a chain left
         return not ((ended and queue) or not running())
 
-    for lane in range(LANES):
+    for lane in range(lanes):
         load(lane, queue.pop(0) if queue else 0)
         if lane >= len(specs):
             run_of[lane] = None             # a spare lane: the first chain's start, never read
@@ -211,7 +214,7 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
     retune()
     while any(chain is not None for chain in run_of):
         ended.clear()
-        ta.propagate_until(np.full(LANES, 1e300), callback=step)
+        ta.propagate_until(np.full(lanes, 1e300), callback=step)
         for lane, res in enumerate(ta.propagate_res):
             if run_of[lane] is not None and lane not in ended and res[0] != hy.taylor_outcome.cb_stop:
                 status[lane] = [RSChainStatus.NONFINITE, f"{res[0]} after {clock['now'] - loaded[lane]} steps"]

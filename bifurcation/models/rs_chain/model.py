@@ -110,7 +110,15 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
     ``checkpoints`` (optional, ``bifurcation.store.catalog.Checkpoints``): ``load(i)`` gives point ``i``'s
     saved state and stored catalog (or None) and the run resumes from it; ``save(i, state, catalog)``
     is called once the events done reach each multiple of ``checkpoints.every`` (``checkpoint.Snapshot``).
+
+    ``batch`` > 1 (``[engine] batch``): the points that share a structure (N, ends, inertia, damping) and
+    their events, at least two of them, run ``batch`` at a time in the SIMD lanes of ``batch.run_batch``
+    (equal to the scalar runs to rounding, not bit for bit). Its lanes save no checkpoints, so only runs
+    that would save none go there: K <= ``checkpoints.every`` (a run saves only while events remain,
+    workflows refuse a batch otherwise); the rest, and massless undamped chains (which ``run_batch``
+    refuses: they may blow up), run one by one as with ``batch = 1``.
     """
+    from ...bounds import RS_CHAIN_EVENT_WORK
     from .checkpoint import Snapshot
     from .simulate import RSChainSpec, initial_state, run
 
@@ -118,25 +126,68 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
     per_run = {o.name: np.full(size, o.fill, dtype=o.dtype) for o in OUTPUTS if not o.per_event}
     catalogs = {o.name: np.empty(size, dtype=object) for o in OUTPUTS if o.per_event}
     messages = {}
+
+    def empty(i) -> None:
+        for name, (_, _, dtype) in _CATALOG.items():
+            catalogs[name][i] = np.empty(0, dtype=dtype)
+
+    def keep(i, r, spec, steps_cap, resumed) -> None:
+        per_run["resumed"][i] = resumed
+        for name, (_, _, dtype) in _CATALOG.items():
+            catalogs[name][i] = np.asarray(getattr(r, name), dtype=dtype)
+        per_run["status"][i] = int(r.status)
+        per_run["events_done"][i] = r.events
+        per_run["t_end"][i] = r.t_end
+        per_run["steps"][i] = r.steps
+        per_run["balance_max"][i] = r.balance_max
+        if r.message:
+            messages[i] = r.message + (f" (max_steps {int(max_steps)} lowered to {steps_cap} at N = {spec.n}: "
+                                       f"bounds.RS_CHAIN_EVENT_WORK = {RS_CHAIN_EVENT_WORK:.0e} block-steps an event)"
+                                       if steps_cap < int(max_steps) and r.status == RSChainStatus.NO_STOP else "")
+
+    chains = {}      # point -> (spec, start) of the valid chains
     for i in range(size):
         p = {name: points[name][i] for name in points}
         if precision != "double":
             per_run["status"][i] = RSChainStatus.NOT_RESOLVED
             messages[i] = f"precision {precision!r}: rs-chain runs are computed in double (see docs/rs-chain.md)"
-            for name, (_, _, dtype) in _CATALOG.items():
-                catalogs[name][i] = np.empty(0, dtype=dtype)
+            empty(i)
             continue
         try:
             spec = RSChainSpec(n=int(p["n"]), state_law=label, a=float(p["a"]), b=float(p["b"]), dc=float(p["dc"]),
                                k=float(p["k"]), ell=float(p["ell"]), v_lp=float(p["v_lp"]), mass=float(p["mass"]),
                                eta=float(p["eta"]), v_th=float(p["v_th"]), periodic=bool(int(p["periodic"])))
-            state0 = initial_state(spec, float(p["amplitude"]), int(p["seed"]))
+            chains[i] = (spec, initial_state(spec, float(p["amplitude"]), int(p["seed"])))
         except InputError as exc:     # a point of the grid that is no valid chain: said per point
             per_run["status"][i] = RSChainStatus.NOT_APPLICABLE
             messages[i] = str(exc)
-            for name, (_, _, dtype) in _CATALOG.items():
-                catalogs[name][i] = np.empty(0, dtype=dtype)
-            continue
+            empty(i)
+
+    def cap(spec) -> int:
+        # the steps of one event bounded by its work too (bounds.RS_CHAIN_EVENT_WORK, ~3 h of one core):
+        # max_steps alone allowed ~8 days for one event at N = 65536
+        return min(int(max_steps), max(1, RS_CHAIN_EVENT_WORK // spec.n))
+
+    if int(batch) > 1:
+        from .batch import run_batch
+
+        groups: dict = {}
+        for i, (spec, _) in chains.items():
+            events = int(points["events"][i])
+            if (spec.inertial or spec.eta > 0) and (checkpoints is None or events <= checkpoints.every):
+                key = (spec.n, spec.periodic, spec.inertial, spec.eta > 0, events)
+                groups.setdefault(key, []).append(i)
+        for key, members in groups.items():
+            if len(members) < 2:      # one chain in lanes of its own would cost the lanes' work alone
+                continue
+            spec0 = chains[members[0]][0]
+            results = run_batch([chains[i][0] for i in members], [chains[i][1] for i in members], key[-1],
+                                t_max=float(t_max), max_steps=cap(spec0), lanes=int(batch))
+            for i, r in zip(members, results):
+                keep(i, r, r.spec, cap(r.spec), 0)
+                del chains[i]
+
+    for i, (spec, state0) in chains.items():
         resume, save, every = None, None, None
         if checkpoints is not None:
             every = checkpoints.every
@@ -160,25 +211,10 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
                 stored[0] = upto
             save = to_store
 
-        # the steps of one event bounded by its work too (bounds.RS_CHAIN_EVENT_WORK, ~3 h of one core):
-        # max_steps alone allowed ~8 days for one event at N = 65536
-        from ...bounds import RS_CHAIN_EVENT_WORK
-
-        steps_cap = min(int(max_steps), max(1, RS_CHAIN_EVENT_WORK // spec.n))
-        r = run(spec, state0, int(p["events"]), t_max=float(t_max), max_steps=steps_cap, every=every,
+        steps_cap = cap(spec)
+        r = run(spec, state0, int(points["events"][i]), t_max=float(t_max), max_steps=steps_cap, every=every,
                 save=save, resume=resume)
-        per_run["resumed"][i] = len(resume.rows) if resume is not None else 0
-        for name, (_, _, dtype) in _CATALOG.items():
-            catalogs[name][i] = np.asarray(getattr(r, name), dtype=dtype)
-        per_run["status"][i] = int(r.status)
-        per_run["events_done"][i] = r.events
-        per_run["t_end"][i] = r.t_end
-        per_run["steps"][i] = r.steps
-        per_run["balance_max"][i] = r.balance_max
-        if r.message:
-            messages[i] = r.message + (f" (max_steps {int(max_steps)} lowered to {steps_cap} at N = {spec.n}: "
-                                       f"bounds.RS_CHAIN_EVENT_WORK = {RS_CHAIN_EVENT_WORK:.0e} block-steps an event)"
-                                       if steps_cap < int(max_steps) and r.status == RSChainStatus.NO_STOP else "")
+        keep(i, r, spec, steps_cap, len(resume.rows) if resume is not None else 0)
     return {**per_run, **catalogs}, messages
 
 
@@ -211,4 +247,6 @@ RS_CHAIN = Model(
     # 1: velocity-maximum events scaled so they no longer shorten heyoka's steps (2026-11-26), which moved
     # the catalogs' last bits: a store begun before must not be resumed with this engine's runs.
     revision=1,
+    # 1: [engine] batch > 1 runs a tile's chains of one structure in run_batch's SIMD lanes (rounding only)
+    batch_revision=1,
 )
