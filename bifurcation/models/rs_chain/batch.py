@@ -16,7 +16,7 @@ A lane whose chain has its events takes the next chain waiting: the propagation 
 time changed inside its callback), that lane's time is set back to 0 and its state and parameters to the
 next chain's, and all lanes go on (a lane's steps do not depend on the other lanes). With no chain
 waiting it idles, integrated but no longer read, until the last lane ends. No checkpoints and no
-``crossings`` here: the store's runner, which checkpoints every rs-chain run, stays on the scalar engine.
+``crossings`` here: the store's runner (``[engine] batch``) sends here only runs it would not checkpoint.
 Massless undamped chains (M = 0, η = 0) blow up in finite time below the critical stiffness and would stop
 all lanes: they are refused (run them with ``simulate.run``).
 """
