@@ -643,9 +643,6 @@ CASES += [
 WORKFLOWS.update({
     "r2_rsc_batch": (RSC, 'laws = ["aging"]', 'laws = ["aging"]\nbatch = 8'),   # ignored, changed the fingerprint
     "r2_chain_batch": (CHAIN, 'laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\nbatch = 8'),
-    # rs-chain's lanes save no checkpoints: a run of more events than the chunk (rsbatch)
-    "r2_rsc_batch_ckpt": (RSC.replace('laws = ["aging"]', 'laws = ["aging"]\nbatch = 4'), "[tiles]\ncatalog = 100",
-                          "[grid.seed]\nvalues = [1, 2]\n[tiles]\nseed = 2\ncatalog = 4"),
 })
 CASES += [
     f"{_set(RATE, '--t-end', '1e6')} ## --t-end=1000000.0: spans 1e+06 times the slider's shortest time scale",
@@ -657,8 +654,6 @@ CASES += [
     *[f"{cmd} --store {{chain}} --law aging --nu-f 0.3 ## --store='{{chain}}': is a model chain store"
       for cmd in ("extrapolate", "fit-period")],                           # --store='model chain' before
     "submit {wf_r2_rsc_batch} --store {newstore} ## engine.batch=8: has no lanes to fill",   # tiles of 1 point
-    "submit {wf_r2_rsc_batch_ckpt} --store {newstore} ## engine.batch=4: runs without checkpoints, and grid.events "
-    "reaches 5 > [tiles] catalog = 4",
     "submit {wf_r2_chain_batch} --store {newstore} ## engine.batch=8: does not apply to model 'chain'",
 ]
 

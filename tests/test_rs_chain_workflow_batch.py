@@ -55,7 +55,7 @@ def _store(tmp_path, batch: int):
     from bifurcation.store import create_store, open_store, write_tile
     from bifurcation.store.catalog import tile_checkpoints
 
-    workflow = parse_workflow(WORKFLOW.format(batch=batch, catalog=8))
+    workflow = parse_workflow(WORKFLOW.format(batch=batch, catalog=3))   # saves after 3 and 6 of 8 events
     path = tmp_path / f"b{batch}.zarr"
     run_id = create_store(path, workflow)["run_id"]
     for tile in iter_tiles(workflow):     # as submit does: the store's checkpoints handed to the runner
@@ -106,45 +106,124 @@ def test_batch_4_equals_batch_1_per_event_through_the_store(tmp_path):
     print(f"worst relative difference {worst:.2e}, {ties} tied hypocentres")
 
 
-def test_the_runner_batches_only_runs_it_would_not_checkpoint():
-    # a run of more events than the checkpoint chunk keeps its checkpoints (scalar, bit for bit); one
-    # within it goes to the lanes
+class _Saves:
+    """A store's ``Checkpoints`` in memory: what the runner saves, by point."""
+
+    def __init__(self, every: int, saved=None):
+        self.every, self.saved, self.calls = every, dict(saved or {}), []
+
+    def load(self, i):
+        return self.saved.get(i)
+
+    def save(self, i, state, catalog, *, steps, first=0):
+        self.calls.append(i)
+        old = self.saved.get(i)
+        if old is not None and first:        # the store appends the events since the last save
+            catalog = {k: np.concatenate([old["catalog"][k][:first], v]) for k, v in catalog.items()}
+        self.saved[i] = {"state": {k: np.array(v, copy=True) for k, v in state.items()}, "catalog": catalog}
+
+
+def _points(events):
+    n = len(events)
+    return {"n": np.full(n, 4), "k": np.full(n, 0.1), "ell": np.full(n, 2.0), "v_lp": np.ones(n),
+            "a": np.full(n, 0.01), "b": np.full(n, 0.015), "dc": np.full(n, 0.01), "mass": np.zeros(n),
+            "eta": np.full(n, 1e-3), "v_th": np.full(n, 10.0), "amplitude": np.ones(n),
+            "seed": np.arange(1, n + 1), "events": np.array(events), "periodic": np.zeros(n, dtype=int)}
+
+
+def test_lanes_save_checkpoints_where_the_scalar_runs_do():
     from bifurcation.models import get_model
     from bifurcation.models.rs_chain.model import run_rs_chains
 
-    class Saves:
-        every = 4
-
-        def __init__(self):
-            self.saved = []
-
-        def load(self, i):
-            return None
-
-        def save(self, i, state, catalog, *, steps, first=0):
-            self.saved.append(i)
-
-    n = 4
-    points = {"n": np.full(n, 4), "k": np.full(n, 0.1), "ell": np.full(n, 2.0), "v_lp": np.ones(n),
-              "a": np.full(n, 0.01), "b": np.full(n, 0.015), "dc": np.full(n, 0.01), "mass": np.zeros(n),
-              "eta": np.full(n, 1e-3), "v_th": np.full(n, 10.0), "amplitude": np.ones(n),
-              "seed": np.array([1, 2, 3, 4]), "events": np.array([9, 9, 4, 4]), "periodic": np.zeros(n, dtype=int)}
-    model = get_model("rs-chain")
-    cp1, cp4 = Saves(), Saves()
+    model, points = get_model("rs-chain"), _points([9, 9, 9, 9, 9, 4])
+    cp1, cp4 = _Saves(4), _Saves(4)
     f1, _ = run_rs_chains(model, "aging", points, checkpoints=cp1)
     f4, _ = run_rs_chains(model, "aging", points, batch=4, checkpoints=cp4)
-    assert cp1.saved == cp4.saved == [0, 0, 1, 1]      # 9 events, every 4: saves after 4 and 8
+    # 9 events, every 4: saves after 4 and 8 (none after 9: no events remain); 4 events: none
+    assert sorted(cp1.calls) == sorted(cp4.calls) == [0, 0, 1, 1, 2, 2, 3, 3, 4, 4]
+    for i in range(5):
+        assert cp4.saved[i]["catalog"]["t_start"].size == 8
+        assert np.max(np.abs(cp4.saved[i]["catalog"]["t_start"] / cp1.saved[i]["catalog"]["t_start"] - 1)) <= 1e-11
     for name in CATALOG:
-        for i in (0, 1):     # the checkpointed runs: the scalar engine's bits
-            assert np.array_equal(f1[name][i], f4[name][i])
-        for i in (2, 3):     # the lanes: rounding only
-            assert np.max(np.abs(f4[name][i] / f1[name][i] - 1)) <= 1e-11
-    assert any(not np.array_equal(f1[name][i], f4[name][i]) for name in CATALOG for i in (2, 3))
+        for i in range(6):
+            assert np.max(np.abs(f4[name][i] / f1[name][i] - 1)) <= 1e-11, (name, i)
+    assert np.array_equal(f1["steps"], f4["steps"]) and (f4["resumed"] == 0).all()
+
+
+def test_a_batch_resumed_from_its_lanes_checkpoints_is_the_straight_batch_bit_for_bit():
+    # the batch killed after each save in turn (its checkpoints so far kept), then the same call again:
+    # every run resumes from its last checkpoint and ends with the straight batch's bits (a lane's steps
+    # depend on its own column only; tests/test_rs_chain_checkpoint.py's claim for the scalar engine)
+    from bifurcation.models import get_model
+    from bifurcation.models.rs_chain.model import run_rs_chains
+
+    class Killed(Exception):
+        pass
+
+    model, points = get_model("rs-chain"), _points([9, 9, 9, 9, 9])
+    straight_cp = _Saves(4)
+    straight, _ = run_rs_chains(model, "aging", points, batch=4, checkpoints=straight_cp)
+    n_saves = len(straight_cp.calls)
+    for kill_after in (1, 4, n_saves - 1):
+        cp = _Saves(4)
+        real = cp.save
+
+        def dying(i, *args, real=real, cp=cp, kill_after=kill_after, **kwargs):
+            real(i, *args, **kwargs)
+            if len(cp.calls) == kill_after:
+                raise Killed
+
+        cp.save = dying
+        with pytest.raises(Killed):
+            run_rs_chains(model, "aging", points, batch=4, checkpoints=cp)
+        cp.save = real
+        again, _ = run_rs_chains(model, "aging", points, batch=4, checkpoints=cp)
+        assert (again["resumed"] > 0).any() and set(again["resumed"]) <= {0, 4, 8}
+        for name in CATALOG + ("hypocentre", "n_blocks"):
+            for i in range(5):
+                assert np.array_equal(again[name][i], straight[name][i]), (kill_after, name, i)
+        assert np.array_equal(again["steps"], straight["steps"])
+        assert np.array_equal(again["events_done"], straight["events_done"])
+
+
+def test_a_batch_tile_killed_after_three_checkpoints_resumes_from_the_store_bit_identical(tmp_path, monkeypatch):
+    """As tests/test_rs_chain_checkpoint.py's for the scalar engine: the task dies right after its 3rd
+    checkpoint; the recomputed tile restores those runs from the store and equals the uninterrupted batch
+    tile (compute_serial: no checkpoints) bit for bit; the checkpoints are dropped once the tile is written."""
+    from bifurcation.run.tiles import compute_serial, compute_tile, iter_tiles
+    from bifurcation.store import create_store, write_tile
+    from bifurcation.store.catalog import Checkpoints, tile_checkpoints
+
+    workflow = parse_workflow(WORKFLOW.format(batch=4, catalog=3))
+    serial = compute_serial(workflow)
+    path = tmp_path / "ck.zarr"
+    run_id = create_store(path, workflow)["run_id"]
+    (tile,) = list(iter_tiles(workflow))
+    calls = []
+    original = Checkpoints.save
+
+    def dying(self, i, *args, **kwargs):
+        original(self, i, *args, **kwargs)
+        calls.append(i)
+        if len(calls) == 3:
+            raise KeyboardInterrupt("killed")
+
+    monkeypatch.setattr(Checkpoints, "save", dying)
+    with pytest.raises(KeyboardInterrupt):
+        compute_tile(tile, tile_checkpoints(path, run_id, tile))
+    monkeypatch.undo()
+    assert len(list((path / "checkpoints").glob("*.npz"))) == 3
+    values = compute_tile(tile, tile_checkpoints(path, run_id, tile))
+    assert sorted(values["resumed"].ravel()) == [0, 0, 0, 3, 3, 3]
+    for name in (*CATALOG, "hypocentre", "n_blocks", "events_done", "t_end", "steps", "balance_max", "status"):
+        got, want = values[name].ravel(), serial[name].ravel()
+        for k in range(got.size):
+            assert np.array_equal(got[k], want[k], equal_nan=np.asarray(want[k]).dtype.kind == "f"), (name, k)
+    write_tile(path, tile, values, run_id)
+    assert not list((path / "checkpoints").glob("*.npz"))
 
 
 @pytest.mark.parametrize("text, message", [
-    (WORKFLOW.format(batch=4, catalog=5), "engine.batch=4: runs without checkpoints, and grid.events reaches 8 > "
-     "[tiles] catalog = 5"),
     (WORKFLOW.format(batch=4, catalog=8).replace("ell = 2\nseed = 3\n", ""), "engine.batch=4: has no lanes"),
     (WORKFLOW.format(batch=0, catalog=8), "engine.batch=0: is not a lane count"),
     (WORKFLOW.format(batch=65, catalog=8), "engine.batch=65: is more than 64 lanes"),

@@ -24,7 +24,7 @@ Schema (every key is checked; unknown keys, wrong types and impossible values ar
     max_steps = 200000               # optional: bound on the Taylor steps of one cycle (>= 1)
     batch = 8                        # optional: heyoka SIMD lanes (1..64, double only; default 1)
                                      # (rs-chain too: a tile's chains of one structure in
-                                     # lanes, runs of at most [tiles] catalog events; docs/rs-chain.md)
+                                     # lanes, tiles of several points; docs/rs-chain.md)
 
     [grid.nu]                        # pulling speed ν of Eq. (5); at least one of values / ranges / log
     values = [1e-9]                  # explicit points, kept exactly as written
@@ -265,19 +265,11 @@ class Workflow:
 
 def _check_runner_batch(workflow, spec) -> None:
     """``[engine] batch`` of a runner model that batches (``Model.batch_revision``): its lanes are a tile's
-    points, and they save no checkpoints, so every run must be one the runner would not checkpoint."""
+    points, so a tile of one point would only change the fingerprint."""
     if math.prod(min(size, len(values)) for size, (_, values) in zip(workflow.tiles, workflow.grid)) < 2:
         raise InputError("engine.batch", workflow.batch, "has no lanes to fill: a tile holds one point and the "
                          "batch runs a tile's points together", "give [tiles] with several points of one "
                          "structure, e.g. seed = 4, or leave batch out")
-    if spec.checkpoint and spec.catalog_size and workflow.catalog_chunk:
-        most = max(workflow.axes[spec.catalog_size])
-        if most > workflow.catalog_chunk:
-            raise InputError("engine.batch", workflow.batch, f"runs without checkpoints, and grid.{spec.catalog_size} "
-                             f"reaches {int(most)} > [tiles] catalog = {workflow.catalog_chunk} (a run saves a "
-                             f"checkpoint every {workflow.catalog_chunk} events)",
-                             f"give [tiles] catalog = {int(most)} or more (then no run checkpoints), grid."
-                             f"{spec.catalog_size} of at most {workflow.catalog_chunk}, or leave batch out")
 
 
 def _solvable(spec):

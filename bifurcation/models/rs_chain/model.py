@@ -113,10 +113,9 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
 
     ``batch`` > 1 (``[engine] batch``): the points that share a structure (N, ends, inertia, damping) and
     their events, at least two of them, run ``batch`` at a time in the SIMD lanes of ``batch.run_batch``
-    (equal to the scalar runs to rounding, not bit for bit). Its lanes save no checkpoints, so only runs
-    that would save none go there: K <= ``checkpoints.every`` (a run saves only while events remain,
-    workflows refuse a batch otherwise); the rest, and massless undamped chains (which ``run_batch``
-    refuses: they may blow up), run one by one as with ``batch = 1``.
+    (equal to the scalar runs to rounding, not bit for bit), each lane saving and resuming its chain's
+    checkpoints as a scalar run does; the rest, and massless undamped chains (which ``run_batch`` refuses:
+    they may blow up), run one by one as with ``batch = 1``.
     """
     from ...bounds import RS_CHAIN_EVENT_WORK
     from .checkpoint import Snapshot
@@ -163,6 +162,32 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
             messages[i] = str(exc)
             empty(i)
 
+    def restore(i, state0):
+        """Point ``i``'s checkpoint (a ``Snapshot``, or None) and its saver (None without checkpoints)."""
+        if checkpoints is None:
+            return None, None
+        every = checkpoints.every
+        saved = checkpoints.load(i)
+        resume = None
+        if saved is not None:
+            try:
+                resume = Snapshot.from_saved(saved["state"], saved["catalog"])
+            except (KeyError, ValueError):
+                resume = None     # a checkpoint of another layout: the run starts from the beginning
+            if resume is not None and np.size(resume.state) != np.size(state0):
+                resume = None
+
+        # only the events since the last save (those before are in the store): the whole catalog
+        # rebuilt at each checkpoint was a cost growing as events²
+        stored = [len(saved["catalog"]["t_start"]) if resume is not None else 0]
+
+        def to_store(snap):
+            upto = snap.boundary(every)
+            checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto, stored[0]), steps=snap.steps[0],
+                             first=stored[0])
+            stored[0] = upto
+        return resume, to_store
+
     def cap(spec) -> int:
         # the steps of one event bounded by its work too (bounds.RS_CHAIN_EVENT_WORK, ~3 h of one core):
         # max_steps alone allowed ~8 days for one event at N = 65536
@@ -174,43 +199,28 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
         groups: dict = {}
         for i, (spec, _) in chains.items():
             events = int(points["events"][i])
-            if (spec.inertial or spec.eta > 0) and (checkpoints is None or events <= checkpoints.every):
+            if spec.inertial or spec.eta > 0:
                 key = (spec.n, spec.periodic, spec.inertial, spec.eta > 0, events)
                 groups.setdefault(key, []).append(i)
         for key, members in groups.items():
             if len(members) < 2:      # one chain in lanes of its own would cost the lanes' work alone
                 continue
             spec0 = chains[members[0]][0]
+            restored = [restore(i, chains[i][1]) for i in members]
+            resumes = [res for res, _ in restored]
+            savers = [saver for _, saver in restored]
             results = run_batch([chains[i][0] for i in members], [chains[i][1] for i in members], key[-1],
-                                t_max=float(t_max), max_steps=cap(spec0), lanes=int(batch))
-            for i, r in zip(members, results):
-                keep(i, r, r.spec, cap(r.spec), 0)
+                                t_max=float(t_max), max_steps=cap(spec0), lanes=int(batch),
+                                every=checkpoints.every if checkpoints is not None else None,
+                                save=(lambda c, snap: savers[c](snap)) if checkpoints is not None else None,
+                                resume=resumes)
+            for i, r, res in zip(members, results, resumes):
+                keep(i, r, r.spec, cap(r.spec), len(res.rows) if res is not None else 0)
                 del chains[i]
 
     for i, (spec, state0) in chains.items():
-        resume, save, every = None, None, None
-        if checkpoints is not None:
-            every = checkpoints.every
-            saved = checkpoints.load(i)
-            if saved is not None:
-                try:
-                    resume = Snapshot.from_saved(saved["state"], saved["catalog"])
-                except (KeyError, ValueError):
-                    resume = None     # a checkpoint of another layout: the run starts from the beginning
-                if resume is not None and np.size(resume.state) != np.size(state0):
-                    resume = None
-
-            # only the events since the last save (those before are in the store): the whole catalog
-            # rebuilt at each checkpoint was a cost growing as events²
-            stored = [len(saved["catalog"]["t_start"]) if resume is not None else 0]
-
-            def to_store(snap, i=i, every=every, stored=stored):
-                upto = snap.boundary(every)
-                checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto, stored[0]), steps=snap.steps[0],
-                                 first=stored[0])
-                stored[0] = upto
-            save = to_store
-
+        resume, save = restore(i, state0)
+        every = checkpoints.every if checkpoints is not None else None
         steps_cap = cap(spec)
         r = run(spec, state0, int(points["events"][i]), t_max=float(t_max), max_steps=steps_cap, every=every,
                 save=save, resume=resume)
