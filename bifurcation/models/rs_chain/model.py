@@ -12,7 +12,9 @@ one event (and the wait for it): beyond them the run stops with ``no-stop`` and 
 Runs are long (10^5 events of N = 256: hours), so the model checkpoints (``checkpoint=True``) through
 the store's ``Checkpoints`` as the Burridge–Knopoff chain does: the runner saves the integrator's state
 once the events done reach each multiple of the catalog chunk, and a run that finds a checkpoint resumes
-from it with the same catalog bit for bit (``rs_chain.checkpoint``).
+from it with the same catalog bit for bit (``rs_chain.checkpoint``). ``[engine] batch = L`` runs a tile's
+chains of one structure L at a time in SIMD lanes (``batch.run_batch``, each lane checkpointing its chain;
+equal to ``batch = 1`` to rounding; docs/rs-chain.md, "Batch mode in workflows").
 """
 
 from __future__ import annotations
