@@ -653,7 +653,7 @@ CASES += [
     "bench --suite rate-state --points 5 ## --points=5: does not apply to --suite rate-state",   # asked for numbalsoda
     *[f"{cmd} --store {{chain}} --law aging --nu-f 0.3 ## --store='{{chain}}': is a model chain store"
       for cmd in ("extrapolate", "fit-period")],                           # --store='model chain' before
-    "submit {wf_r2_rsc_batch} --store {newstore} ## engine.batch=8: does not apply to model 'rs-chain'",
+    "submit {wf_r2_rsc_batch} --store {newstore} ## engine.batch=8: has no lanes to fill",   # tiles of 1 point
     "submit {wf_r2_chain_batch} --store {newstore} ## engine.batch=8: does not apply to model 'chain'",
 ]
 

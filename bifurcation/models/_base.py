@@ -372,6 +372,11 @@ class Model:
     #: store half-made by the older engine is not resumed with runs of the newer (it enters the workflow's
     #: fingerprint when above 0; 0 keeps the fingerprints of stores made before revisions were counted).
     revision: int = 0
+    #: A runner that can run a tile's points in SIMD lanes (``[engine] batch`` > 1; rs-chain's run_batch):
+    #: above 0 a workflow may ask for a batch, and the value enters its fingerprint with the batch (raised
+    #: when the batch engine's last bits move). 0: a runner model refuses ``batch`` (the generic engine's
+    #: batches do not read it).
+    batch_revision: int = 0
 
     def __post_init__(self) -> None:
         if self.rest_slot and self.rest_slot not in self.parameters:

@@ -23,6 +23,8 @@ Schema (every key is checked; unknown keys, wrong types and impossible values ar
     t_max = 1e5                      # optional: bound on the time of one cycle (> 0)
     max_steps = 200000               # optional: bound on the Taylor steps of one cycle (>= 1)
     batch = 8                        # optional: heyoka SIMD lanes (1..64, double only; default 1)
+                                     # (rs-chain too: a tile's chains of one structure in
+                                     # lanes, tiles of several points; docs/rs-chain.md)
 
     [grid.nu]                        # pulling speed ν of Eq. (5); at least one of values / ranges / log
     values = [1e-9]                  # explicit points, kept exactly as written
@@ -136,6 +138,8 @@ class Workflow:
             _set(self, k, v)
         self._check(spec, points, tiles)
         _set(self, "catalog_chunk", _check_catalog_chunk(spec, catalog_chunk))
+        if self.batch != 1 and spec.runner is not None:
+            _check_runner_batch(self, spec)
 
     def _check(self, spec, points, tiles) -> None:
         if not isinstance(self.name, str) or not _NAME.match(self.name):
@@ -154,7 +158,7 @@ class Workflow:
         if self.batch > _BATCH_MAX:
             raise InputError("engine.batch", self.batch, f"is more than {_BATCH_MAX} lanes",
                              "give e.g. batch = 8 (SIMD lanes), or leave it out for 1")
-        if self.batch != 1 and spec.runner is not None:   # a runner (chain, rs-chain, rate-state) ignores it
+        if self.batch != 1 and spec.runner is not None and not spec.batch_revision:   # its runner ignores it
             raise InputError("engine.batch", self.batch, f"does not apply to model {spec.name!r}: its runner "
                              "integrates one run at a time (one lane), and the batch would only change the "
                              "store's fingerprint", "leave batch out (SIMD batches are the single block's)")
@@ -225,7 +229,7 @@ class Workflow:
             canonical["batch"] = self.batch
             # Revision 2: maxima and t1 became terminal events in batch mode (the scalar loop's steps), which
             # moved last bits; an older batch store must not be resumed with tiles of the new revision.
-            canonical["batch_revision"] = 2
+            canonical["batch_revision"] = 2 if self.spec.runner is None else f"{self.model}:{self.spec.batch_revision}"
         if self.model != DEFAULT_MODEL:   # the single block's stores predate models: keep their prints
             canonical["model"] = self.model
         if self.catalog_chunk:
@@ -257,6 +261,15 @@ class Workflow:
         lines += ["[tiles]", *(f"{axis} = {size}" for (axis, _), size in zip(self.grid, self.tiles))]
         lines += [f"catalog = {self.catalog_chunk}", ""] if self.catalog_chunk else [""]
         return "\n".join(lines)
+
+
+def _check_runner_batch(workflow, spec) -> None:
+    """``[engine] batch`` of a runner model that batches (``Model.batch_revision``): its lanes are a tile's
+    points, so a tile of one point would only change the fingerprint."""
+    if math.prod(min(size, len(values)) for size, (_, values) in zip(workflow.tiles, workflow.grid)) < 2:
+        raise InputError("engine.batch", workflow.batch, "has no lanes to fill: a tile holds one point and the "
+                         "batch runs a tile's points together", "give [tiles] with several points of one "
+                         "structure, e.g. seed = 4, or leave batch out")
 
 
 def _solvable(spec):

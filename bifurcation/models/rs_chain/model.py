@@ -12,7 +12,9 @@ one event (and the wait for it): beyond them the run stops with ``no-stop`` and 
 Runs are long (10^5 events of N = 256: hours), so the model checkpoints (``checkpoint=True``) through
 the store's ``Checkpoints`` as the Burridge–Knopoff chain does: the runner saves the integrator's state
 once the events done reach each multiple of the catalog chunk, and a run that finds a checkpoint resumes
-from it with the same catalog bit for bit (``rs_chain.checkpoint``).
+from it with the same catalog bit for bit (``rs_chain.checkpoint``). ``[engine] batch = L`` runs a tile's
+chains of one structure L at a time in SIMD lanes (``batch.run_batch``, each lane checkpointing its chain;
+equal to ``batch = 1`` to rounding; docs/rs-chain.md, "Batch mode in workflows").
 """
 
 from __future__ import annotations
@@ -110,7 +112,14 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
     ``checkpoints`` (optional, ``bifurcation.store.catalog.Checkpoints``): ``load(i)`` gives point ``i``'s
     saved state and stored catalog (or None) and the run resumes from it; ``save(i, state, catalog)``
     is called once the events done reach each multiple of ``checkpoints.every`` (``checkpoint.Snapshot``).
+
+    ``batch`` > 1 (``[engine] batch``): the points that share a structure (N, ends, inertia, damping) and
+    their events, at least two of them, run ``batch`` at a time in the SIMD lanes of ``batch.run_batch``
+    (equal to the scalar runs to rounding, not bit for bit), each lane saving and resuming its chain's
+    checkpoints as a scalar run does; the rest, and massless undamped chains (which ``run_batch`` refuses:
+    they may blow up), run one by one as with ``batch = 1``.
     """
+    from ...bounds import RS_CHAIN_EVENT_WORK
     from .checkpoint import Snapshot
     from .simulate import RSChainSpec, initial_state, run
 
@@ -118,56 +127,13 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
     per_run = {o.name: np.full(size, o.fill, dtype=o.dtype) for o in OUTPUTS if not o.per_event}
     catalogs = {o.name: np.empty(size, dtype=object) for o in OUTPUTS if o.per_event}
     messages = {}
-    for i in range(size):
-        p = {name: points[name][i] for name in points}
-        if precision != "double":
-            per_run["status"][i] = RSChainStatus.NOT_RESOLVED
-            messages[i] = f"precision {precision!r}: rs-chain runs are computed in double (see docs/rs-chain.md)"
-            for name, (_, _, dtype) in _CATALOG.items():
-                catalogs[name][i] = np.empty(0, dtype=dtype)
-            continue
-        try:
-            spec = RSChainSpec(n=int(p["n"]), state_law=label, a=float(p["a"]), b=float(p["b"]), dc=float(p["dc"]),
-                               k=float(p["k"]), ell=float(p["ell"]), v_lp=float(p["v_lp"]), mass=float(p["mass"]),
-                               eta=float(p["eta"]), v_th=float(p["v_th"]), periodic=bool(int(p["periodic"])))
-            state0 = initial_state(spec, float(p["amplitude"]), int(p["seed"]))
-        except InputError as exc:     # a point of the grid that is no valid chain: said per point
-            per_run["status"][i] = RSChainStatus.NOT_APPLICABLE
-            messages[i] = str(exc)
-            for name, (_, _, dtype) in _CATALOG.items():
-                catalogs[name][i] = np.empty(0, dtype=dtype)
-            continue
-        resume, save, every = None, None, None
-        if checkpoints is not None:
-            every = checkpoints.every
-            saved = checkpoints.load(i)
-            if saved is not None:
-                try:
-                    resume = Snapshot.from_saved(saved["state"], saved["catalog"])
-                except (KeyError, ValueError):
-                    resume = None     # a checkpoint of another layout: the run starts from the beginning
-                if resume is not None and np.size(resume.state) != np.size(state0):
-                    resume = None
 
-            # only the events since the last save (those before are in the store): the whole catalog
-            # rebuilt at each checkpoint was a cost growing as events²
-            stored = [len(saved["catalog"]["t_start"]) if resume is not None else 0]
+    def empty(i) -> None:
+        for name, (_, _, dtype) in _CATALOG.items():
+            catalogs[name][i] = np.empty(0, dtype=dtype)
 
-            def to_store(snap, i=i, every=every, stored=stored):
-                upto = snap.boundary(every)
-                checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto, stored[0]), steps=snap.steps[0],
-                                 first=stored[0])
-                stored[0] = upto
-            save = to_store
-
-        # the steps of one event bounded by its work too (bounds.RS_CHAIN_EVENT_WORK, ~3 h of one core):
-        # max_steps alone allowed ~8 days for one event at N = 65536
-        from ...bounds import RS_CHAIN_EVENT_WORK
-
-        steps_cap = min(int(max_steps), max(1, RS_CHAIN_EVENT_WORK // spec.n))
-        r = run(spec, state0, int(p["events"]), t_max=float(t_max), max_steps=steps_cap, every=every,
-                save=save, resume=resume)
-        per_run["resumed"][i] = len(resume.rows) if resume is not None else 0
+    def keep(i, r, spec, steps_cap, resumed) -> None:
+        per_run["resumed"][i] = resumed
         for name, (_, _, dtype) in _CATALOG.items():
             catalogs[name][i] = np.asarray(getattr(r, name), dtype=dtype)
         per_run["status"][i] = int(r.status)
@@ -179,6 +145,88 @@ def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_st
             messages[i] = r.message + (f" (max_steps {int(max_steps)} lowered to {steps_cap} at N = {spec.n}: "
                                        f"bounds.RS_CHAIN_EVENT_WORK = {RS_CHAIN_EVENT_WORK:.0e} block-steps an event)"
                                        if steps_cap < int(max_steps) and r.status == RSChainStatus.NO_STOP else "")
+
+    chains = {}      # point -> (spec, start) of the valid chains
+    for i in range(size):
+        p = {name: points[name][i] for name in points}
+        if precision != "double":
+            per_run["status"][i] = RSChainStatus.NOT_RESOLVED
+            messages[i] = f"precision {precision!r}: rs-chain runs are computed in double (see docs/rs-chain.md)"
+            empty(i)
+            continue
+        try:
+            spec = RSChainSpec(n=int(p["n"]), state_law=label, a=float(p["a"]), b=float(p["b"]), dc=float(p["dc"]),
+                               k=float(p["k"]), ell=float(p["ell"]), v_lp=float(p["v_lp"]), mass=float(p["mass"]),
+                               eta=float(p["eta"]), v_th=float(p["v_th"]), periodic=bool(int(p["periodic"])))
+            chains[i] = (spec, initial_state(spec, float(p["amplitude"]), int(p["seed"])))
+        except InputError as exc:     # a point of the grid that is no valid chain: said per point
+            per_run["status"][i] = RSChainStatus.NOT_APPLICABLE
+            messages[i] = str(exc)
+            empty(i)
+
+    def restore(i, state0):
+        """Point ``i``'s checkpoint (a ``Snapshot``, or None) and its saver (None without checkpoints)."""
+        if checkpoints is None:
+            return None, None
+        every = checkpoints.every
+        saved = checkpoints.load(i)
+        resume = None
+        if saved is not None:
+            try:
+                resume = Snapshot.from_saved(saved["state"], saved["catalog"])
+            except (KeyError, ValueError):
+                resume = None     # a checkpoint of another layout: the run starts from the beginning
+            if resume is not None and np.size(resume.state) != np.size(state0):
+                resume = None
+
+        # only the events since the last save (those before are in the store): the whole catalog
+        # rebuilt at each checkpoint was a cost growing as events²
+        stored = [len(saved["catalog"]["t_start"]) if resume is not None else 0]
+
+        def to_store(snap):
+            upto = snap.boundary(every)
+            checkpoints.save(i, snap.arrays(every), snap.catalog(_CATALOG, upto, stored[0]), steps=snap.steps[0],
+                             first=stored[0])
+            stored[0] = upto
+        return resume, to_store
+
+    def cap(spec) -> int:
+        # the steps of one event bounded by its work too (bounds.RS_CHAIN_EVENT_WORK, ~3 h of one core):
+        # max_steps alone allowed ~8 days for one event at N = 65536
+        return min(int(max_steps), max(1, RS_CHAIN_EVENT_WORK // spec.n))
+
+    if int(batch) > 1:
+        from .batch import run_batch
+
+        groups: dict = {}
+        for i, (spec, _) in chains.items():
+            events = int(points["events"][i])
+            if spec.inertial or spec.eta > 0:
+                key = (spec.n, spec.periodic, spec.inertial, spec.eta > 0, events)
+                groups.setdefault(key, []).append(i)
+        for key, members in groups.items():
+            if len(members) < 2:      # one chain in lanes of its own would cost the lanes' work alone
+                continue
+            spec0 = chains[members[0]][0]
+            restored = [restore(i, chains[i][1]) for i in members]
+            resumes = [res for res, _ in restored]
+            savers = [saver for _, saver in restored]
+            results = run_batch([chains[i][0] for i in members], [chains[i][1] for i in members], key[-1],
+                                t_max=float(t_max), max_steps=cap(spec0), lanes=int(batch),
+                                every=checkpoints.every if checkpoints is not None else None,
+                                save=(lambda c, snap: savers[c](snap)) if checkpoints is not None else None,
+                                resume=resumes)
+            for i, r, res in zip(members, results, resumes):
+                keep(i, r, r.spec, cap(r.spec), len(res.rows) if res is not None else 0)
+                del chains[i]
+
+    for i, (spec, state0) in chains.items():
+        resume, save = restore(i, state0)
+        every = checkpoints.every if checkpoints is not None else None
+        steps_cap = cap(spec)
+        r = run(spec, state0, int(points["events"][i]), t_max=float(t_max), max_steps=steps_cap, every=every,
+                save=save, resume=resume)
+        keep(i, r, spec, steps_cap, len(resume.rows) if resume is not None else 0)
     return {**per_run, **catalogs}, messages
 
 
@@ -211,4 +259,6 @@ RS_CHAIN = Model(
     # 1: velocity-maximum events scaled so they no longer shorten heyoka's steps (2026-11-26), which moved
     # the catalogs' last bits: a store begun before must not be resumed with this engine's runs.
     revision=1,
+    # 1: [engine] batch > 1 runs a tile's chains of one structure in run_batch's SIMD lanes (rounding only)
+    batch_revision=1,
 )
