@@ -1,0 +1,111 @@
+"""A second independent reference for the rate-and-state slider (no code of the package or of
+tests/_indep_rate_state.py), in the physical variables V, θ_i (and, with mass M, the net force F):
+
+    μ = μ0 + a ln(V/V*) + Σ b_i ln(V* θ_i/(c_i Dc_i)),   c = 1 (aging, slip), 2 (PRZ)
+    θ̇: aging 1 − Vθ/Dc;  slip −(Vθ/Dc) ln(Vθ/Dc);  PRZ 1 − (Vθ/(2Dc))²     (docs/rate-state.md)
+    quasi-static  k(V_lp − V) − ηV̇ = dμ/dt   →   V̇ = [k(V_lp − V) − Σ b_i θ̇_i/θ_i] / (a/V + η)
+    inertial      M V̇ = F,   Ḟ = k(V_lp − V) − ηV̇ − dμ/dt = k(V_lp − V) − (η + a/V) F/M − Σ b_i θ̇_i/θ_i
+
+* ``hopf``: the Hopf point as the real root (k, ω) of det(J(k) − iω I) = 0 (real and imaginary parts,
+  mpmath.findroot in two unknowns), J the Jacobian at the steady state V = V_lp, θ_i = c_i Dc_i/V_lp,
+  F = 0, differentiated by mpmath.diff (J is affine in k: J(0) and J(1) suffice); no closed form, no
+  eigenvalue routine.
+* ``series``: μ, V, θ at given times after a load-point velocity step, by mpmath.odefun.
+"""
+
+from __future__ import annotations
+
+from mpmath import mp, mpf, mpc, log, diff, findroot, matrix, det, eye, odefun
+
+C = {"aging": 1, "slip": 1, "prz": 2}
+
+
+def _theta_dot(law, v, th, dc):
+    if law == "aging":
+        return 1 - v * th / dc
+    if law == "slip":
+        r = v * th / dc
+        return -r * log(r)
+    if law == "prz":
+        return 1 - (v * th / (2 * dc)) ** 2
+    raise ValueError(law)
+
+
+def rhs(laws, a, bs, dcs, k, v_lp, mass=None, eta=0):
+    """f(y) with y = [V, θ_1, ..., (F)]."""
+    n = len(laws)
+
+    def f(y):
+        v, ths = y[0], y[1:1 + n]
+        tds = [_theta_dot(law, v, th, dc) for law, th, dc in zip(laws, ths, dcs)]
+        state = sum(b * td / th for b, td, th in zip(bs, tds, ths))
+        if mass is None:
+            vd = (k * (v_lp - v) - state) / (a / v + eta)
+            return [vd] + tds
+        force = y[1 + n]
+        vd = force / mass
+        return [vd] + tds + [k * (v_lp - v) - (eta + a / v) * vd - state]
+
+    return f
+
+
+def _jacobian(f, y0):
+    m = len(y0)
+    J = matrix(m, m)
+    for j in range(m):
+        def fj(x, j=j):
+            y = list(y0)
+            y[j] = x
+            return f(y)
+        col = [diff(lambda x, i=i: fj(x)[i], y0[j]) for i in range(m)]
+        for i in range(m):
+            J[i, j] = col[i]
+    return J
+
+
+def hopf(laws, a, bs, dcs, v_lp, mass=None, eta=0, *, guess, dps=40):
+    """(k_c, ω_c) with det(J(k_c) − iω_c I) = 0, from ``guess`` = (k, ω)."""
+    with mp.workdps(dps):
+        a, v_lp, eta = mpf(a), mpf(v_lp), mpf(eta)
+        bs, dcs = [mpf(b) for b in bs], [mpf(d) for d in dcs]
+        mass = None if mass is None else mpf(mass)
+        y0 = [v_lp] + [C[law] * dc / v_lp for law, dc in zip(laws, dcs)] + ([] if mass is None else [mpf(0)])
+
+        # J is affine in k (k multiplies V_lp − V, which vanishes at the steady state, nowhere else)
+        J0 = _jacobian(rhs(laws, a, bs, dcs, 0, v_lp, mass, eta), y0)
+        J1 = _jacobian(rhs(laws, a, bs, dcs, 1, v_lp, mass, eta), y0) - J0
+        eye_m = eye(len(y0))
+
+        def eqs(k, w):
+            d = det(J0 + k * J1 - mpc(0, w) * eye_m)
+            return [d.real, d.imag]
+
+        k, w = findroot(eqs, (mpf(guess[0]), mpf(guess[1])))
+        return k, abs(w)
+
+
+def series(laws, a, bs, dcs, k, v_steps, at, times, mass=None, eta=0, *, mu0=mpf("0.6"), v_ref=1, dps=30):
+    """μ, V, θ at ``times`` from steady sliding at v_steps[0]; the load velocity becomes v_steps[i]
+    at at[i − 1]. Returns a list of (μ, V, [θ_i])."""
+    with mp.workdps(dps):
+        a, eta, k, v_ref, mu0 = mpf(a), mpf(eta), mpf(k), mpf(v_ref), mpf(mu0)
+        bs, dcs = [mpf(b) for b in bs], [mpf(d) for d in dcs]
+        mass = None if mass is None else mpf(mass)
+        v0 = mpf(v_steps[0])
+        y = [v0] + [C[law] * dc / v0 for law, dc in zip(laws, dcs)] + ([] if mass is None else [mpf(0)])
+        edges = [mpf(0)] + [mpf(x) for x in at] + [mp.inf]
+        out = []
+        for i, vl in enumerate(v_steps):
+            f = rhs(laws, a, bs, dcs, k, mpf(vl), mass, eta)
+            F = odefun(lambda t, yy, f=f: f(yy), edges[i], y)
+            for t in times:
+                t = mpf(t)
+                if edges[i] <= t < edges[i + 1] or (i == len(v_steps) - 1 and t >= edges[i]):
+                    yt = F(t)
+                    v, ths = yt[0], yt[1:1 + len(laws)]
+                    mu = mu0 + a * log(v / v_ref) + sum(b * log(v_ref * th / (C[law] * dc))
+                                                        for b, th, law, dc in zip(bs, ths, laws, dcs))
+                    out.append((mu, v, list(ths)))
+            if edges[i + 1] != mp.inf:
+                y = F(edges[i + 1])
+        return out
