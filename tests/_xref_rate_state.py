@@ -109,3 +109,48 @@ def series(laws, a, bs, dcs, k, v_steps, at, times, mass=None, eta=0, *, mu0=mpf
             if edges[i + 1] != mp.inf:
                 y = F(edges[i + 1])
         return out
+
+
+def _crossings(F, f, t0, h, t_end, want_up_v, v_lp):
+    """Scan F on [t0, t_end] by h: the first upward V = V_lp crossing after t0 + h, and the extrema of V
+    (V̇ = f(y)[0] changing sign) before it."""
+    from mpmath import findroot as _fr
+    ta, ya = t0, F(t0)
+    da = f(ya)[0]
+    extrema = []
+    while ta < t_end:
+        tb = ta + h
+        yb = F(tb)
+        db = f(yb)[0]
+        if (da > 0) != (db > 0):
+            tm = _fr(lambda s: f(F(s))[0], (ta, tb), solver="anderson")
+            extrema.append(F(tm)[0])
+        if ya[0] < v_lp <= yb[0] and tb > t0 + 2 * h:
+            tc = _fr(lambda s: F(s)[0] - v_lp, (ta, tb), solver="anderson")
+            return tc, F(tc), extrema
+        ta, ya, da = tb, yb, db
+    raise RuntimeError("no return to the section")
+
+
+def cycle(law, a, b, dc, k, v_lp, eta=0, *, theta_guess, h=mpf("0.05"), dps=25, t_end=200):
+    """The attracting cycle of the quasi-static slider (one state variable) by secant shooting on the
+    section V = V_lp (upward): dict(period, ln_v_max, ln_v_min, closure)."""
+    with mp.workdps(dps):
+        a, b, dc, k, v_lp, eta = (mpf(x) for x in (a, b, dc, k, v_lp, eta))
+        f = rhs([law], a, [b], [dc], k, v_lp, None, eta)
+
+        def ret(theta):
+            F = odefun(lambda t, y: f(y), 0, [v_lp, theta])
+            tc, yc, ext = _crossings(F, f, mpf(0), h, t_end, True, v_lp)
+            return tc, yc[1], ext
+
+        x0, x1 = mpf(theta_guess), mpf(theta_guess) * (1 + mpf(10) ** -4)
+        r0 = ret(x0)[1] - x0
+        for _ in range(30):
+            r1 = ret(x1)[1] - x1
+            if abs(r1) < mpf(10) ** (-dps + 5) * x1:
+                break
+            x0, x1, r0 = x1, x1 - r1 * (x1 - x0) / (r1 - r0), r1
+        period, theta_back, ext = ret(x1)
+        return dict(period=period, ln_v_max=log(max(ext)), ln_v_min=log(min(ext)),
+                    closure=abs(theta_back - x1) / x1)
