@@ -15,7 +15,7 @@ tests/_indep_rate_state.py), in the physical variables V, θ_i (and, with mass M
 
 from __future__ import annotations
 
-from mpmath import mp, mpf, mpc, log, diff, findroot, matrix, det, eye, odefun
+from mpmath import mp, mpf, mpc, exp, log, diff, findroot, matrix, det, eye, odefun
 
 C = {"aging": 1, "slip": 1, "prz": 2}
 
@@ -154,3 +154,64 @@ def cycle(law, a, b, dc, k, v_lp, eta=0, *, theta_guess, h=mpf("0.05"), dps=25, 
         period, theta_back, ext = ret(x1)
         return dict(period=period, ln_v_max=log(max(ext)), ln_v_min=log(min(ext)),
                     closure=abs(theta_back - x1) / x1)
+
+
+def rs_chain_first_event(law, x0, y0, *, a, b, dc, k, ell, v_lp, eta, v_th, periodic, dps=25, h=None,
+                         t_end=1000):
+    """The first event of the quasi-dynamic rate-state chain (docs/rs-chain.md, M = 0, η > 0) from
+    ln V_j = x0[j], ln θ_j = y0[j] (doubles, as the engine starts): per block
+    (a/V_j + η) V̇_j = k(V_lp − V_j) + ℓ²k(V_{j+1} − 2V_j + V_{j−1}) − b θ̇_j/θ_j, integrated by odefun
+    in (V, θ, P) with P = Σ δ_j. dict(t_start, hypocentre, n_blocks, potency, duration, max_velocity)."""
+    with mp.workdps(dps):
+        n = len(x0)
+        a, b, dc, k, l2, v_lp, eta, v_th = (mpf(x) for x in (a, b, dc, k, mpf(ell) ** 2, v_lp, eta, v_th))
+        h = mpf(h) if h is not None else mpf("0.01")
+
+        def nbr(v, j, d):
+            i = j + d
+            if 0 <= i < n:
+                return v[i]
+            return v[i % n] if periodic else v[j]
+
+        def f(y):
+            v, th = y[:n], y[n:2 * n]
+            out_v, out_t = [], []
+            for j in range(n):
+                td = _theta_dot(law, v[j], th[j], dc)
+                lap = nbr(v, j, 1) - 2 * v[j] + nbr(v, j, -1)
+                out_v.append((k * (v_lp - v[j]) + l2 * k * lap - b * td / th[j]) / (a / v[j] + eta))
+                out_t.append(td)
+            return out_v + out_t + [sum(v)]
+
+        y = [exp(mpf(x)) for x in x0] + [exp(mpf(x)) for x in y0] + [mpf(0)]
+        F = odefun(lambda t, yy: f(yy), 0, y)
+        ta, ya = mpf(0), y
+        above, t_start, hyp, members, vmax, p0 = set(), None, None, set(), mpf(0), None
+        acc_a = f(ya)[:n]
+        while ta < t_end:
+            tb = ta + h
+            yb = F(tb)
+            acc_b = f(yb)[:n]
+            events = []
+            for j in range(n):
+                if (ya[j] < v_th) != (yb[j] < v_th):
+                    tc = findroot(lambda s, j=j: F(s)[j] - v_th, (ta, tb), solver="anderson")
+                    events.append((tc, j, yb[j] >= v_th))
+                if acc_a[j] > 0 >= acc_b[j]:
+                    tm = findroot(lambda s, j=j: f(F(s))[j], (ta, tb), solver="anderson")
+                    vm = F(tm)[j]
+                    if vm > v_th:
+                        vmax = max(vmax, vm)
+            for tc, j, up in sorted(events):
+                if up:
+                    if not above and t_start is None:
+                        t_start, hyp, p0 = tc, j, F(tc)[2 * n]
+                    above.add(j)
+                    members.add(j)
+                else:
+                    above.discard(j)
+                    if not above and t_start is not None:
+                        return dict(t_start=t_start, hypocentre=hyp, n_blocks=len(members),
+                                    potency=F(tc)[2 * n] - p0, duration=tc - t_start, max_velocity=vmax)
+            ta, ya, acc_a = tb, yb, acc_b
+        raise RuntimeError("no event before t_end")

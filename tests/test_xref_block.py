@@ -96,7 +96,7 @@ POINTS = [(law, nu, nu_f) for law in LAWS for nu in (1e-12, 0.3) for nu_f in (0.
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("law,nu,nu_f", sample(POINTS, 9))
+@pytest.mark.parametrize("law,nu,nu_f", sample(POINTS, 25))   # 4 of 100; BIFURCATION_INDEP=all: every one
 @pytest.mark.parametrize("precision", ["double", "quad"])
 def test_slip_against_odefun(law, nu, nu_f, precision):
     _check_slip(law, nu, nu_f, precision)
@@ -142,7 +142,7 @@ def test_the_two_methods_agree():
 @pytest.mark.slow
 @pytest.mark.parametrize("law,nu_f", sample([(law, nu_f) for law in ["exponential", "1/(1+x+x^2)", "exp(-x)*(1+x*x)",
                                                                       "1/sqrt(1+2*x)", "(1+x)*exp(-2*x)"]
-                                             for nu_f in (0.07, 0.31, 0.49)], 5))
+                                             for nu_f in (0.07, 0.31, 0.49)], 8))
 def test_limit_against_odefun(law, nu_f):
     """bf.limit's Δ0 and max U̇ against the ν = 0 orbit started ε along the fast eigenvector.
 
