@@ -92,10 +92,28 @@ def lyapunov(laws, a, bs, dcs, v_lp, mass=None, eta=0, *, guess, dps=40):
         qb = matrix([conj(z) for z in q])
         h11 = lu_solve(A, B(q, qb))
         h20 = lu_solve(2 * iw * eye(n) - A, B(q, q))
-        l1 = (dot(p, C(q, q, qb)) - 2 * dot(p, B(q, h11)) + dot(p, B(qb, h20))).real / (2 * w)
+        bracket = dot(p, C(q, q, qb)) - 2 * dot(p, B(q, h11)) + dot(p, B(qb, h20))
+        l1 = bracket.real / (2 * w)
         scale = [1 / v] + [1 / th for th in u0[1:1 + len(laws)]] + ([mpf(1)] if mass is not None else [])
         tq2 = fsum(abs(scale[i] * q[i]) ** 2 for i in range(n))
-        return dict(k_c=k_c, omega_c=w, l1=l1, l1_engine_coords=l1 / tq2, null_residuals=(sq, sp))
+        # dλ/dk = ⟨p, (∂A/∂k) q⟩ (first-order perturbation of a simple eigenvalue, ⟨p, q⟩ = 1); A is
+        # affine in k (k multiplies V_lp − V, zero at the steady state), so ∂A/∂k = A(k + 1) − A(k).
+        dA = ref._jacobian(ref.rhs(laws, a_, bs_, dcs_, k_c + 1, v, m_, eta_), u0) - A
+        dlam = dot(p, dA * q)
+        return dict(k_c=k_c, omega_c=w, l1=l1, l1_engine_coords=l1 / tq2, null_residuals=(sq, sp),
+                    bracket=bracket, dlambda_dk=dlam, q=q, steady=u0)
+
+
+def small_cycle(r, kappa):
+    """The cycle of the truncated normal form ż = λ(k) z + c1 z|z|², c1 = bracket/2 (so that l1 = Re c1/ω),
+    λ(k) ≈ iω_c + λ'(k − k_c): |z|² = −Re λ/Re c1, frequency Im λ + Im c1 |z|². On u = u* + 2 Re(z q) the
+    half-range of ln V is 2|z||q_V|/V*. Returns (half-range of ln V, period), both to leading order."""
+    dk = (kappa - 1) * r["k_c"]
+    c1 = r["bracket"] / 2
+    z2 = -(r["dlambda_dk"].real * dk) / c1.real
+    half = 2 * sqrt(z2) * abs(r["q"][0]) / r["steady"][0]
+    omega = r["omega_c"] + r["dlambda_dk"].imag * dk + c1.imag * z2
+    return half, 2 * mp.pi / omega
 
 
 def bautin_eta(law, a, b, dc, v_lp, bracket, *, dps=30):

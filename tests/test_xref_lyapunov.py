@@ -77,3 +77,57 @@ def test_bautin_point(law, a, b, dc, v):
     assert len(found) == 1 and found[0]["inside"]
     expected = float(ref.bautin_eta(law, a, b, dc, v, found[0]["bracket"]))
     assert abs(found[0]["value"] / expected - 1) <= 1.5e-15
+
+
+# --- Branches of cycles from `continue_cycles` near the Hopf point --------------------------------------
+#
+# Reference: the cycle of the truncated normal form ż = λ(k) z + c1 z|z|² (``_xref_lyapunov.small_cycle``:
+# c1 from the same bracket as l1, λ(k) ≈ iω_c + λ'(k − k_c) with λ' = ⟨p, ∂A/∂k q⟩, all in (V, θ, F) at
+# 40 digits): half-range of ln V = 2|z||q_V|/V*, |z|² = −Re λ/Re c1 (∝ √|k − k_c|: the l1 coefficient),
+# period 2π/(Im λ + Im c1|z|²). Its neglected order is |z|² ∝ |1 − κ| in amplitude and |1 − κ|² in period.
+# Measured when written (6 points per branch, |1 − κ| from 2.4e-7 to 1.2e-2): amplitude ratio − 1 =
+# C|1 − κ| with C = −0.115 (damped aging), 2.05–2.10 (inertial aging), 1.32–1.34 (PRZ, subcritical:
+# the branch goes to κ > 1), −0.10 (damped inertial slip); period T/T_nf − 1 = C'(1 − κ)² with
+# |C'| = 0.31, 1.2–1.35, 0.55, 1.11; and T ω_c/2π − 1 = C''|1 − κ|, C'' = 0.96, 2.12, 0.43, 1.18.
+# Held to 3|1 − κ| (amplitude, bare period) and 2(1 − κ)² (period), plus at the two innermost points
+# (|1 − κ| ~ 1e-7–1e-6) what a κ off by Newton's 1e-12 stop does: ½·1e-12/|1 − κ| on the amplitude
+# (∝ √|1 − κ|; measured 1.6e-6 at |1 − κ| = 4.2e-7, slip) and 2e-12 on the period.
+BRANCH_CASES = [
+    (["aging"], 0.011, [0.02], [0.2], 1.7, None, 0.002),     # supercritical, quasi-static damped
+    (["aging"], 0.012, [0.02], [0.05], 0.8, 3e-4, 0.0),      # supercritical, inertial
+    (["prz"], 0.007, [0.019], [0.3], 2.5, None, 0.0),        # subcritical
+    (["slip"], 0.009, [0.016], [0.002], 0.05, 2e-5, 0.03),   # supercritical, inertial damped
+]
+
+
+def _branch(laws, a, bs, dcs, v, mass, eta):
+    import math
+
+    from mpmath import mpf, pi
+
+    from bifurcation.models.rate_state.continuation import continue_cycles
+
+    br = continue_cycles(a=a, b=bs[0], dc=dcs[0], state_law=laws[0], v_lp=v, mass=mass, damping=eta, points=6,
+                         eps=1e-3, step=0.02, max_step=0.05)
+    r = ref.lyapunov(laws, a, bs, dcs, v, mass, eta, guess=(br.hopf.k_c * (1 + 1e-6), br.hopf.omega_c * (1 + 1e-6)))
+    period0 = float(2 * pi / r["omega_c"])
+    assert len(br.points) == 6
+    sub = float(r["l1"]) > 0
+    for p in br.points:
+        d = abs(1 - p.kappa)
+        assert p.status == "ok" and 1e-7 < d < 2e-2 and (p.kappa > 1) == sub
+        half, period = (float(x) for x in ref.small_cycle(r, mpf(p.kappa)))
+        assert abs((p.ln_v_max - p.ln_v_min) / 2 / half - 1) <= 3 * d + 0.5e-12 / d, (p.kappa, "amplitude")
+        assert abs(p.period / period - 1) <= 2 * d * d + 2e-12, (p.kappa, "period")
+        assert abs(p.period / period0 - 1) <= 3 * d, (p.kappa, "period → 2π/ω_c")
+    assert math.isclose(br.hopf.lyapunov_coefficient, float(r["l1_engine_coords"]), rel_tol=4.5e-16)
+
+
+def test_branch_near_hopf_fast():
+    _branch(*BRANCH_CASES[0])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", BRANCH_CASES[1:], ids=lambda c: c[0][0] + f"-M{c[5]}-eta{c[6]}")
+def test_branch_near_hopf(case):
+    _branch(*case)
