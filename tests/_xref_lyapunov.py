@@ -128,3 +128,34 @@ def bautin_eta(law, a, b, dc, v_lp, bracket, *, dps=30):
 
     with mp.workdps(dps):
         return findroot(l1, (mpf(bracket[0]), mpf(bracket[1])), solver="anderson", tol=mpf(10) ** (-dps + 10))
+
+
+def return_map_multipliers(laws, a, bs, dcs, k, v_lp, w, *, dps=20, h="1e-8", scan="0.01"):
+    """The quasi-static slider's return map to the section V = V_lp (upward) from ln θ_i = w, by
+    mpmath.odefun in (V, θ_i) (crossings by ``ref._crossings``: a scan of step ``scan`` and Anderson's
+    root finding), and its nontrivial Floquet multipliers: the eigenvalues of ∂P/∂w by central
+    differences of step h in ln θ (truncation ~h², rounding ~10^-dps/h). Returns (period, multipliers)."""
+    from mpmath import odefun, exp, log, eig
+
+    with mp.workdps(dps):
+        a_, v = mpf(a), mpf(v_lp)
+        f = ref.rhs(laws, a_, [mpf(b) for b in bs], [mpf(d) for d in dcs], mpf(k), v)
+        h = mpf(h)
+
+        def ret(ws):
+            F = odefun(lambda t, y: f(y), 0, [v] + [exp(x) for x in ws])
+            tc, yc, _ = ref._crossings(F, f, mpf(0), mpf(scan), 100, True, v)
+            return tc, [log(x) for x in yc[1:]]
+
+        w = [mpf(x) for x in w]
+        period, _ = ret(w)
+        n = len(w)
+        J = matrix(n, n)
+        for j in range(n):
+            plus, minus = list(w), list(w)
+            plus[j] += h
+            minus[j] -= h
+            P, M = ret(plus)[1], ret(minus)[1]
+            for i in range(n):
+                J[i, j] = (P[i] - M[i]) / (2 * h)
+        return period, list(eig(J, left=False, right=False))

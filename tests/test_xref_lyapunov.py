@@ -131,3 +131,31 @@ def test_branch_near_hopf_fast():
 @pytest.mark.parametrize("case", BRANCH_CASES[1:], ids=lambda c: c[0][0] + f"-M{c[5]}-eta{c[6]}")
 def test_branch_near_hopf(case):
     _branch(*case)
+
+
+@pytest.mark.slow
+def test_period_doubling_multiplier():
+    # ~80 s. The one period doubling the package reports (docs/rate-state.md: two slip-law variables,
+    # b = 0.012, 0.006, Dc = 0.01, 0.1, quasi-static, κ_PD = 0.87463132, μ = −1 + 3.4e-8). At the
+    # engine's (κ_PD, section point w_PD) the multipliers of the return map by mpmath.odefun at 20 digits
+    # (tests/_xref_lyapunov.return_map_multipliers). Measured: −0.99999999099654 (20 digits, h = 1e-8;
+    # at 30 digits and h = 1e-9 −0.99999999099869, 2.2e-12 away) against the engine's −0.9999999663
+    # (double central differences),
+    # so μ + 1 = 9.0e-9 at κ_PD: with dμ/dκ ≈ 70 (the flagged points' multipliers), κ_PD is within
+    # ~1.3e-10 of the doubling. The period agrees to 2.6e-16 relative. Held to: |μ + 1| ≤ 1e-7 (the
+    # package's own claim is 3.4e-8 for its μ; 1e-7 is κ within 1.5e-9), |μ_engine − μ| ≤ 1e-7 (double
+    # differences of a map known to ~1e-14), period within 1e-13 (the start's 1e-12 Newton closure).
+    from bifurcation.models.rate_state.continuation import continue_cycles
+    from bifurcation.models.rate_state.two_parameter import period_doubling
+
+    laws, a, bs, dcs = ["slip", "slip"], 0.01, [0.012, 0.006], [0.01, 0.1]
+    br = continue_cycles(state_law="slip", a=a, b=bs, dc=dcs, v_lp=1.0, points=16, max_step=0.3,
+                         kappa_range=(0.05, 20), max_steps=500_000)
+    assert len(br.period_doublings) == 1
+    pd = period_doubling(br, br.period_doublings[0])
+    period, mults = ref.return_map_multipliers(laws, a, bs, dcs, pd.kappa * br.hopf.k_c, 1.0, pd.w)
+    mu = min(float(m.real) for m in mults)
+    assert all(abs(float(m.imag)) < 1e-15 for m in mults)
+    assert abs(mu + 1) <= 1e-7
+    assert abs(pd.multiplier - mu) <= 1e-7
+    assert abs(pd.period / float(period) - 1) <= 1e-13
