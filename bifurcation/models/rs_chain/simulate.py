@@ -28,7 +28,7 @@ from ._system import EXACT_TOL, PARAMETERS, Layout, compiled, rhs_expressions, s
 from .checkpoint import Snapshot
 from .result import RSChainStatus
 
-__all__ = ["CATALOG_FIELDS", "STEADY_BAND", "STEADY_RATIO", "STEADY_WINDOW", "STEADY_WINDOWS", "RSChainResult", "RSChainSpec", "RSChainStatus", "initial_state", "rs_chain", "run"]
+__all__ = ["CATALOG_FIELDS", "STEADY_BAND", "STEADY_FLOOR", "STEADY_RATIO", "STEADY_WINDOW", "STEADY_WINDOWS", "RSChainResult", "linear_growth", "RSChainSpec", "RSChainStatus", "initial_state", "rs_chain", "run"]
 
 CATALOG_FIELDS = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
 
@@ -39,10 +39,11 @@ LOOSEST_TOL = 1e-8
 
 #: Steady sliding (status ``steady``; docs/rs-chain.md, "Steady sliding"). With τ = Dc/V_lp, the largest
 #: deviation d = max_j max(|ln V_j − ln V_lp|, |ln θ_j − ln θ_ss|) is sampled once per τ (at the end of the
-#: first Taylor step past each sample time); its maximum over a window of STEADY_WINDOW samples is D. A run
+#: first Taylor step past each multiple of τ); its maximum over a window of STEADY_WINDOW τ (longer where
+#: the slowest linear mode needs it: two of its halving times and one of its period) is D. A run
 #: ends ``steady`` when STEADY_WINDOWS consecutive windows have no block above v_th, every sample within
 #: STEADY_BAND, D > 0 and each D below STEADY_RATIO times the one before (the deviations observed to decay,
-#: by 1/8 or more over the last 30 τ), and the linearisation at steady sliding is stable
+#: by 1/8 or more over the last three windows), and the linearisation at steady sliding is stable
 #: (``linear_growth`` < 0 by a margin): an observed decay, not the stiffness alone, since a large
 #: perturbation can lead to stick-slip where the linearisation is stable (sub-critical). Measured: the
 #: deviations of aging, N = 3, a = 0.008, b = 0.0135, Dc = 0.02, k = 0.12, η = 5e-3, A = 0.5 decay by
@@ -54,10 +55,13 @@ STEADY_RATIO = 0.5
 #: the linearisation counts as stable when max Re λ < −STEADY_MARGIN · max |λ| (finite differences of the
 #: right-hand side are ~1e-8 relative: a nearly marginal mode is not called stable)
 STEADY_MARGIN = 1e-6
+#: a window maximum at or below this counts as decayed (the deviations' rounding floor is ~1e-15: there
+#: they no longer shrink), once a window above it was seen to decay
+STEADY_FLOOR = 1e-12
 
 
-def linear_growth(spec: "RSChainSpec") -> tuple[float, float]:
-    """(max Re λ, max |λ|) of the chain linearised at steady sliding at V_lp.
+def linear_growth(spec: "RSChainSpec") -> tuple[float, float, float]:
+    """(max Re λ, max |λ|, |Im λ| of the λ with max Re λ) of the chain linearised at steady sliding at V_lp.
 
     All blocks alike, so the modes decouple: mode m of the neighbour Laplacian (eigenvalue −4 sin²(πm/2N)
     with free, mirror ends; −4 sin²(πm/N) periodic) is the single slider with stiffness
@@ -85,30 +89,36 @@ def linear_growth(spec: "RSChainSpec") -> tuple[float, float]:
                                         damped=spec.eta > 0)[:dim])
         for r in range(dim):
             jac[:, r, i] = (np.asarray(cols[0][r]) - np.asarray(cols[1][r])) / (2 * h)
-    lam = np.linalg.eigvals(jac)
-    return float(np.max(lam.real)), float(np.max(np.abs(lam)))
+    lam = np.linalg.eigvals(jac).ravel()
+    slowest = lam[np.argmax(lam.real)]
+    return float(slowest.real), float(np.max(np.abs(lam))), float(abs(slowest.imag))
 
 
 class _Steady:
     """The steady-sliding test of one run (see STEADY_BAND): ``sample`` is called when time >= ``next``."""
 
     def __init__(self, spec: "RSChainSpec", t0: float) -> None:
-        growth, radius = linear_growth(spec)
+        growth, radius, omega = linear_growth(spec)
         self.stable = growth < -STEADY_MARGIN * radius
         self.growth = growth
         self.tau = spec.dc / spec.v_lp
+        # the window: STEADY_WINDOW τ, or longer where the slowest mode is slower: two of its halving
+        # times (so it must shrink to 1/4 a window, against the 1/2 asked) and one of its periods (a
+        # decreasing stretch of a slow oscillation is no decay)
+        span = max(2 * math.log(2) / -growth, 2 * math.pi / omega if omega > 0 else 0.0) if self.stable else 0.0
+        self.length = max(STEADY_WINDOW * self.tau, span)
         self.n = spec.n
         self.x_ss, self.y_ss = steady_state(spec.law, spec.v_lp, spec.dc)
-        # samples on the grid of multiples of τ, and counters reset at every event's end: a run resumed
-        # from a checkpoint (taken at an event's end) samples as the straight run did
+        # samples on the grid of multiples of τ, and the windows restarted at every event's end: a run
+        # resumed from a checkpoint (taken at an event's end) samples as the straight run did
         self.next = self.after(t0) if self.stable else math.inf
-        self.count, self.peak, self.maxima = 0, 0.0, []
+        self.reset()
 
     def after(self, time: float) -> float:
         return self.tau * (math.floor(time / self.tau) + 1)
 
     def reset(self) -> None:
-        self.count, self.peak, self.maxima = 0, 0.0, []
+        self.start, self.peak, self.maxima = None, 0.0, []
 
     def sample(self, time: float, state, n_above: int) -> bool:
         """True: steady sliding established at ``time``."""
@@ -121,23 +131,26 @@ class _Steady:
         if not d <= STEADY_BAND:
             self.reset()
             return False
+        done = False
+        if self.start is None:
+            self.start = time
+        elif time >= self.start + self.length:          # the window [start, time) is complete
+            self.maxima = (self.maxima + [(self.start, self.peak)])[-STEADY_WINDOWS:]
+            self.start, self.peak = time, 0.0
+            w = [m for _, m in self.maxima]
+            done = (len(w) == STEADY_WINDOWS and w[0] > STEADY_FLOOR
+                    and all(w[i + 1] < STEADY_RATIO * w[i] or w[i + 1] <= STEADY_FLOOR
+                            for i in range(STEADY_WINDOWS - 1)))
         self.peak = max(self.peak, d)
-        self.count += 1
-        if self.count < STEADY_WINDOW:
-            return False
-        self.maxima = (self.maxima + [self.peak])[-STEADY_WINDOWS:]
-        self.count, self.peak = 0, 0.0
-        w = self.maxima
-        return (len(w) == STEADY_WINDOWS and w[0] > 0
-                and all(w[i + 1] < STEADY_RATIO * w[i] for i in range(STEADY_WINDOWS - 1)))
+        return done
 
     def message(self, time: float, done: int, total: int) -> str:
-        w = ", ".join(f"{v:.2e}" for v in self.maxima)
-        return (f"steady: steady sliding after {done} events, no event to come: from t ≈ "
-                f"{time - STEADY_WINDOWS * STEADY_WINDOW * self.tau:.6g} the largest |ln V_j − ln V_lp|, "
-                f"|ln θ_j − ln θ_ss| per {STEADY_WINDOW} Dc/V_lp decayed {w} (each < {STEADY_RATIO:g} × the one "
-                f"before, all <= {STEADY_BAND:g}) and the linearisation is stable (max Re λ = {self.growth:.3g}) "
-                f"(t = {time:.17g}, {total} steps)")
+        w = ", ".join(f"{m:.2e}" for _, m in self.maxima)
+        return (f"steady: steady sliding after {done} events, no event to come: from t = "
+                f"{self.maxima[0][0]:.6g} the largest |ln V_j − ln V_lp|, |ln θ_j − ln θ_ss| per "
+                f"{self.length / self.tau:.4g} Dc/V_lp decayed {w} (each < {STEADY_RATIO:g} × the one before or "
+                f"<= {STEADY_FLOOR:g}, all <= {STEADY_BAND:g}) and the linearisation is stable (max Re λ = "
+                f"{self.growth:.3g}) (t = {time:.17g}, {total} steps)")
 
 
 def _number(argument, value, *, low=None, positive=False, fix="give a finite number") -> float:
