@@ -115,7 +115,9 @@ class _Steady:
         self.reset()
 
     def after(self, time: float) -> float:
-        return self.tau * (math.floor(time / self.tau) + 1)
+        """The first multiple of τ above ``time`` (time/τ may round below a whole number)."""
+        m = math.floor(time / self.tau) + 1
+        return self.tau * (m + 1) if self.tau * m <= time else self.tau * m
 
     def reset(self) -> None:
         self.start, self.peak, self.maxima = None, 0.0, []
