@@ -7,7 +7,8 @@ steady sliding at V_lp with ln V_j perturbed by A r_j (seeded). Per run the stor
 ``events_done``, ``t_end``, ``steps``, ``balance_max`` (the largest stress-balance residual of its
 events) and ``resumed``; per event, in the Burridge–Knopoff chain's catalog schema, ``t_start``, ``hypocentre``,
 ``n_blocks``, ``potency``, ``duration`` and ``max_velocity``. ``[engine] t_max`` and ``max_steps`` bound
-one event (and the wait for it): beyond them the run stops with ``no-stop`` and keeps the events before.
+one event (and the wait for it): beyond them the run stops with ``no-stop`` and keeps the events before;
+a run whose deviations from stable steady sliding are seen to decay ends ``steady`` first (simulate.STEADY_BAND).
 
 Runs are long (10^5 events of N = 256: hours), so the model checkpoints (``checkpoint=True``) through
 the store's ``Checkpoints`` as the Burridge–Knopoff chain does: the runner saves the integrator's state
