@@ -165,3 +165,20 @@ def test_batch_lanes_end_steady_as_the_scalar_runs():
         r = run(spec, start, 5, max_steps=20_000)
         assert (b.status, b.events, b.steps) == (r.status, r.events, r.steps), spec.k
         assert b.status == (RSChainStatus.NO_STOP if spec.k == 0.015 else RSChainStatus.STEADY)
+
+
+@pytest.mark.parametrize("batch", [1, 4])
+def test_the_workflow_runner_stores_steady_with_and_without_batch(batch):
+    # the store's runner (one run per point; batch = 4 puts both points in run_batch's lanes): the
+    # stable point's status is steady (8) with its message, the unstable one's no-stop at the bound
+    from bifurcation.models import get_model
+    from bifurcation.models.rs_chain.model import run_rs_chains
+
+    points = {name: np.array(values) for name, values in dict(
+        n=[3, 3], k=[0.12, 0.015], ell=[1.0, 1.0], v_lp=[1.0, 1.0], a=[0.008, 0.008], b=[0.0135, 0.0135],
+        dc=[0.02, 0.02], mass=[0.0, 0.0], eta=[5e-3, 5e-3], v_th=[10.0, 10.0], amplitude=[0.5, 0.5],
+        seed=[1, 1], events=[5, 5], periodic=[0, 0]).items()}
+    out, messages = run_rs_chains(get_model("rs-chain"), "aging", points, max_steps=20_000, batch=batch)
+    assert list(out["status"]) == [int(RSChainStatus.STEADY), int(RSChainStatus.NO_STOP)]
+    assert list(out["events_done"]) == [0, 0] and messages[0].startswith("steady: steady sliding")
+    assert "steady" in [str(s) for s in get_model("rs-chain").statuses]
