@@ -182,3 +182,20 @@ def test_the_workflow_runner_stores_steady_with_and_without_batch(batch):
     assert list(out["status"]) == [int(RSChainStatus.STEADY), int(RSChainStatus.NO_STOP)]
     assert list(out["events_done"]) == [0, 0] and messages[0].startswith("steady: steady sliding")
     assert "steady" in [str(s) for s in get_model("rs-chain").statuses]
+
+
+def test_a_submit_with_a_steady_point_tallies_it(tmp_path):
+    # a status code beyond bifurcation.Status (steady = 8) broke the submit's tally (a bincount of 9
+    # against 8 counters); the workflow is the reported case
+    from click.testing import CliRunner
+
+    from bifurcation.cli import cli
+
+    toml = tmp_path / "steady.toml"
+    toml.write_text('[study]\nname = "rs-steady"\n[model]\nname = "rs-chain"\n[engine]\nlaws = ["aging"]\n'
+                    + "".join(f"[grid.{k}]\nvalues = [{v}]\n" for k, v in dict(
+                        n=3, k=0.12, a=0.008, b=0.0135, dc=0.02, eta=5e-3, amplitude=0.5, events=50).items())
+                    + "[tiles]\ncatalog = 100\n")
+    out = CliRunner().invoke(cli, ["submit", str(toml), "--store", str(tmp_path / "s.zarr"), "--workers", "1"])
+    assert out.exit_code == 0, out.output
+    assert "statuses of computed points: steady 1" in out.output
