@@ -218,4 +218,6 @@ def test_report_says_on_stderr_what_it_is_doing(store, tmp_path, monkeypatch):
     fits = [i for i, l in enumerate(lines) if ": fitting 300 event sizes (Clauset" in l and "still" not in l]
     assert len(fits) == 2, lines          # ℓ = 1 and ℓ = 3
     assert lines[fits[0] + 1].startswith("bifurcation: report: still running: ell = 1.0: fitting"), lines
+    # the repeats are short: the stage without its parenthesised detail, said once on its first line
+    assert lines[fits[0] + 1].split(" [")[0] == "bifurcation: report: still running: ell = 1.0: fitting 300 event sizes"
     assert lines[-1].startswith("bifurcation: report: writing REPORT.md") and result.stdout.startswith("wrote ")

@@ -226,6 +226,15 @@ def test_a_batch_tile_killed_after_three_checkpoints_resumes_from_the_store_bit_
 @pytest.mark.parametrize("text, message", [
     (WORKFLOW.format(batch=4, catalog=8).replace("ell = 2\nseed = 3\n", ""), "engine.batch=4: has no lanes"),
     (WORKFLOW.format(batch=0, catalog=8), "engine.batch=0: is not a lane count"),
+    # tiles of several points, but no two of one structure: N differs, then η = 0 with M = 0 (never batched),
+    # then the events: each ran one by one, silently, before this check
+    (WORKFLOW.format(batch=4, catalog=8).replace("values = [5]", "values = [4, 5]").replace("ell = 2\nseed = 3\n",
+                                                                                         "n = 2\n"),
+     "engine.batch=4: has no lanes to fill: no tile holds two chains of one structure"),
+    (WORKFLOW.format(batch=4, catalog=8).replace("values = [1e-3]", "values = [0.0]"),
+     "engine.batch=4: has no lanes to fill: no tile holds two chains of one structure"),
+    (WORKFLOW.format(batch=4, catalog=8).replace("values = [8]", "values = [8, 9]").replace(
+        "ell = 2\nseed = 3\n", "events = 2\n"), "engine.batch=4: has no lanes to fill: no tile holds two"),
     (WORKFLOW.format(batch=65, catalog=8), "engine.batch=65: is more than 64 lanes"),
 ])
 def test_a_batch_it_cannot_honour_is_refused_in_one_line(text, message):

@@ -173,7 +173,9 @@ def _stages(label: str):
 
     def show(now: float, still: bool = False) -> None:
         state["shown"] = True
-        click.echo(f"bifurcation: {label}: {'still running: ' if still else ''}{state['stage']} "
+        # the repeat names the stage without its parenthesised detail (said once, on its first line)
+        stage = state["stage"].split(" (", 1)[0] if still else state["stage"]
+        click.echo(f"bifurcation: {label}: {'still running: ' if still else ''}{stage} "
                    f"[{now - started:.0f} s]", err=True)
 
     def progress(text: str) -> None:

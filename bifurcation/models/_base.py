@@ -281,6 +281,8 @@ class Hooks:
       one when given another's file; the model reads them with that module's ``read_toml`` and ``Table``.
     - ``check_grid(workflow)``: the model's own bounds across a workflow's axes, checked when the workflow
       is built (before any work): raises ``InputError`` naming the ``grid.*`` key (the chain's N × events).
+    - ``check_batch(workflow)``: with ``[engine] batch`` > 1 (a runner that batches), checked once the
+      tiles are set: raises ``InputError`` where no tile holds points the runner's lanes can share.
     """
 
     describe_label: str = ""
@@ -292,9 +294,11 @@ class Hooks:
     study: str = ""
     workflow: str = ""
     check_grid: str = ""
+    check_batch: str = ""
 
     def __post_init__(self) -> None:
-        for name in ("describe_label", "report", "bench", "commands", "presets", "study", "workflow", "check_grid"):
+        for name in ("describe_label", "report", "bench", "commands", "presets", "study", "workflow", "check_grid",
+                     "check_batch"):
             value = getattr(self, name)
             module, _, attribute = value.partition(":")
             if value and not (module and attribute.isidentifier()

@@ -22,7 +22,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..outcome import Status
 from ..errors import InputError
 from .tiles import Tile, compute_tile, iter_tiles
 from ..workflow import Workflow, load_workflow
@@ -94,9 +93,14 @@ class Summary:
         return "\n".join(lines)
 
 
+#: status counts are kept for every int8 code: a model may declare codes beyond ``Status`` (rs-chain's
+#: ``steady`` = 8), and a tile's bincount longer than the tally broke the submit
+_CODES = 128
+
+
 def _report(values: dict) -> list[int]:
     """Status counts of the computed points of a tile (small: what a worker sends back)."""
-    return np.bincount(values["status"][values["done"]].astype(np.int64), minlength=max(Status) + 1).tolist()
+    return np.bincount(values["status"][values["done"]].astype(np.int64), minlength=_CODES).tolist()
 
 
 def _submit_tile(client, tile: Tile, store: str, run_id: str, writer: str, key: str, retries: int):
@@ -271,7 +275,7 @@ def _submit_locked(workflow, path, target, workers, progress, new_store, writer,
         done = np.zeros(workflow.shape, dtype=bool)
     skipped = int(np.count_nonzero(done))
     todo = workflow.n_points - skipped
-    statuses = np.zeros(max(Status) + 1, dtype=np.int64)
+    statuses = np.zeros(_CODES, dtype=np.int64)
     computed = failed = n_tiles = 0
     errors: list[str] = []
     compute_time = 0.0

@@ -270,6 +270,8 @@ def _check_runner_batch(workflow, spec) -> None:
         raise InputError("engine.batch", workflow.batch, "has no lanes to fill: a tile holds one point and the "
                          "batch runs a tile's points together", "give [tiles] with several points of one "
                          "structure, e.g. seed = 4, or leave batch out")
+    if (check_batch := spec.hook("check_batch")) is not None:   # the model's own notion of a lane's fellows
+        check_batch(workflow)
 
 
 def _solvable(spec):

@@ -34,7 +34,7 @@ from ..rate_state.laws import resolve_state_law
 from ._system import COMPACT_ABOVE, EXACT_TOL, MAXIMUM_EVENT_SCALE, PARAMETERS, Layout, rhs_expressions
 from .result import RSChainStatus
 from .checkpoint import Snapshot
-from .simulate import LOOSEST_TOL, RSChainResult, RSChainSpec, _Events, _number
+from .simulate import LOOSEST_TOL, RSChainResult, RSChainSpec, _Events, _number, _Steady
 
 __all__ = ["LANES", "run_batch"]
 
@@ -83,7 +83,7 @@ def _compiled(key: tuple):
 
 def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps: int = 10_000_000,
               maxima: bool = True, tol: float = EXACT_TOL, lanes: int = LANES, every: int | None = None,
-              save=None, resume=None) -> list[RSChainResult]:
+              save=None, resume=None, steady: bool = True) -> list[RSChainResult]:
     """``simulate.run`` for chains of one structure, ``lanes`` at a time; one result per spec, in order.
 
     ``specs`` share state law, N, inertia, ends and damping (η > 0 or not), and have M > 0 or η > 0;
@@ -95,7 +95,9 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
     of the first step after which its events done reach a new multiple of ``every`` (while events remain);
     ``resume[c]`` (a ``checkpoint.Snapshot`` or None) restarts chain ``c`` from one. A lane's steps depend
     on its own column only, so a chain resumed from a lane's snapshot takes the steps of the straight lane,
-    bit for bit; from a scalar run's snapshot it agrees with the scalar run to rounding."""
+    bit for bit; from a scalar run's snapshot it agrees with the scalar run to rounding.
+
+    ``steady``: each lane ends ``steady`` by ``simulate.run``'s test (its own samples on its own time)."""
     specs = list(specs)
     if not specs:
         raise InputError("specs", specs, "is empty", "give at least one RSChainSpec")
@@ -148,6 +150,8 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
     loaded, last_end, ended_at = [0] * lanes, [0] * lanes, [0] * lanes
     start_time = [(0.0, 0.0)] * lanes       # the double-length time a lane (re)starts at
     chunks = [0] * lanes                    # checkpoints of the lane's chain so far (multiples of every)
+    watches: list = [None] * lanes          # the lane's steady-sliding test (simulate._Steady), or None
+    next_sample = np.full(lanes, math.inf)  # its next sample time (inf: none)
     p_row = state[p_index]                  # a view: P of every lane
 
     def load(lane: int, chain: int) -> None:
@@ -173,6 +177,8 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
             loaded[lane] = clock["now"] - int(snap.steps[0])
             last_end[lane] = clock["now"] - int(snap.steps[1])
         chunks[lane] = asm.done // every if save is not None else 0
+        watches[lane] = _Steady(specs[chain], start_time[lane][0] + start_time[lane][1]) if steady else None
+        next_sample[lane] = watches[lane].next if steady else math.inf
 
     def finish(lane: int) -> None:
         chain, asm = run_of[lane], assemblers[lane]
@@ -187,6 +193,7 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
             status=status[lane][0], message=status[lane][1], meta={"lanes": lanes},
             restored_balance_max=asm.restored_balance_max)
         run_of[lane] = None
+        next_sample[lane] = math.inf
 
     def state_at(lane: int):
         def at(time: float) -> np.ndarray:
@@ -241,6 +248,24 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
             retune()
         if clock["idle"].size:
             p_row[clock["idle"]] = 0.0       # between events P restarts from 0, as in simulate.run
+        if steady:                          # in simulate.run's order: after P's reset, before the bounds
+            times = ta.time
+            if np.any(next_sample <= times):
+                for lane in running():
+                    if next_sample[lane] <= times[lane]:
+                        w = watches[lane]
+                        if w.sample(float(times[lane]), state[:, lane], assemblers[lane].n_above):
+                            status[lane] = [RSChainStatus.STEADY,
+                                            w.message(float(times[lane]), assemblers[lane].done,
+                                                      now - loaded[lane])]
+                            end(lane)
+                            next_sample[lane] = math.inf
+                        else:
+                            next_sample[lane] = w.next
+                retune()
+            for lane in grew:
+                if watches[lane] is not None:
+                    watches[lane].reset()
         if now > clock["deadline"] or bounded_t:
             for lane in running():
                 asm = assemblers[lane]
@@ -262,6 +287,7 @@ def run_batch(specs, states0, events: int, *, t_max: float = math.inf, max_steps
         load(lane, queue.pop(0) if queue else 0)
         if lane >= len(specs):
             run_of[lane] = None             # a spare lane: the first chain's start, never read
+            next_sample[lane] = math.inf
     ta.set_dtime(np.array([t[0] for t in start_time]), np.array([t[1] for t in start_time]))
     retune()
     while any(chain is not None for chain in run_of):

@@ -7,7 +7,8 @@ steady sliding at V_lp with ln V_j perturbed by A r_j (seeded). Per run the stor
 ``events_done``, ``t_end``, ``steps``, ``balance_max`` (the largest stress-balance residual of its
 events) and ``resumed``; per event, in the Burridge–Knopoff chain's catalog schema, ``t_start``, ``hypocentre``,
 ``n_blocks``, ``potency``, ``duration`` and ``max_velocity``. ``[engine] t_max`` and ``max_steps`` bound
-one event (and the wait for it): beyond them the run stops with ``no-stop`` and keeps the events before.
+one event (and the wait for it): beyond them the run stops with ``no-stop`` and keeps the events before;
+a run whose deviations from stable steady sliding are seen to decay ends ``steady`` first (simulate.STEADY_BAND).
 
 Runs are long (10^5 events of N = 256: hours), so the model checkpoints (``checkpoint=True``) through
 the store's ``Checkpoints`` as the Burridge–Knopoff chain does: the runner saves the integrator's state
@@ -103,6 +104,40 @@ def check_grid(workflow) -> None:
                    what="one rs-chain run of a workflow", cap=bounds.RS_CHAIN_MAX_N_EVENTS,
                    why="~2.5 ms of CPU a block-event at worst, so about a day",
                    more=", or a smaller grid.n (a larger study is several runs: more seeds, or several workflows)")
+
+
+def _structure(point: dict) -> tuple | None:
+    """What chains must share to run in one batch (``run_rs_chains``), or None: a chain ``run_batch``
+    refuses (massless and undamped)."""
+    mass, eta = float(point["mass"]), float(point["eta"])
+    if not (mass > 0 or eta > 0):
+        return None
+    return int(point["n"]), int(point["periodic"]), mass > 0, eta > 0, int(point["events"])
+
+
+def check_batch(workflow) -> None:
+    """``[engine] batch`` > 1 with no tile holding two chains of one structure (N, ends, inertia, damping,
+    events; M = 0 and η = 0 never batch) would run every chain one by one: refused, naming the fix."""
+    import itertools
+    import math
+
+    names = [name for name, _ in workflow.grid]
+    chunks = [[values[i:i + size] for i in range(0, len(values), size)]
+              for size, (_, values) in zip(workflow.tiles, workflow.grid)]
+    tiles = math.prod(len(c) for c in chunks)
+    if tiles > 100_000:         # a grid this large surely has its fellows; not worth the look
+        return
+    for tile in itertools.product(*chunks):
+        seen = set()
+        for values in itertools.product(*tile):
+            key = _structure(dict(zip(names, values)))
+            if key is not None and key in seen:
+                return
+            seen.add(key)
+    raise InputError("engine.batch", workflow.batch, "has no lanes to fill: no tile holds two chains of one "
+                     "structure (N, ends, mass > 0, η > 0, events; M = 0 with η = 0 never batches), so every "
+                     "chain would run one by one", "give [tiles] a larger size on an axis other than n, "
+                     "periodic and events (e.g. seed = 4), or leave batch out")
 
 
 def run_rs_chains(model, label, points, *, precision="double", t_max=1e5, max_steps=1_000_000, batch=1,
@@ -254,7 +289,8 @@ RS_CHAIN = Model(
     hooks=Hooks(describe_label="bifurcation.models.rs_chain.store_report:describe_label",
                 report="bifurcation.models.rs_chain.store_report:blocks",
                 bench="bifurcation.models.rs_chain._bench:run_rs_chain_bench", bench_needs=("scipy", "numba"),
-                check_grid="bifurcation.models.rs_chain.model:check_grid"),
+                check_grid="bifurcation.models.rs_chain.model:check_grid",
+                check_batch="bifurcation.models.rs_chain.model:check_batch"),
     units_note="those of the workflow's own V_lp, Dc, k (σ = 1: stresses in units of the normal stress)",
     # 1: velocity-maximum events scaled so they no longer shorten heyoka's steps (2026-11-26), which moved
     # the catalogs' last bits: a store begun before must not be resumed with this engine's runs.

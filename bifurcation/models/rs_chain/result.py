@@ -15,6 +15,10 @@ class RSChainStatus(IntEnum):
     NOT_APPLICABLE = 6  #: the point is not a chain the model runs (v_th <= V_lp, a block starting above v_th)
     NONFINITE = 5   #: the integrator produced a non-finite state (e.g. M = 0, η = 0 below critical stiffness)
     NOT_RESOLVED = 7  #: the run was not made in a precision the engine vouches for (only double)
+    #: steady sliding: no block above v_th and the deviations from steady sliding observed to decay (with
+    #: the linearisation stable) over several Dc/V_lp, so no further event comes; earlier events kept
+    #: (simulate.STEADY_BAND; docs/rs-chain.md, "Steady sliding")
+    STEADY = 8
 
     def __str__(self) -> str:
         return self.name.lower().replace("_", "-")

@@ -24,17 +24,135 @@ import numpy as np
 
 from ...errors import InputError
 from ..rate_state.laws import resolve_state_law
-from ._system import EXACT_TOL, PARAMETERS, Layout, compiled, steady_state
+from ._system import EXACT_TOL, PARAMETERS, Layout, compiled, rhs_expressions, steady_state
 from .checkpoint import Snapshot
 from .result import RSChainStatus
 
-__all__ = ["CATALOG_FIELDS", "RSChainResult", "RSChainSpec", "RSChainStatus", "initial_state", "rs_chain", "run"]
+__all__ = ["CATALOG_FIELDS", "STEADY_BAND", "STEADY_FLOOR", "STEADY_RATIO", "STEADY_WINDOW", "STEADY_WINDOWS", "RSChainResult", "linear_growth", "RSChainSpec", "RSChainStatus", "initial_state", "rs_chain", "run"]
 
 CATALOG_FIELDS = ("t_start", "hypocentre", "n_blocks", "potency", "duration", "max_velocity")
 
 #: The loosest heyoka tolerance ``run`` accepts: order 11; the catalog's error there is measured in
 #: docs/rs-chain.md ("Speed"), beyond it nothing was measured.
 LOOSEST_TOL = 1e-8
+
+
+#: Steady sliding (status ``steady``; docs/rs-chain.md, "Steady sliding"). With τ = Dc/V_lp, the largest
+#: deviation d = max_j max(|ln V_j − ln V_lp|, |ln θ_j − ln θ_ss|) is sampled once per τ (at the end of the
+#: first Taylor step past each multiple of τ); its maximum over a window of STEADY_WINDOW τ (longer where
+#: the slowest linear mode needs it: two of its halving times and one of its period) is D. A run
+#: ends ``steady`` when STEADY_WINDOWS consecutive windows have no block above v_th, every sample within
+#: STEADY_BAND, D > 0 and each D below STEADY_RATIO times the one before (the deviations observed to decay,
+#: by 1/8 or more over the last three windows), and the linearisation at steady sliding is stable
+#: (``linear_growth`` < 0 by a margin): an observed decay, not the stiffness alone, since a large
+#: perturbation can lead to stick-slip where the linearisation is stable (sub-critical). Measured: the
+#: deviations of aging, N = 3, a = 0.008, b = 0.0135, Dc = 0.02, k = 0.12, η = 5e-3, A = 0.5 decay by
+#: ~10 per 25 τ.
+STEADY_BAND = 1e-3
+STEADY_WINDOW = 10
+STEADY_WINDOWS = 4
+STEADY_RATIO = 0.5
+#: the linearisation counts as stable when max Re λ < −STEADY_MARGIN · max |λ| (finite differences of the
+#: right-hand side are ~1e-8 relative: a nearly marginal mode is not called stable)
+STEADY_MARGIN = 1e-6
+#: a window maximum at or below this counts as decayed (the deviations' rounding floor is ~1e-15: there
+#: they no longer shrink), once a window above it was seen to decay
+STEADY_FLOOR = 1e-12
+
+
+def linear_growth(spec: "RSChainSpec") -> tuple[float, float, float]:
+    """(max Re λ, max |λ|, |Im λ| of the λ with max Re λ) of the chain linearised at steady sliding at V_lp.
+
+    All blocks alike, so the modes decouple: mode m of the neighbour Laplacian (eigenvalue −4 sin²(πm/2N)
+    with free, mirror ends; −4 sin²(πm/N) periodic) is the single slider with stiffness
+    k_m = k (1 + 4ℓ² sin²(…)). Each slider's Jacobian (x, y[, z]) by central differences of
+    ``rhs_expressions`` (numpy, all modes at once)."""
+    n = spec.n
+    m = np.arange(n, dtype=float)
+    lap = 4 * np.sin(np.pi * m / (n if spec.periodic else 2 * n)) ** 2 if n > 1 else np.zeros(1)
+    lap = np.unique(lap)
+    layout = Layout(1, spec.inertial)
+    values = spec.parameters()
+    par = {name: values[name] for name in PARAMETERS}
+    par["k"] = spec.k * (1 + spec.ell ** 2 * lap)
+    x0, y0 = steady_state(spec.law, spec.v_lp, spec.dc)
+    base = [x0, y0] + ([0.0] if spec.inertial else [])
+    dim = len(base)
+    jac = np.empty((lap.size, dim, dim))
+    for i in range(dim):
+        h = 1e-6 * max(1.0, abs(base[i]))
+        cols = []
+        for sign in (1.0, -1.0):
+            v = [np.full(lap.size, b, dtype=float) for b in base] + [np.zeros(lap.size)]
+            v[i] = v[i] + sign * h
+            cols.append(rhs_expressions(spec.law, layout, v, par, np.exp, np.log, periodic=False,
+                                        damped=spec.eta > 0)[:dim])
+        for r in range(dim):
+            jac[:, r, i] = (np.asarray(cols[0][r]) - np.asarray(cols[1][r])) / (2 * h)
+    lam = np.linalg.eigvals(jac).ravel()
+    slowest = lam[np.argmax(lam.real)]
+    return float(slowest.real), float(np.max(np.abs(lam))), float(abs(slowest.imag))
+
+
+class _Steady:
+    """The steady-sliding test of one run (see STEADY_BAND): ``sample`` is called when time >= ``next``."""
+
+    def __init__(self, spec: "RSChainSpec", t0: float) -> None:
+        growth, radius, omega = linear_growth(spec)
+        self.stable = growth < -STEADY_MARGIN * radius
+        self.growth = growth
+        self.tau = spec.dc / spec.v_lp
+        # the window: STEADY_WINDOW τ, or longer where the slowest mode is slower: two of its halving
+        # times (so it must shrink to 1/4 a window, against the 1/2 asked) and one of its periods (a
+        # decreasing stretch of a slow oscillation is no decay)
+        span = max(2 * math.log(2) / -growth, 2 * math.pi / omega if omega > 0 else 0.0) if self.stable else 0.0
+        self.length = max(STEADY_WINDOW * self.tau, span)
+        self.n = spec.n
+        self.x_ss, self.y_ss = steady_state(spec.law, spec.v_lp, spec.dc)
+        # samples on the grid of multiples of τ, and the windows restarted at every event's end: a run
+        # resumed from a checkpoint (taken at an event's end) samples as the straight run did
+        self.next = self.after(t0) if self.stable else math.inf
+        self.reset()
+
+    def after(self, time: float) -> float:
+        """The first multiple of τ above ``time`` (time/τ may round below a whole number)."""
+        m = math.floor(time / self.tau) + 1
+        return self.tau * (m + 1) if self.tau * m <= time else self.tau * m
+
+    def reset(self) -> None:
+        self.start, self.peak, self.maxima = None, 0.0, []
+
+    def sample(self, time: float, state, n_above: int) -> bool:
+        """True: steady sliding established at ``time``."""
+        self.next = self.after(time)
+        if n_above:
+            self.reset()
+            return False
+        n = self.n
+        d = max(float(np.max(np.abs(state[:n] - self.x_ss))), float(np.max(np.abs(state[n:2 * n] - self.y_ss))))
+        if not d <= STEADY_BAND:
+            self.reset()
+            return False
+        done = False
+        if self.start is None:
+            self.start = time
+        elif time >= self.start + self.length:          # the window [start, time) is complete
+            self.maxima = (self.maxima + [(self.start, self.peak)])[-STEADY_WINDOWS:]
+            self.start, self.peak = time, 0.0
+            w = [m for _, m in self.maxima]
+            done = (len(w) == STEADY_WINDOWS and w[0] > STEADY_FLOOR
+                    and all(w[i + 1] < STEADY_RATIO * w[i] or w[i + 1] <= STEADY_FLOOR
+                            for i in range(STEADY_WINDOWS - 1)))
+        self.peak = max(self.peak, d)
+        return done
+
+    def message(self, time: float, done: int, total: int) -> str:
+        w = ", ".join(f"{m:.2e}" for _, m in self.maxima)
+        return (f"steady: steady sliding after {done} events, no event to come: from t = "
+                f"{self.maxima[0][0]:.6g} the largest |ln V_j − ln V_lp|, |ln θ_j − ln θ_ss| per "
+                f"{self.length / self.tau:.4g} Dc/V_lp decayed {w} (each < {STEADY_RATIO:g} × the one before or "
+                f"<= {STEADY_FLOOR:g}, all <= {STEADY_BAND:g}) and the linearisation is stable (max Re λ = "
+                f"{self.growth:.3g}) (t = {time:.17g}, {total} steps)")
 
 
 def _number(argument, value, *, low=None, positive=False, fix="give a finite number") -> float:
@@ -237,7 +355,7 @@ class _Events:
 
 def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_steps: int = 10_000_000,
         maxima: bool = True, crossings: bool = False, every: int | None = None, save=None,
-        resume=None, tol: float = EXACT_TOL) -> RSChainResult:
+        resume=None, tol: float = EXACT_TOL, steady: bool = True) -> RSChainResult:
     """Integrate from ``state0`` (``initial_state``) until ``events`` events are catalogued.
 
     ``t_max`` and ``max_steps`` bound the time and the Taylor steps from the start or the end of the
@@ -252,6 +370,11 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     after which the events done reach a new multiple of ``every`` (while events remain to do); a run
     given ``resume=snapshot`` goes on from it (``state0`` gives only the shape) and computes the same
     events, bit for bit, as the run that saved it.
+
+    ``steady=True`` ends a run whose deviations from steady sliding are observed to decay (within
+    STEADY_BAND, by STEADY_RATIO per STEADY_WINDOW Dc/V_lp, over STEADY_WINDOWS windows, with the
+    linearisation stable) with status ``steady`` and the events before; it only reads the state, so the
+    events are those of ``steady=False``, bit for bit.
     """
     if int(events) < 1:
         raise InputError("events", events, "must be >= 1", "give the number of events to catalogue")
@@ -306,6 +429,9 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
     buffer, rows, wanted = c.recorder.buffer, assembler.rows, assembler.wanted
     state = ta.state
     bounded_t = math.isfinite(t_max)
+    watch = _Steady(spec, float(ta.time)) if steady else None
+    next_sample = [watch.next if watch is not None else math.inf]
+    x_view = state     # the watch reads x and y only
 
     total, since = steps      # Taylor steps: in all, since the last event ended
 
@@ -324,6 +450,14 @@ def run(spec: RSChainSpec, state0, events: int, *, t_max: float = math.inf, max_
                 since, grew = 0, True
         if not assembler.n_above:
             state[p_index] = 0.0     # between events P restarts from 0: it never grows large
+        if next_sample[0] <= ta.time:
+            if watch.sample(ta.time, x_view, assembler.n_above):
+                status[0] = RSChainStatus.STEADY
+                status[1] = watch.message(ta.time, assembler.done, total)
+                return False
+            next_sample[0] = watch.next
+        if grew and watch is not None:
+            watch.reset()
         if since > max_steps or (bounded_t and ta.time - assembler.t_last > t_max):
             status[0] = RSChainStatus.NO_STOP
             status[1] = (f"no-stop: event {assembler.done + 1} did not end within t_max = {t_max:g} or "
@@ -361,9 +495,10 @@ def _snapshot(ta, assembler: _Events, steps) -> Snapshot:
 
 def rs_chain(*, n, state_law="aging", a=0.01, b=0.015, dc=0.01, k, ell=1.0, v_lp=1.0, mass=0.0, eta=0.0,
              v_th=10.0, periodic=False, amplitude=0.1, seed=1, events=100, t_max=math.inf,
-             max_steps=10_000_000, maxima=True, crossings=False, tol=EXACT_TOL) -> RSChainResult:
-    """Run a rate-and-state chain from perturbed steady sliding and catalogue its first ``events`` events."""
+             max_steps=10_000_000, maxima=True, crossings=False, tol=EXACT_TOL, steady=True) -> RSChainResult:
+    """Run a rate-and-state chain from perturbed steady sliding and catalogue its first ``events`` events
+    (``steady``: see ``run``)."""
     spec = RSChainSpec(n=n, state_law=state_law, a=a, b=b, dc=dc, k=k, ell=ell, v_lp=v_lp, mass=mass, eta=eta,
                        v_th=v_th, periodic=bool(periodic))
     return run(spec, initial_state(spec, amplitude, seed), events, t_max=t_max, max_steps=max_steps,
-               maxima=maxima, crossings=crossings, tol=tol)
+               maxima=maxima, crossings=crossings, tol=tol, steady=steady)

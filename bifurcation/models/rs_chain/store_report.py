@@ -143,7 +143,7 @@ def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
             spanning = f"{float(np.mean(cat['n_blocks'] == n)):.3f}"
             if r in drawn:
                 label = ", ".join(f"{d} = {c}" for d, c in zip(varying, cells)) or "the run"
-                note(f"{label}: fitting {k} event sizes (Clauset: {FIT['bootstrap']} bootstrap samples and "
+                note(f"{label + ': ' if varying else ''}fitting {k} event sizes (Clauset: {FIT['bootstrap']} bootstrap samples and "
                      f"{FIT['block_bootstrap']} block resamples; minutes for 10^5 events)")
                 s = size_fit(cat["potency"])
                 fits.append((label, s))
