@@ -1,6 +1,7 @@
 """A model's engine revision (``Model.revision``) keeps a store begun by an older engine from being resumed
-with runs of the newer one, whose numbers differ in the last bits (the rate-state chain's revision 1 of
-2026-11-26 moved its catalogs' last bits), and says so in one line instead of "holds another workflow"."""
+with runs of the newer one, whose numbers may differ (the rate-state chain's revision 1 of 2026-11-26 moved
+its catalogs' last bits; revision 2 ends runs whose steady sliding is stable as "steady"), and says so in
+one line instead of "holds another workflow"."""
 from __future__ import annotations
 
 import dataclasses
@@ -19,13 +20,13 @@ from test_rs_chain_checkpoint import WORKFLOW
 
 def test_the_revision_enters_the_fingerprint_and_the_store(tmp_path, monkeypatch):
     workflow = parse_workflow(WORKFLOW)
-    assert workflow.spec.revision == 1
+    assert workflow.spec.revision == 2
     now = workflow.fingerprint
     attrs = create_store(tmp_path / "s.zarr", workflow)
-    assert attrs["engine_revision"] == 1 and attrs["workflow_fingerprint"] == now
+    assert attrs["engine_revision"] == 2 and attrs["workflow_fingerprint"] == now
     assert check_store(tmp_path / "s.zarr", workflow)["workflow_fingerprint"] == now
 
-    older = dataclasses.replace(get_model("rs-chain"), revision=0)   # the engine before revision 1
+    older = dataclasses.replace(get_model("rs-chain"), revision=0)   # the engine before revisions
     monkeypatch.setattr(type(workflow), "spec", property(lambda self: older))
     assert workflow.fingerprint != now
 
@@ -42,7 +43,7 @@ def test_a_store_begun_by_an_older_engine_is_refused_with_what_to_do(tmp_path):
     with pytest.raises(InputError) as err:
         check_store(path, workflow)
     text = str(err.value)
-    assert "revision 0 of the rs-chain engine" in text and "now revision 1" in text and "--new-store" in text
+    assert "revision 0 of the rs-chain engine" in text and "now revision 2" in text and "--new-store" in text
 
 
 def test_models_without_a_revision_keep_their_fingerprints():

@@ -136,7 +136,7 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
         if made != now and attrs.get("model") == workflow.spec.name:
             raise InputError(argument, str(path),
                              f"was begun by revision {made} of the {workflow.spec.name} engine, which is now "
-                             f"revision {now}: its runs and new ones would differ in the last bits",
+                             f"revision {now}: its runs and new ones could differ (in their last bits or in how a run ends)",
                              "pass --new-store to compute it again with this engine, or finish it with the "
                              "version of bifurcation that began it")
         raise InputError(argument, str(path),

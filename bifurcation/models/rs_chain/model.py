@@ -293,8 +293,9 @@ RS_CHAIN = Model(
                 check_batch="bifurcation.models.rs_chain.model:check_batch"),
     units_note="those of the workflow's own V_lp, Dc, k (σ = 1: stresses in units of the normal stress)",
     # 1: velocity-maximum events scaled so they no longer shorten heyoka's steps (2026-11-26), which moved
-    # the catalogs' last bits: a store begun before must not be resumed with this engine's runs.
-    revision=1,
+    # the catalogs' last bits; 2: a run whose steady sliding is seen to be stable ends "steady" (it ran to
+    # its bounds as "no-stop" before). A store begun before must not be resumed with this engine's runs.
+    revision=2,
     # 1: [engine] batch > 1 runs a tile's chains of one structure in run_batch's SIMD lanes (rounding only)
     batch_revision=1,
 )
