@@ -48,16 +48,16 @@ def _tile_task(tile, store: str, run_id: str) -> dict:
 
 def _finalize(store: str, lock_token: str, entry: dict, *results) -> dict:
     """Worker task after every tile: the run's line in the store history, then the lock released."""
-    from ..outcome import Status
     from ..models import get_model
     from ..store import record_submit
     from ..store.lock import lock_path
 
     computed = sum(r["points"] for r in results if "error" not in r)
     failed = sum(r["points"] for r in results if "error" in r)
-    counts = [0] * (max(Status) + 1)
+    counts: list[int] = []   # as long as the longest tile's counts: a model may declare codes beyond Status
     for r in results:
         for i, n in enumerate(r.get("counts", ())):
+            counts.extend([0] * (i + 1 - len(counts)))
             counts[i] += n
     errors = [r["error"] for r in results if "error" in r][:5]
     model = get_model(entry.pop("model", None))
