@@ -55,12 +55,15 @@ def _repeated_option(command: click.Command, args: list[str]) -> str | None:
     return None
 
 
-def _empty_value(command: click.Command, args: list[str], prefix: str = "") -> str | None:
-    """An empty (or blank) value given to an option or argument of ``command``, named as typed with '' (a
-    path made of it reads as '.', the working directory: `export --store ''` said --store='.')."""
-    if isinstance(command, click.Group):   # `study chain ''`: the subcommand's own arguments
+def _given(command: click.Command, args: list[str], prefix: str = ""):
+    """The values ``args`` give to ``command``'s options and arguments, as click will read them: (the command
+    they belong to, its group prefix, the name as typed, the click parameter, the value or None if missing);
+    a group hands on to its subcommand (`study chain WORKFLOW`). Flags and unknown options give nothing."""
+    if isinstance(command, click.Group):
         sub = command.commands.get(args[0]) if args else None
-        return _empty_value(sub, args[1:], f"{prefix}{command.name} ") if sub is not None else None
+        if sub is not None:
+            yield from _given(sub, args[1:], f"{prefix}{command.name} ")
+        return
     takes = {opt: p for p in command.params if isinstance(p, click.Option) and not p.is_flag for opt in p.opts}
     positional = [p for p in command.params if isinstance(p, click.Argument)]
     i, position = 0, 0
@@ -68,18 +71,23 @@ def _empty_value(command: click.Command, args: list[str], prefix: str = "") -> s
         arg = args[i]
         opt, eq, value = arg.partition("=")
         if opt in takes and eq:
-            name = opt
+            yield command, prefix, opt, takes[opt], value
         elif arg in takes:
             i += 1
-            name, value = arg, args[i] if i < len(args) else None
-        elif arg.startswith("-") and arg.strip("-"):
-            name, value = None, None   # a flag (or an unknown option: click's own message)
-        else:
-            name = positional[min(position, len(positional) - 1)].human_readable_name if positional else None
-            position, value = position + 1, arg
-        if name is not None and value is not None and not value.strip():
-            return f"{name}={value!r}: is empty; give a value (`bifurcation {prefix}{command.name} --help` says which)"
+            yield command, prefix, arg, takes[arg], args[i] if i < len(args) else None
+        elif not (arg.startswith("-") and arg.strip("-")) and positional:
+            param = positional[min(position, len(positional) - 1)]
+            position += 1
+            yield command, prefix, param.human_readable_name, param, arg
         i += 1
+
+
+def _empty_value(command: click.Command, args: list[str]) -> str | None:
+    """An empty (or blank) value given to an option or argument of ``command``, named as typed with '' (a
+    path made of it reads as '.', the working directory: `export --store ''` said --store='.')."""
+    for leaf, prefix, name, _, value in _given(command, args):
+        if value is not None and not value.strip():
+            return f"{name}={value!r}: is empty; give a value (`bifurcation {prefix}{leaf.name} --help` says which)"
     return None
 
 
@@ -87,31 +95,13 @@ def _empty_value(command: click.Command, args: list[str], prefix: str = "") -> s
 _PATHS = ("store", "stores", "out", "workflow", "scheduler")
 
 
-def _bad_path(command: click.Command, args: list[str], prefix: str = "") -> str | None:
+def _bad_path(command: click.Command, args: list[str]) -> str | None:
     """A path given to --store, --out, --scheduler or WORKFLOW that no command could use: a name longer than the system
     takes (a traceback-free exit 1 after the work, or a half-made parent directory, before) or a symbolic
     link that loops or points nowhere (``Path.exists`` calls it missing, so outputs failed at the end with
     'File exists')."""
-    if isinstance(command, click.Group):
-        sub = command.commands.get(args[0]) if args else None
-        return _bad_path(sub, args[1:], f"{prefix}{command.name} ") if sub is not None else None
-    takes = {opt: p for p in command.params if isinstance(p, click.Option) and not p.is_flag for opt in p.opts}
-    positional = [p for p in command.params if isinstance(p, click.Argument)]
-    i, position = 0, 0
-    while i < len(args):
-        arg = args[i]
-        opt, eq, value = arg.partition("=")
-        param = None
-        if opt in takes and eq:
-            name, param = opt, takes[opt]
-        elif arg in takes:
-            i += 1
-            name, param, value = arg, takes[arg], args[i] if i < len(args) else ""
-        elif not (arg.startswith("-") and arg.strip("-")) and positional:
-            param = positional[min(position, len(positional) - 1)]
-            name, value, position = param.human_readable_name, arg, position + 1
-        i += 1
-        if param is None or param.name not in _PATHS or not value:
+    for _, _, name, param, value in _given(command, args):
+        if param.name not in _PATHS or not value:
             continue
         shown = value if len(value) <= 80 else value[:60] + "…" + value[-15:]
         try:   # bytes that are not UTF-8 reach Python as surrogates: netCDF4 raised UnicodeEncodeError on them
