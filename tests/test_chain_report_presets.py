@@ -216,7 +216,8 @@ def test_the_literature_column_quotes_each_finding_in_its_claims_row():
     (t2,) = [b for b in flatten(verdict_table({}, {"presets": []}, {})) if isinstance(b, Table)]
     assert t2.rows[1][3].endswith("beside ours: no run on the preset")
     # the record of searches that found nothing names its corpus and query
-    assert SEARCHES and all(c in ("pages", "code", "docs", "issues", "find_string") and q and r for c, q, r in SEARCHES)
+    assert SEARCHES and all(c in ("pages", "code", "docs", "issues", "find_string", "find_repos") and q and r
+                            for c, q, r in SEARCHES)
 
 
 def test_docs_list_every_search_that_found_nothing():

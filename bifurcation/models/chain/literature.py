@@ -45,6 +45,12 @@ FINDINGS = (
             "We find that the model gives rise to slipping events of all sizes; the smaller events are consistent "
             "with the Gutenberg-Richter statistical law, whereas the characteristic events have a separate "
             "statistical distribution."),
+    Finding("cl", "B. E. Shaw, J. M. Carlson & J. S. Langer, J. Geophys. Res. 97 (1992), doi:10.1029/91JB01796 (the "
+            "same group's mechanical model of a fault; its variant and parameters are not in the abstract)",
+            "abstract, second sentence (earthref.org/ERR/39420)",
+            "The model generates a statistical distribution of events similar to that observed for a single fault, "
+            "with a scaling region consistent with the Gutenberg-Richter law at small and moderate magnitudes, and an "
+            "excess of events at large magnitudes."),
     Finding("cl", "Sakaguchi, arXiv nlin/0210057", "Sec. 1 (Introduction), on its refs. [7, 8] (Carlson and Langer); "
             "ar5iv.labs.arxiv.org/html/nlin/0210057",
             "All sizes of stick-slip events are observed and the size distribution exhibits a power law in small "
@@ -172,6 +178,105 @@ SEARCHES = (
      "models is now a finding (FINDINGS, 'mk'): words, no parameter"),
     ("pages", "Carlson Langer Shaw Tang 1991 Burridge-Knopoff friction drop sigma one-way slipping zero loading "
      "velocity limit events localized delocalized", "CL PRA 1989 page 1 again; no CLST text"),
+    # a third round (issue 17, helper lit3): only page openings came back (also to a query aimed at the model
+    # section of a stored ar5iv paper), so the routes were pages whose opening could hold
+    # the numbers (figure captions, abstracts of the authors' other papers, slides, APS/earthref/ldeo abstract
+    # pages, Japanese pages, arXiv-source and summary sites) and GitHub text (find_string, reimplementations)
+    ("pages", "Mori Kawamura 1D BK model dimensionless equation of motion friction force σ frictional parameter α l "
+     "periodic boundary conditions N=800", "Xia's page again (with its b table of a long-range model); openings of "
+     "other BK papers (train model, traveling waves, de Sousa Vieira & Herrmann chao-dyn/9312004, Moschetta & "
+     "Mascia); no MK text"),
+    ("pages", "ar5iv cond-mat/0408396 the dimensionless equation of motion of the i-th block, ℓ, ν, friction force φ, "
+     "σ drop, 2α", "friction papers of other fields; MK's model section not reached"),
+    ("pages", "two-dimensional BK model equation of motion in dimensionless form, friction force φ, we fix σ and ν' in "
+     "our simulations, periodic boundary conditions, L×L blocks", "a test whether text past a stored page's opening "
+     "can be matched (MK's 2D paper, arXiv 0706.1871): no such passage came back; every hit is a page opening"),
+    ("pages", "Mogi doughnut quiescence Burridge-Knopoff simulation parameters α = 1 σ = 0.01 ℓ = 3 ν = 0.01 N = 800 "
+     "periodic", "Moschetta & Mascia openings, MK continuum-limit abstract (arxivlens), Hasumi 2D; no number"),
+    ("pages", "Predictor-Corrector Burridge-Knopoff simulations parameters chosen as in Carlson Langer, ℓ^2, α, σ, ν "
+     "values Gutenberg-Richter histogram", "Moschetta & Mascia opening only (their comparison section not stored)"),
+    ("docs", "Mori Kawamura one-dimensional Burridge-Knopoff model arXiv", "other spring-slider codes "
+     "(statmechcode/2L-model, EQcycle_polylinear); nothing on MK"),
+    ("pages", "latex-in-arxiv cond-mat0408396 Mori Kawamura \\documentclass Burridge-Knopoff",
+     "LaTeX manuals; MK's source not stored on latex-in-arxiv.com"),
+    ("pages", "\\title{Simulation study of spatiotemporal correlations of earthquakes as a stick-slip frictional "
+     "instability} \\author{Takahiro Mori and Hikaru Kawamura}", "MK 2005 abstract (scilit) and ar5iv opening "
+     "(stops in the same third paragraph), MK 2D, Kawamura et al. arXiv 1805.07237"),
+    ("pages", "Simulation study of the one-dimensional Burridge-Knopoff model of earthquakes Mori Kawamura abstract",
+     "MK JGR 2006: the sciencedocbox title page again; no abstract, no arXiv number; Kawamura et al. rate-and-state "
+     "papers (arXiv 1605.08659)"),
+    ("pages", "physics/0504218 Mori Kawamura", "a guessed arXiv number for MK JGR 2006, used only as a search key: "
+     "nothing related"),
+    ("pages", "Mori Kawamura 2006 one-dimensional BK model magnitude distribution depends on frictional parameter α; "
+     "α=1 near-critical Gutenberg-Richter, larger α characteristic peak, subcritical supercritical abstract JGR",
+     "the same MK titles and abstracts; Sornette's 1992 mean-field model"),
+    ("pages", "Figure 1 from Simulation study of spatiotemporal correlations of earthquakes as a stick-slip "
+     "frictional instability magnitude distribution caption", "no figure page of MK stored (scilit abstract only)"),
+    ("pages", "figure caption magnitude distribution of the one-dimensional BK model for various values of the "
+     "frictional parameter α, σ=0.01, ℓ=3", "Xia's page; Kawamura et al. rate-and-state abstracts; no caption"),
+    ("pages", "Statistical physics of fracture, friction, and earthquakes Rev. Mod. Phys. 84 839 one-dimensional BK "
+     "model magnitude distribution figure caption α σ ν", "RMP 2012: abstract and contents again (arxiv-vanity, "
+     "it.scribd 'page 1 of 52', scdigest); Sec. III.1.3 not stored"),
+    ("pages", "researchgate publication Simulation study of spatiotemporal correlations of earthquakes as a "
+     "stick-slip frictional instability Mori Kawamura figures", "no ResearchGate page; the same MK openings"),
+    ("pages", "arxiver Takahiro Mori Hikaru Kawamura spatiotemporal correlations one-dimensional spring-block model "
+     "earthquakes frictional parameter α Mogi doughnut arXiv:physics", "the same MK openings; no JGR 2006"),
+    ("pages", "ar5iv 0807.4588 continuum limit one-dimensional Burridge-Knopoff model introduction previous studies "
+     "discrete BK model frictional parameter", "MK continuum limit: abstract only (tomesphere); no ar5iv opening"),
+    ("pages", "Mori Kawamura 2D long-range interaction Burridge-Knopoff introduction our previous study of the 1D "
+     "model near-critical fine-tuning α", "the 0802.1305 abstract again (tomesphere, scifaro, and koineu.com with "
+     "a machine-written summary: not the paper's text); no 1D number"),
+    ("pages", "koineu posts Mori Kawamura one-dimensional Burridge-Knopoff spatio-temporal correlations stick-slip "
+     "frictional instability research summary", "no such post for MK's 1D papers"),
+    ("pages", "slides Kawamura statistical physics of earthquakes Burridge-Knopoff model 1D magnitude distribution "
+     "α=1 α=2 α=3 σ ℓ ν' lecture", "no slides; Hasumi 2D abstracts, de Sousa Vieira cond-mat/9602108 abstract"),
+    ("pages", "バネ-ブロック Burridge-Knopoff モデル 河村 森 1次元 摩擦パラメータ α マグニチュード分布 シミュレーション",
+     "Japanese pages: Kawamura's KAKEN report 2010 (2D BK, rate-and-state), Sakaguchi's JpGU 2019 abstract; no "
+     "parameter"),
+    ("pages", "Results for the 1D BK model with zero loading velocity sigma drop one direction Xia EQProject",
+     "only Xia's BK1D page; its linked sub-pages are not stored (σ's value still not read)"),
+    ("pages", "Carlson Langer 1989 uniform chain of blocks and springs velocity-weakening friction slipping events "
+     "localized delocalized Gutenberg-Richter abstract Physical Review Letters", "CL PRA 1989 page 1 (scribd) "
+     "again; no PRL 62, 2632 page"),
+    ("pages", "scribd Carlson Langer mechanical model of an earthquake fault II. THE MODEL dimensionless variables "
+     "equation of motion friction function φ α parameter", "scribd stores page 1 of 15 only ('Sie sind auf Seite 1 "
+     "von 15'); Shaw 1997 abstract (ldeo.columbia.edu), SCEC entries"),
+    ("pages", "journals.aps.org pra abstract 10.1103/PhysRevA.44.884 Carlson Langer Shaw Tang", "nothing (no APS "
+     "abstract page of CLST stored)"),
+    ("pages", "ldeo.columbia.edu shaw abstracts Intrinsic properties of a Burridge-Knopoff model of an earthquake "
+     "fault Carlson Langer Shaw Tang 1991", "no CLST abstract; arxiver lists CLS RMP (adap-org/9307001) and Pepke, "
+     "Carlson & Shaw (chao-dyn/9307019) abstracts: no parameter"),
+    ("pages", "Shaw Carlson Langer 1992 patterns of seismic activity preceding large earthquakes one-dimensional "
+     "uniform model abstract", "found: Shaw, Carlson & Langer, JGR 97 (1992) abstract (earthref.org/ERR/39420), now "
+     "a finding (FINDINGS, 'cl'): words, no parameter"),
+    ("pages", "earthref Carlson Langer Shaw mechanical model fault friction parameter abstract JGR Burridge-Knopoff",
+     "CL PRA page 1, CLS RMP and LCMS PNAS SCEC entries again; no parameter"),
+    ("pages", "Carlson Langer model stiffness parameter l = 10, velocity-weakening α = 2.5, σ = 0.01, ν = 0.01 as in "
+     "Carlson et al. we use the same parameters", "Xia's page; Sakaguchi & Morita (arXiv 1309.4583) introduction: "
+     "'Carlson et al. used a type of velocity-weakening friction and observed a power law in the range of small "
+     "magnitude' (secondary, no number)"),
+    ("pages", "de Sousa Vieira Vasconcelos Nagel spring-block chain transition stick-slip to creep first-order "
+     "hysteresis ν_f Physical Review E 1993", "not found; the seed's own abstract (concepedia) and Sakaguchi's "
+     "introduction"),
+    ("pages", "de Sousa Vieira exponential distributions mechanical model earthquakes Burridge-Knopoff equations of "
+     "motion friction ν_f parameter", "de Sousa Vieira's cond-mat/9602108 abstract (tomesphere): no dSVVN number"),
+    ("pages", "de Sousa Vieira chaos and synchronized chaos in an earthquake model two blocks friction law",
+     "her cond-mat/9312072 abstract and two-block papers of others; nothing of PRE 47, R2221"),
+    ("code", "thesis LaTeX Burridge-Knopoff chain Carlson Langer friction \\phi(\\dot U) = (1-\\sigma)/(1 + 2\\alpha "
+     "\\dot U/(1-\\sigma)) \\ell^2 \\nu", "no thesis source; rate-and-state codes"),
+    ("code", "Burridge-Knopoff simulation Mori Kawamura parameters l = 3, sigma = 0.01, nu = 0.01 periodic boundary "
+     "800 blocks magnitude distribution alpha", "student BK projects; no MK parameters"),
+    ("docs", "Burridge-Knopoff model Python package velocity-weakening friction Carlson-Langer parameters "
+     "documentation", "no BK package; rate-and-state toolkits (rsfmodel)"),
+    ("find_repos", "'knopoff', 'burridge', 'spring-block' (then read_file of the READMEs of bokhylle/"
+     "1dBurridgeKnopoffMatlab and PrincepsNumerorum/Burridge-Knopoff-1D-Simulator)", "reimplementations "
+     "(larashores/burridgeknopoffsimulator, alireza-astane/Burridge_Knopoff_Model, chunhuizhao478/"
+     "Spring-Block-Model, the two above): none quotes CL, CLST or MK parameters"),
+    ("find_string", "'PhysRevLett.94.058501', 'PhysRevA.40.6470', 'Burridge-Knopoff', 'BK model with short-range "
+     "interaction', 'Mori and Kawamura, 2006', 'sigma=0.01, nu'", "0, 0, 10 unrelated, 0, 0, 10 unrelated hits"),
+    ("find_string", "'Carlson et al. (1991)', 'Carlson & Langer', 'Mori & Kawamura'", "1 unrelated; 7 and 2 hits in "
+     "reimplementations' notes (an AI-written CL reproduction; a pore-pressure BK code citing 'Mori & Kawamura "
+     "(2006, 2008)' for validation): no value attributed to the papers' text"),
 )
 
 

@@ -52,6 +52,12 @@ MK_PRL = "Mori & Kawamura, PRL 94, 058501 (2005), arXiv cond-mat/0408396 (openin
 #: PNAS 93, 3825 (1996), arXiv numbers, the RMP 2012 review, the issues corpus; literature.SEARCHES from the
 #: 20th on): only openings and abstracts again, no parameter (one clause of MK on their 1D models, in words,
 #: became a finding: literature.FINDINGS); every NOT READ below stays so.
+#: A third round (helper lit3; literature.SEARCHES entries 36-73, some bundling several look-ups): only page openings came
+#: back (also to a query aimed at the model section of a stored ar5iv paper), so pages whose opening could
+#: hold the numbers were tried (figure captions, the authors' other abstracts, APS/earthref/ldeo abstract pages,
+#: slides, Japanese pages, the scribd copy of CL PRA 1989 beyond page 1, Xia's sub-pages) and GitHub text
+#: (reimplementations, find_string for DOIs and citations). One finding in words (Shaw, Carlson & Langer, JGR 97
+#: (1992), abstract: literature.FINDINGS), no parameter: no value below changes and every NOT READ stays so.
 
 
 @dataclass(frozen=True)
