@@ -170,10 +170,11 @@ def cycle(law, a, b, dc, k, v_lp, mass, eta, perturb=1e-2, transient=300.0, dps=
             x = [x[0] - dx[0], x[1] - dx[1]]
             if max(abs(dx[0] / x[0]), abs(dx[1] / x[1])) < mpf(10) ** -(dps - 10):
                 break
+        mults = [abs(z) for z in mp.eig(J + mp.eye(2), left=False, right=False)]
         V1, th1, T, vmin = return_map(law, p, *x)
         closure = max(abs(V1 - x[0]) / x[0], abs(th1 - x[1]) / x[1])
         return {"period": T, "ln_v_max": mp.log(x[0] / p[4]), "ln_v_min": mp.log(vmin / p[4]),
-                "closure": closure}
+                "closure": closure, "multiplier_max": max(mults)}
 
 
 def _to_section(law, p, V, th, F, order=30):
