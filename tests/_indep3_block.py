@@ -99,6 +99,27 @@ def _first_root(c, h, lo_frac, samples=24):
     return None
 
 
+def _fade_cap(vs, nu_f, h, dps):
+    """Shorten a step so that the friction of e^{−x} cannot come back unseen within it.
+
+    The series of e^{−x(t)} is proportional to e^{−x0}: at large x its coefficients do not limit the
+    step, which could then cross the whole return of the friction near the stop (the blind spot of
+    docs/engine.md, "Friction that fades"; an earlier version of this reference had it: Δ 3.3e-9 too
+    large at ν = 1e-6, ν_f = 1e-4, i.e. ≈ (π²/12)ν_f²/2). Above X_NEG, where e^{−x} is below the
+    working precision by 10 more decades, a step may not go below X_NEG; below it, x may change by at
+    most 1 per step (the friction by at most a factor e)."""
+    x_neg = (dps + 10) * mp.log(10)
+    xs = [c / nu_f for c in vs]
+    x0 = xs[0]
+    if x0 > x_neg:
+        d = list(xs)
+        d[0] -= x_neg
+        r = _first_root(d, h, mpf(0))
+        return r if r is not None and r > 0 else h
+    rate = max(abs(xs[1]), mpf(10) ** -30)
+    return min(h, 1 / rate)
+
+
 def cycle(law, nu, nu_f, dps=45, order=32, max_steps=200000):
     """Δ, stop time, t1 (None if V never reaches ν_f), max V and steps of one cycle, as mpf."""
     with mp.workdps(dps):
@@ -116,6 +137,8 @@ def cycle(law, nu, nu_f, dps=45, order=32, max_steps=200000):
                 if m > 0:
                     hs.append((tol / m) ** (mpf(1) / k))
             h = min(hs) * mpf("0.5") if hs else mpf(1)
+            if law == "exponential":
+                h = _fade_cap(vs, nu_f, h, dps)
             acc = [(k + 1) * vs[k + 1] for k in range(order)]   # V' series
             dv = list(vs)
             dv[0] -= nu_f
