@@ -210,4 +210,7 @@ RATE_STATE = Model(
                 commands="bifurcation.cli._rate_state:COMMANDS",
                 workflow="bifurcation.models.rate_state.study:WORKFLOW"),
     units_note="those of the workflow's own V_lp, Dc and M (docs/rate-state.md)",
+    # 1: the limit cycle's Newton shooting is polished with the Jacobian at the solution (2026-11-26),
+    # which moves the last bits of a cycle's numbers. A store begun before must not be resumed with it.
+    revision=1,
 )
