@@ -11,6 +11,18 @@ import numpy as np
 __all__ = ["verdict", "write_report", "write_store"]
 
 
+#: Floquet multipliers come from central differences of the return map (h = 1e-5), where truncation and
+#: rounding balance near 1e-10 (docs/rate-state.md, "Two-parameter continuation"): a smaller |μ| has no
+#: significant digit, and its printed digits changed between runs, so it is shown as this bound.
+MULTIPLIER_NOISE = 1e-9
+
+
+def multiplier_text(value: float, digits: int = 6) -> str:
+    """|μ| to ``digits`` significant digits, or "< 1e-9" where it is below the finite-difference noise."""
+    value = abs(value)
+    return f"< {MULTIPLIER_NOISE:.0e}".replace("e-0", "e-") if value < MULTIPLIER_NOISE else f"{value:.{digits}g}"
+
+
 def _amplitude(p) -> float:
     return p.ln_v_max - p.ln_v_min
 
@@ -143,7 +155,11 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
         Table(["branch", "l1 (normal form)", "l1 (direct simulation, ε = 5e-3)", "criticality", "fold κ", "verdict"],
               rows),
         Paragraph("Quasi-static fate below k_c (start 1 % off steady state, 400 linear periods; a run stopped "
-                  f"at ln V > {BLOWUP_LN_V:g} is a blow-up, the step having fallen below the resolution of t):"),
+                  f"at ln V > {BLOWUP_LN_V:g}, the step having fallen below the resolution of t, is counted as a "
+                  "blow-up by the verdict, which reads the κ = 0.9 rows. A stop cannot tell a blow-up from a large "
+                  "spike that returns (see the basins section); tests/test_rate_state_fates_in_slip.py follows "
+                  "these runs with slip as the clock: which rows run away there, and which stop on a spike that "
+                  "returns, is said in docs/rate-state.md, \"Quasi-static fate below k_c\"):"),
         Table(["law", "κ", "status", "largest completed maximum of ln V", "ln V where the run stopped"],
               [[f["state_law"], f"{f['kappa']}", f["status"], f"{f['ln_v_max']:.3g}",
                 f"{f.get('ln_v_stop', math.nan):.3g}"] for f in fates]),
@@ -178,7 +194,7 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
             if j % 5 == 0 or abs(j - i) <= 2 or j == len(b.points) - 1:
                 rows.append([f"{j}{' (fold)' if j == i else ''}", f"{p.kappa:.10g}", f"{p.period:.12g}",
                              f"{p.ln_v_max:.5g}", f"{p.ln_v_min:.5g}", f"{p.slip:.6g}",
-                             ", ".join(f"{abs(z):.6g}" for z in p.multipliers), f"{r['period_check'][j]:.1e}"])
+                             ", ".join(multiplier_text(z) for z in p.multipliers), f"{r['period_check'][j]:.1e}"])
         branches.append(Section(f"{r['spec'].label}: through the fold", [
             Table(["point", "κ", "period", "ln V max", "ln V min", "slip/cycle", "Floquet multipliers",
                    "|T_direct/T − 1|"], rows)], level=3))
@@ -211,7 +227,13 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
                   "times), and only these changed between two runs of this workflow: the seconds; the simulated "
                   "l1 of the degenerate branches (~1e-12: rounding, not a coefficient); the period checks "
                   "|T_direct/T − 1| (rounding, ≤ 1e-11); Floquet multipliers below ~1e-9 (finite-difference "
-                  "noise of the trivial direction). Every other printed digit was the same."),
+                  "noise of the trivial direction, now printed as < 1e-9). Every other printed digit was the same. "
+                  "The store branches.zarr beside this report holds the branches (the tables of the Branches section "
+                  "and the verdict's l1 from the normal form, criticality and fold κ); every other number here "
+                  "(the Hopf sweep, l1 by direct simulation, the quasi-static fates, the Bautin points, the "
+                  "two-parameter diagram, the cascade, the tori and the basins) is computed by the same run and "
+                  "written only into this report, with no data file beside it; docs/rate-state.md names the tests "
+                  "that check the methods behind them."),
         verdicts, hopf, Section("Branches", branches), *extra]
     (out / "REPORT.md").write_text(to_markdown(blocks), encoding="utf-8")
     (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")
