@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -47,3 +48,23 @@ def test_the_fate_table_says_a_stop_is_counted_not_shown():
     assert "is a blow-up, the step" not in text
     assert "is counted as a blow-up by the verdict" in text
     assert (ROOT / "tests" / "test_rate_state_fates_in_slip.py").exists()
+
+
+def test_the_stick_slip_paragraph_names_both_measures_from_the_branches():
+    # a neutral family spanning 45.7 in ln V over a cycle whose lowest point is 15.9 below ln V_lp (the
+    # committed store's quasi-static aging branch): the old text called ln V_min < −23 "10 decades" and
+    # cited a case (slip law, ln V_min = −22.3) that passes only the over-a-cycle measure
+    from types import SimpleNamespace as NS
+
+    from bifurcation.models.rate_state.report import stick_slip_text
+
+    results = [{"branch": NS(v_lp=1.0, points=[NS(ln_v_min=-15.93, ln_v_max=29.79), NS(ln_v_min=-1.0, ln_v_max=1.0)]),
+                "spec": NS(label="aging, quasi-static")},
+               {"branch": NS(v_lp=math.e, points=[NS(ln_v_min=-6.0, ln_v_max=4.0)]),
+                "spec": NS(label="prz, inertial")}]
+    text = stick_slip_text(results)
+    assert "(lowest ln(V_min/V_lp): -15.93, aging, quasi-static;" in text
+    assert "the widest cycle spans 45.72 in ln V over a cycle, aging, quasi-static)" in text
+    assert "ln(V_max/V_min) > 23 for κ < 0.044" in text and "9.7 decades below V_lp" in text
+    committed = REPORT.read_text(encoding="utf-8")
+    assert "(lowest ln(V_min/V_lp): -15.93, aging, quasi-static; the widest cycle spans 45.72" in committed

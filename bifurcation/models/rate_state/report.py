@@ -8,7 +8,7 @@ import platform
 
 import numpy as np
 
-__all__ = ["verdict", "write_report", "write_store"]
+__all__ = ["multiplier_text", "stick_slip_text", "verdict", "write_report", "write_store"]
 
 
 #: Floquet multipliers come from central differences of the return map (h = 1e-5), where truncation and
@@ -125,6 +125,25 @@ def _figure(path, results) -> None:
     plt.close(fig)
 
 
+def stick_slip_text(results) -> str:
+    """The report's paragraph on stick-slip-like cycles, with the deepest point and the widest cycle of the
+    branches in κ named: "10 decades below V_lp" (ln(V_min/V_lp) < −23) and "10 decades over a cycle"
+    (ln(V_max/V_min) > 23) are different measures, and a neutral quasi-static family can pass the second
+    without the first."""
+    deep = min(((p.ln_v_min - math.log(r["branch"].v_lp), r["spec"].label) for r in results
+                for p in r["branch"].points), default=(math.nan, "—"))
+    wide = max(((p.ln_v_max - p.ln_v_min, r["spec"].label) for r in results for p in r["branch"].points),
+               default=(math.nan, "—"))
+    return ("Stick-slip-like cycles, V falling more than 10 decades below V_lp (ln(V_min/V_lp) < −23), are not "
+            f"reached on these branches (lowest ln(V_min/V_lp): {deep[0]:.4g}, {deep[1]}; the widest cycle spans "
+            f"{wide[0]:.4g} in ln V over a cycle, {wide[1]}): on the quasi-static ones V blows up first; on the "
+            "inertial ones the fast mode of ln V relaxes at a rate a/(M V), and below ln V ≈ −9 the explicit "
+            "Taylor steps reach its stability limit (the continuation stops there with its reason, see `stop`). "
+            "With b/a = 5 and η = 100 the slip law's attracting cycles pass 10 decades over a cycle "
+            "(ln(V_max/V_min) > 23 for κ < 0.044), with V_min then 9.7 decades below V_lp (docs/rate-state.md, "
+            "\"Where cycles become stick-slip-like\").")
+
+
 def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="workflows/rate-state.toml",
                  diagram=None) -> None:
     """``REPORT.md``, ``report.html`` (the same typed blocks, ``report.document``) and the bifurcation diagram."""
@@ -211,13 +230,7 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
                     f"{p.ln_v_max - math.log(p.v_lp):.10g}", f"{p.ln_v_min - math.log(p.v_lp):.10g}",
                     f"{max(abs(z) for z in p.multipliers):.6g}", f"{r['period_check'][j]:.1e}"]
                    for j, p in enumerate(b.points)])], level=3))
-    branches.append(Paragraph(
-        "Stick-slip-like cycles (V dropping by more than 10 decades below V_lp, ln V_min < −23) are not "
-        "reached on these branches: on the quasi-static ones V blows up first; on the inertial ones the fast "
-        "mode of ln V relaxes at a rate a/(M V), and below ln V ≈ −9 the explicit Taylor steps reach its "
-        "stability limit (the continuation stops there with its reason, see `stop`). With b/a = 5 and "
-        "η = 100 the slip law's attracting cycles do pass 10 decades over a cycle (κ < 0.044; "
-        "docs/rate-state.md, \"Where cycles become stick-slip-like\")."))
+    branches.append(Paragraph(stick_slip_text(results)))
     blocks = [
         Heading(f"Rate-and-state spring-slider: Hopf bifurcation and cycles ({spec.name})", 1),
         Paragraph(f"Produced by `bifurcation continue {workflow}` in {seconds:.0f} s on {platform.machine()} (one "
