@@ -358,6 +358,7 @@ def section(d: Diagram, bautin: dict) -> list:
     """The report's sections (typed blocks, ``report.document``) on the two-parameter diagram, the fold
     curves, the cascade and tori, and the basins."""
     from ...report.document import Figure, Paragraph, Section, Table
+    from .report import multiplier_text
 
     rows = []
     for c in d.curves:
@@ -387,7 +388,7 @@ def section(d: Diagram, bautin: dict) -> list:
         blocks.append(Paragraph(f"{c.state_law}: every 8th fold (Floquet multipliers of the fold's cycle; one is 1):"))
         blocks.append(Table(["η", "κ_f", "period", "ln V max", "ln V min", "multipliers", "|T_direct/T − 1|"],
                             [[f"{p.eta:.6g}", f"{p.kappa:.10f}", f"{p.period:.12g}", f"{p.ln_v_max:.6g}",
-                              f"{p.ln_v_min:.6g}", ", ".join(f"{abs(z):.10g}" for z in p.multipliers),
+                              f"{p.ln_v_min:.6g}", ", ".join(multiplier_text(z, 10) for z in p.multipliers),
                               f"{c.period_checks[j]:.1e}"]
                              for j, p in enumerate(c.points) if j % 8 == 0 or j == len(c.points) - 1]))
     blocks.append(Paragraph("**Regions** are labelled by runs at the marked points: the fate of steady sliding "

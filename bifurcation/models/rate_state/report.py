@@ -8,7 +8,19 @@ import platform
 
 import numpy as np
 
-__all__ = ["verdict", "write_report", "write_store"]
+__all__ = ["multiplier_text", "stick_slip_text", "verdict", "write_report", "write_store"]
+
+
+#: Floquet multipliers come from central differences of the return map (h = 1e-5), where truncation and
+#: rounding balance near 1e-10 (docs/rate-state.md, "Two-parameter continuation"): a smaller |μ| has no
+#: significant digit, and its printed digits changed between runs, so it is shown as this bound.
+MULTIPLIER_NOISE = 1e-9
+
+
+def multiplier_text(value: float, digits: int = 6) -> str:
+    """|μ| to ``digits`` significant digits, or "< 1e-9" where it is below the finite-difference noise."""
+    value = abs(value)
+    return f"< {MULTIPLIER_NOISE:.0e}".replace("e-0", "e-") if value < MULTIPLIER_NOISE else f"{value:.{digits}g}"
 
 
 def _amplitude(p) -> float:
@@ -113,6 +125,25 @@ def _figure(path, results) -> None:
     plt.close(fig)
 
 
+def stick_slip_text(results) -> str:
+    """The report's paragraph on stick-slip-like cycles, with the deepest point and the widest cycle of the
+    branches in κ named: "10 decades below V_lp" (ln(V_min/V_lp) < −23) and "10 decades over a cycle"
+    (ln(V_max/V_min) > 23) are different measures, and a neutral quasi-static family can pass the second
+    without the first."""
+    deep = min(((p.ln_v_min - math.log(r["branch"].v_lp), r["spec"].label) for r in results
+                for p in r["branch"].points), default=(math.nan, "—"))
+    wide = max(((p.ln_v_max - p.ln_v_min, r["spec"].label) for r in results for p in r["branch"].points),
+               default=(math.nan, "—"))
+    return ("Stick-slip-like cycles, V falling more than 10 decades below V_lp (ln(V_min/V_lp) < −23), are not "
+            f"reached on these branches (lowest ln(V_min/V_lp): {deep[0]:.4g}, {deep[1]}; the widest cycle spans "
+            f"{wide[0]:.4g} in ln V over a cycle, {wide[1]}): on the quasi-static ones V blows up first; on the "
+            "inertial ones the fast mode of ln V relaxes at a rate a/(M V), and below ln V ≈ −9 the explicit "
+            "Taylor steps reach its stability limit (the continuation stops there with its reason, see `stop`). "
+            "With b/a = 5 and η = 100 the slip law's attracting cycles pass 10 decades over a cycle "
+            "(ln(V_max/V_min) > 23 for κ < 0.044), with V_min then 9.7 decades below V_lp (docs/rate-state.md, "
+            "\"Where cycles become stick-slip-like\").")
+
+
 def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="workflows/rate-state.toml",
                  diagram=None) -> None:
     """``REPORT.md``, ``report.html`` (the same typed blocks, ``report.document``) and the bifurcation diagram."""
@@ -143,7 +174,11 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
         Table(["branch", "l1 (normal form)", "l1 (direct simulation, ε = 5e-3)", "criticality", "fold κ", "verdict"],
               rows),
         Paragraph("Quasi-static fate below k_c (start 1 % off steady state, 400 linear periods; a run stopped "
-                  f"at ln V > {BLOWUP_LN_V:g} is a blow-up, the step having fallen below the resolution of t):"),
+                  f"at ln V > {BLOWUP_LN_V:g}, the step having fallen below the resolution of t, is counted as a "
+                  "blow-up by the verdict, which reads the κ = 0.9 rows. A stop cannot tell a blow-up from a large "
+                  "spike that returns (see the basins section); tests/test_rate_state_fates_in_slip.py follows "
+                  "these runs with slip as the clock: which rows run away there, and which stop on a spike that "
+                  "returns, is said in docs/rate-state.md, \"Quasi-static fate below k_c\"):"),
         Table(["law", "κ", "status", "largest completed maximum of ln V", "ln V where the run stopped"],
               [[f["state_law"], f"{f['kappa']}", f["status"], f"{f['ln_v_max']:.3g}",
                 f"{f.get('ln_v_stop', math.nan):.3g}"] for f in fates]),
@@ -178,7 +213,7 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
             if j % 5 == 0 or abs(j - i) <= 2 or j == len(b.points) - 1:
                 rows.append([f"{j}{' (fold)' if j == i else ''}", f"{p.kappa:.10g}", f"{p.period:.12g}",
                              f"{p.ln_v_max:.5g}", f"{p.ln_v_min:.5g}", f"{p.slip:.6g}",
-                             ", ".join(f"{abs(z):.6g}" for z in p.multipliers), f"{r['period_check'][j]:.1e}"])
+                             ", ".join(multiplier_text(z) for z in p.multipliers), f"{r['period_check'][j]:.1e}"])
         branches.append(Section(f"{r['spec'].label}: through the fold", [
             Table(["point", "κ", "period", "ln V max", "ln V min", "slip/cycle", "Floquet multipliers",
                    "|T_direct/T − 1|"], rows)], level=3))
@@ -195,13 +230,7 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
                     f"{p.ln_v_max - math.log(p.v_lp):.10g}", f"{p.ln_v_min - math.log(p.v_lp):.10g}",
                     f"{max(abs(z) for z in p.multipliers):.6g}", f"{r['period_check'][j]:.1e}"]
                    for j, p in enumerate(b.points)])], level=3))
-    branches.append(Paragraph(
-        "Stick-slip-like cycles (V dropping by more than 10 decades below V_lp, ln V_min < −23) are not "
-        "reached on these branches: on the quasi-static ones V blows up first; on the inertial ones the fast "
-        "mode of ln V relaxes at a rate a/(M V), and below ln V ≈ −9 the explicit Taylor steps reach its "
-        "stability limit (the continuation stops there with its reason, see `stop`). With b/a = 5 and "
-        "η = 100 the slip law's attracting cycles do pass 10 decades over a cycle (κ < 0.044; "
-        "docs/rate-state.md, \"Where cycles become stick-slip-like\")."))
+    branches.append(Paragraph(stick_slip_text(results)))
     blocks = [
         Heading(f"Rate-and-state spring-slider: Hopf bifurcation and cycles ({spec.name})", 1),
         Paragraph(f"Produced by `bifurcation continue {workflow}` in {seconds:.0f} s on {platform.machine()} (one "
@@ -211,7 +240,13 @@ def write_report(out, spec, sweep, bautin, results, fates, seconds, workflow="wo
                   "times), and only these changed between two runs of this workflow: the seconds; the simulated "
                   "l1 of the degenerate branches (~1e-12: rounding, not a coefficient); the period checks "
                   "|T_direct/T − 1| (rounding, ≤ 1e-11); Floquet multipliers below ~1e-9 (finite-difference "
-                  "noise of the trivial direction). Every other printed digit was the same."),
+                  "noise of the trivial direction, now printed as < 1e-9). Every other printed digit was the same. "
+                  "The store branches.zarr beside this report holds the branches (the tables of the Branches section "
+                  "and the verdict's l1 from the normal form, criticality and fold κ); every other number here "
+                  "(the Hopf sweep, l1 by direct simulation, the quasi-static fates, the Bautin points, the "
+                  "two-parameter diagram, the cascade, the tori and the basins) is computed by the same run and "
+                  "written only into this report, with no data file beside it; docs/rate-state.md names the tests "
+                  "that check the methods behind them."),
         verdicts, hopf, Section("Branches", branches), *extra]
     (out / "REPORT.md").write_text(to_markdown(blocks), encoding="utf-8")
     (out / "report.html").write_text(to_html(blocks, out), encoding="utf-8")

@@ -185,8 +185,11 @@ def blocks(ds, model, out=None, figures=None, stem: str = "") -> list:
             f"magnitude; p from {FIT['bootstrap']} parametric-bootstrap samples (the power law is ruled out when "
             f"the one-sided 95 % Clopper–Pearson bound on p is ≤ 0.1, plausible when p > 0.1, undecided otherwise), "
             f"no power-law reading when the tail above x_min spans less than {MIN_DECADES:g} decade, the verdict with the likelihood ratios against the exponential, lognormal and truncated power "
-            f"law (seed {FIT['seed']}). A run is fitted only with ≥ {MIN_FIT} sizes spanning ≥ {MIN_DECADES:g} decade."))
-        body.append(Table(("run", "events kept", "n_tail", "x_min", "α ± error", "b_P", "b_M", "KS distance",
+            f"law (seed {FIT['seed']}). A run is fitted only with ≥ {MIN_FIT} sizes spanning ≥ {MIN_DECADES:g} decade. "
+            "The KS distance is `powerlaw`'s D, whose empirical CDF is (i − 1)/n at the i-th smallest size, one side "
+            "of each step (powerlaw-devs/powerlaw issue #111): the supremum over both sides can be up to 1/n_tail "
+            "larger; the bootstrap p compares like with like."))
+        body.append(Table(("run", "events kept", "n_tail", "x_min", "α ± error", "b_P", "b_M", "KS distance (powerlaw's D)",
                            "verdict"), tuple(_fit_row(label, s) for label, s in fits)))
     if out is not None and fits:
         note(f"drawing the size, space-time and stress-balance figures of {len(fits)} run(s)")
