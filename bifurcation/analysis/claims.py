@@ -193,7 +193,7 @@ def _figure_claims(source, half):
     big_above = float(np.max(d[above])) if above.any() else math.nan
     out.append(Claim(
         "fig2", "Fig. 2", "Δ vs ν_f for the piecewise-linear law: finite for ν_f ≤ 1/2, 0 above, a jump",
-        "curve of Eq. (18)", f"engine Δ at ν = {_FIG_NU:g} over {x.size} ν_f in [{x.min():g}, {x.max():g}]"   # .2g printed 0.995 as 0.99,
+        "curve of Eq. (18)", f"engine Δ at ν = {_FIG_NU:g} over {x.size} ν_f in [{x.min():g}, {x.max():g}]",   # .2g printed 0.995 as 0.99
         f"max |Δ(ν = 1e-9) − Eq. 18| = {dev:.1e} for ν_f ≤ 0.45; Δ ≤ {big_above:.1e} for ν_f ≥ 0.55",
         "confirmed" if dev < 1e-2 and big_above < 1e-3 else "refuted",
         numbers={"max_dev_below_0.45": dev, "max_above_0.55": big_above}, fallback=fallback))
