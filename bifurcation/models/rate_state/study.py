@@ -94,6 +94,10 @@ _POINTS_FIX = ("give 3 to 1000 points (a branch point is a periodic orbit: secon
 _NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
+#: The longest branch label: it names the branch in the store (query --law), the table and the legend.
+_LABEL_MAX = 100
+
+
 def load_study(path) -> StudySpec:
     """Read and validate a rate-state workflow (one ``InputError`` line on the first problem), with the
     workflows' one validator (``bifurcation.workflow.validate``)."""
@@ -123,6 +127,12 @@ def load_study(path) -> StudySpec:
         label = br.string("label", f"{law} {i}")
         if not label.strip():   # the store finds a branch by its label (query --law): an empty one cannot be
             raise InputError(br.path("label"), label, "is empty", "give the branch a label, e.g. \"prz, quasi-static\"")
+        if not label.isprintable() or len(label) > _LABEL_MAX:   # a line break split the printed table; 5000
+            # characters pushed the figure's legend off the page (both were run, then written)
+            shown = label if len(label) <= 40 else f"{label[:40]}..."
+            raise InputError(br.path("label"), shown, "has a line break or a control character" if not
+                             label.isprintable() else f"has {len(label)} characters",
+                             f"give a label of at most {_LABEL_MAX} printable characters on one line, e.g. \"prz, quasi-static\"")
         if label.strip() in labels:   # a branch is found in the store by its label
             raise InputError(br.path("label"), label, f"repeats branch[{labels[label.strip()]}].label",
                              "give each branch its own label")
