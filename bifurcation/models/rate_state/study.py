@@ -309,7 +309,9 @@ def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
         l1_sim = lyapunov_by_simulation(hs, branch.hopf, br.v_lp, 5e-3)
         results.append({"spec": br, "branch": branch, "period_check": checks, "period_check_quad": quad,
                         "l1_simulation": l1_sim, "seconds": time.perf_counter() - t0})
-        echo(f"  {br.label}: {len(branch.points)} points, folds at {list(branch.folds)}, "
+        folds = (f"folds at points {', '.join(str(i) for i in branch.folds)}" if branch.folds else
+                 "no fold")   # (was Python's "folds at []")
+        echo(f"  {br.label}: {len(branch.points)} points, {folds}, "
              f"{branch.hopf.criticality} (l1 {branch.hopf.lyapunov_coefficient:.4g}, simulated {l1_sim:.4g}), "
              f"max period check {max(checks):.1e}, {branch.meta['stop']}, {time.perf_counter() - t0:.1f} s")
     fates = _quasi_static_fates(spec)
