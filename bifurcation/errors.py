@@ -24,10 +24,22 @@ class InputError(ValueError):
     def line(self, argument: str | None = None) -> str:
         """``argument=value: problem; fix`` (``argument`` as the user typed it, default the one given); a
         value of None is an argument not given: ``--law is missing; give ...``, not ``--law=None: ...``."""
-        argument = self.argument if argument is None else argument
+        argument = _shorten(self.argument if argument is None else argument)
         if self.value is None:
             return f"{argument} {self.problem}; {self.fix}"
-        return f"{argument}={self.value!r}: {self.problem}; {self.fix}"
+        return f"{argument}={_shorten(repr(self.value))}: {self.problem}; {self.fix}"
+
+
+#: A name or value longer than this is cut in the error line (a 10^5-character TOML key or law was printed
+#: whole: one "line" of 100 kB).
+_SHOWN_MAX = 500
+
+
+def _shorten(text: str) -> str:
+    text = str(text)
+    if len(text) <= _SHOWN_MAX:
+        return text
+    return f"{text[:300]}... ({len(text)} characters)"
 
 
 class Terminated(BaseException):

@@ -1653,3 +1653,172 @@ def test_a_symbolic_link_to_nothing(env, tmp_path, monkeypatch):
         assert result.exit_code == 2 and len(lines) == 1, (argv, result.output[-400:])
         assert f"is a symbolic link to '{tmp_path / 'missing' / 'target'}', which does not exist" in lines[0], lines
         assert result.stdout == "" and sorted(p.name for p in tmp_path.iterdir()) == ["link"], argv
+
+
+# -- walk 5 (issue 21, helper walk5): kinds of bad input the blocks above do not hold, batched as walk 2's.
+#    Rows marked "# fixed" failed before: a traceback from report/extrapolate on a store with a deleted data chunk or
+#    array (zarr reads it as fill values; fit-period said "0 points"), a store of an unknown model read or written
+#    by status/verify/export/submit, --dashboard with a scheduler ignored after a 10 s connect, a scheduler file
+#    naming port 0 (a 10 s wait), branch labels with a line break or 5000 characters (run, then written), an error
+#    line of 100 kB (a 10^5-character key or number), "give a smaller mass" for a mass of 5e-324. The rest were
+#    refused already: TOML tables written as arrays or scalars, mixed arrays, integers beyond 64 bits, -0.0 and inf
+#    in every numeric key, stores that are not stores (a plain Zarr group, Zarr v2, JSON that is not an object, a
+#    zarr.json that is a directory, a symbolic link to a file, a FIFO, a newer format), a truncated chunk.
+WORKFLOWS.update({f"w5_{k}": v for k, v in {
+    "aot_grid": (FIG, "[grid.nu]\nvalues = [1e-6, 1e-9]", "[[grid.nu]]\nvalues = [1e-6, 1e-9]"),
+    "grid_scalar": (FIG, "[grid.nu]\nvalues = [1e-6, 1e-9]", "[grid]\nnu = 1e-6"),
+    "study_aot": (FIG, "[study]", "[[study]]"),
+    "mixed_arr": (FIG, "values = [1e-6, 1e-9]", 'values = [1e-6, "1e-9"]'),
+    "mixed_bool": (FIG, "values = [0.3, 0.4]", "values = [0.3, false]"),
+    "tiles_int_huge": (FIG, "nu_f = 2\nnu = 2", "nu_f = 99999999999999999999999\nnu = 2"),
+    "maxsteps_huge": (FIG, 'precision = "double"', 'precision = "double"\nmax_steps = 99999999999999999999999'),
+    "tmax_negzero": (FIG, 'precision = "double"', 'precision = "double"\nt_max = -0.0'),
+    "tmax_inf": (FIG, 'precision = "double"', 'precision = "double"\nt_max = inf'),
+    "range_stop_inf": (FIG, "values = [0.3, 0.4]", "ranges = [{ start = 0.1, stop = inf, num = 5 }]"),
+    "range_start_negzero": (FIG, "values = [0.3, 0.4]", "ranges = [{ start = -0.0, stop = 0.5, num = 5 }]"),
+    "log_stop_inf": (FIG, "values = [1e-6, 1e-9]", "log = { start = 1e-3, stop = inf, per_decade = 2 }"),
+    "log_pd_inf": (FIG, "values = [1e-6, 1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = inf }"),
+    "log_pd_huge": (FIG, "values = [1e-6, 1e-9]", "log = { start = 1e-3, stop = 1e-15, per_decade = 99999999999999999999 }"),
+    "range_num_huge": (FIG, "values = [0.3, 0.4]", "ranges = [{ start = 0.1, stop = 0.9, num = 99999999999999999999 }]"),
+    "tiles_axis": (FIG, "nu_f = 2\nnu = 2", "nu_f = 2\nnu = 2\ngamma = 3"),
+    "unicode_key": (FIG, "[tiles]", '[grid."ν"]\nvalues = [1e-6]\n[tiles]'),
+    "long_key": (FIG, "nu_f = 2\nnu = 2", "nu_f = 2\nnu = 2\n" + "k" * 100000 + " = 1"),            # fixed: 100 kB
+    "long_law": (FIG, 'laws = ["carlson-langer"]', 'laws = ["' + "x" * 100000 + '"]'),               # fixed: 100 kB
+    "trailing": (FIG, "nu_f = 2\nnu = 2", "nu_f = 2\nnu = 2\n}}}"),
+    "chain_ell_inf": (CHAIN, "[grid.ell]\nvalues = [1.0]", "[grid.ell]\nvalues = [inf]"),
+    "chain_nu_f_inf": (CHAIN, "[grid.nu_f]\nvalues = [0.2]", "[grid.nu_f]\nvalues = [inf]"),
+    "chain_nu_negzero": (CHAIN, "[grid.nu]\nvalues = [1e-3]", "[grid.nu]\nvalues = [-0.0]"),
+    "chain_seed_2to76": (CHAIN, "[grid.seed]\nvalues = [1]", "[grid.seed]\nvalues = [99999999999999999999999]"),
+    "chain_events_inf": (CHAIN, "values = [20]", "values = [inf]"),
+    "chain_catalog_huge": (CHAIN, "catalog = 10", "catalog = 99999999999999999999999"),
+    "rsc_k_inf": (RSC, "values = [0.1]", "values = [inf]"),
+    "rsc_ell_inf": (RSC, "[grid.ell]\nvalues = [1.0]", "[grid.ell]\nvalues = [inf]"),
+    "rsg_kappa_inf": (_RSG, "log = { start = 0.3, stop = 2.0, num = 8 }", "values = [inf]"),
+    "rs_b_inf": (RS, "b = 0.015", "b = inf"),
+    "rs_kappa_min_inf": (RS, "points = 4", "points = 4\nkappa_min = inf"),
+    "rs_kappa_max_inf": (RS, "points = 4", "points = 4\nkappa_max = inf"),
+    "rs_boa_inf": (RS, "b_over_a = [2.0]", "b_over_a = [inf]"),
+    "rs_hopf_vlp_inf": (RS, "v_lp = [1.0]", "v_lp = [inf]"),
+    "rs_eta_inf": (RS, "eta = [0.0]", "eta = [inf]"),
+    "rs_points_2to76": (RS, "points = 4", "points = 99999999999999999999999"),
+    "rs_label_long": (RS, 'label = "prz"', 'label = "' + "é" * 5000 + '"'),                          # fixed
+    "rs_label_newline": (RS, 'label = "prz"', 'label = "p\\nrz"'),                                   # fixed
+    "rs_hopf_aot": (RS, "[hopf]", "[[hopf]]"),
+    "rs_branch_key": (RS, "[hopf]", "branch2 = 1\n[hopf]"),
+    "rs_mixed": (RS, "b_over_a = [2.0]", 'b_over_a = [2.0, "3"]'),
+}.items()})
+_W5_SUBMIT = {
+    "aot_grid": "grid.nu=[{{'values'", "grid_scalar": "grid.nu=1e-06: is a number, not a table",
+    "study_aot": "study=[{{'name'", "mixed_arr": "grid.nu.values[1]='1e-9': is a string",
+    "mixed_bool": "grid.nu_f.values[1]=False", "tiles_int_huge": "tiles.nu_f=99999999999999999999999",
+    "maxsteps_huge": "engine.max_steps", "tmax_negzero": "engine.t_max=0.0", "tmax_inf": "engine.t_max=inf",
+    "range_stop_inf": "grid.nu_f.ranges[0].stop=inf", "range_start_negzero": "grid.nu_f.ranges[0].start=0.0",
+    "log_stop_inf": "grid.nu.log.stop=inf", "log_pd_inf": "grid.nu.log.per_decade=inf",
+    "log_pd_huge": "grid.nu.log.per_decade", "range_num_huge": "grid.nu_f", "tiles_axis": "tiles.gamma=3",
+    "unicode_key": "grid.ν", "long_key": "... (100006 characters)=1: is not a known key of [tiles]",
+    "long_law": "... (100002 characters): is not a known law", "trailing": "is not valid TOML",
+    "chain_ell_inf": "grid.ell.values[0]=inf", "chain_nu_f_inf": "grid.nu_f.values[0]=inf",
+    "chain_nu_negzero": "grid.nu.values[0]=0.0", "chain_seed_2to76": "grid.seed.values[0]",
+    "chain_events_inf": "grid.events.values[0]=inf", "chain_catalog_huge": "tiles.catalog",
+    "rsc_k_inf": "grid.k.values[0]=inf", "rsc_ell_inf": "grid.ell.values[0]=inf",
+    "rsg_kappa_inf": "grid.kappa.values[0]=inf"}
+_W5_CONTINUE = {
+    "rs_b_inf": "slider.b=inf", "rs_kappa_min_inf": "branch[0].kappa_min=inf",
+    "rs_kappa_max_inf": "branch[0].kappa_max=inf", "rs_boa_inf": "hopf.b_over_a[0]=inf",
+    "rs_hopf_vlp_inf": "hopf.v_lp[0]=inf", "rs_eta_inf": "hopf.eta[0]=inf", "rs_points_2to76": "branch[0].points",
+    "rs_label_long": "branch[0].label='" + "é" * 40 + "...': has 5000 characters",
+    "rs_label_newline": "branch[0].label='p\\nrz': has a line break", "rs_hopf_aot": "hopf=[{{",
+    "rs_branch_key": "branch[0].branch2=1", "rs_mixed": "hopf.b_over_a[1]='3'"}
+#: the stores of w5_env, each given to every command that reads a store (and to submit)
+_W5_NOT_STORES = ("plain", "v2", "json_list", "json_null", "json_str", "json_dir", "future", "file_link", "fifo_store",
+                  "unknown_model")
+_W5_READERS = ("status --store {S}", "query --store {S}", "verify --store {S}", "export --store {S} --out {outdir}/x.nc",
+               "report --store {S} --out {newdir}", "extrapolate --store {S} --law carlson-langer --nu-f 0.4",
+               "fit-period --store {S} --law carlson-langer --nu-f 0.4", "submit {wf_fig} --store {S}")
+CASES_W5 = [
+    *[f"submit {{wf_w5_{name}}} --store {{newstore}} ## {needle}" for name, needle in _W5_SUBMIT.items()],
+    *[f"continue {{wf_w5_{name}}} --out {{newdir}} ## {needle}" for name, needle in _W5_CONTINUE.items()],
+    *[f"{cmd.replace('{S}', '{w5_' + s + '}')} ## --store" for s in _W5_NOT_STORES for cmd in _W5_READERS],
+    *[f"{cmd} ## {needle}" for cmd, needle in [   # a deleted array, a deleted chunk, a chunk cut to 0 bytes
+        (f"{c.replace('{S}', '{w5_' + s + '}')}", needle)
+        for s, needle in (("no_array", "chunk delta/zarr.json: array metadata missing"),
+                          ("no_chunk", "chunk delta/c/0/0/0: missing (deleted?) in a written tile"),
+                          ("cut_chunk", "chunk delta/c/0/0/0: checksum mismatch"))
+        for c in _W5_READERS[1:7] if not c.startswith("verify")]],   # verify says so in its report, exit 1
+    "query --store {w5_unknown_model} --law carlson-langer ## holds a store of the model 'nope'",          # fixed
+    "export --store {w5_unknown_model} --out {outdir}/y.nc ## which this version of bifurcation does not know",  # fixed
+    "submit {wf_fig} --store {newstore} --scheduler {w5_sched_port0} ## names the address 'tcp://127.0.0.1:0', which has port 0",   # fixed
+    "submit {wf_fig} --store {newstore} --scheduler {w5_sched_int} ## --scheduler",
+    "submit {wf_fig} --store {newstore} --scheduler {w5_sched_list} ## --scheduler",
+    "submit {wf_fig} --store {newstore} --scheduler {adir} ## --scheduler",
+    "submit {wf_fig} --store {newstore} --scheduler /dev/zero ## --scheduler",
+    "submit {wf_fig} --store {newstore} --dashboard --scheduler tcp://127.0.0.1:1 ## --dashboard=True: serves the embedded",   # fixed
+    "submit {wf_fig} --store {newstore} --dashboard --detach --scheduler tcp://127.0.0.1:1 ## --dashboard",   # fixed
+    "submit {wf_fig} --store {newstore} --scheduler tcp://127.0.0.1:1 --workers 2 --workers-timeout 1e300 ## --workers-timeout",
+    "submit {wf_fig} --store {newstore} --workers-timeout 0 --scheduler tcp://127.0.0.1:1 ## --workers-timeout",
+    "export --store {sb} --out {w5_fifo_nc} ## --out",                                 # a FIFO is never opened
+    "report --store {sb} --out {w5_fifo_nc} ## --out",
+    "continue {wf_rs} --out {w5_fifo_nc} ## --out",
+    "reproduce --out {w5_fifo_nc} ## --out",
+    "report --store {sb} --out {w5_proc_link}/rep ## --out",                            # a link into /proc
+    "export --store {sb} --out {w5_proc_link}/x.nc ## --out",
+    "continue {wf_rs} --out {w5_proc_link}/x ## --out",
+    "submit {wf_fig} --store {w5_proc_link}/s.zarr ## --store",
+    "hopf --state-law aging --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 --mass 5e-324 ## give a larger mass, or omit --mass",   # fixed
+    "rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 --mass 5e-324 ## --mass",
+    "slip --law carlson-langer --nu-f 0.4 --nu " + ",".join(["1e-9"] * 20000) + " ## ... (100001 characters) is not a number",   # fixed
+    "chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 " + ",".join(["0"] * 100000) + " --events 3 ## --u0='100000 values'",
+    "chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --ends ' periodic' ## --ends",
+    "chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --ends périodic ## --ends",
+    "query --store {sb} --law Carlson-Langer ## --law='Carlson-Langer'",
+    "query --store {sb} --format CSV ## --format",
+    "status --store {sb} --json --store {sb} ## --store is given twice",
+]
+
+
+@pytest.fixture(scope="module")
+def w5_env(env):
+    """``env`` with the stores and files of walk 5 (in the same checked root)."""
+    import zarr
+
+    root, paths, _ = env
+    d = root / "w5"
+    d.mkdir(exist_ok=True)
+    extra = {}
+    zarr.open_group(str(d / "plain.zarr"), mode="w")
+    zarr.open_group(str(d / "v2.zarr"), mode="w", zarr_format=2)
+    for name, text in (("json_list", "[]"), ("json_null", "null"), ("json_str", '"x"')):
+        (d / f"{name}.zarr").mkdir()
+        (d / f"{name}.zarr" / "zarr.json").write_text(text)
+    (d / "json_dir.zarr" / "zarr.json").mkdir(parents=True)
+    for name, key, value in (("unknown_model", "model", "nope"), ("future", "bifurcation_store", "99")):
+        shutil.copytree(paths["sb"], d / f"{name}.zarr")
+        meta = json.loads((d / f"{name}.zarr" / "zarr.json").read_text())
+        meta["attributes"][key] = value
+        (d / f"{name}.zarr" / "zarr.json").write_text(json.dumps(meta))
+    chunk = Path("delta") / "c" / "0" / "0" / "0"
+    for name in ("no_array", "no_chunk", "cut_chunk"):
+        shutil.copytree(paths["sb"], d / f"{name}.zarr")
+    shutil.rmtree(d / "no_array.zarr" / "delta")
+    os.remove(d / "no_chunk.zarr" / chunk)
+    os.truncate(d / "cut_chunk.zarr" / chunk, 0)
+    os.symlink(paths["text"], d / "file_link.zarr")
+    os.symlink("/proc/self", d / "proc_link")
+    os.mkfifo(d / "fifo.zarr")
+    os.mkfifo(d / "fifo.nc")
+    for name, text in (("sched_int", '{"address": 5}'), ("sched_list", "[1, 2]"),
+                       ("sched_port0", '{"address": "tcp://127.0.0.1:0"}')):
+        (d / f"{name}.json").write_text(text)
+        extra[f"w5_{name}"] = str(d / f"{name}.json")
+    for name in ("plain", "v2", "json_list", "json_null", "json_str", "json_dir", "unknown_model", "future",
+                 "no_array", "no_chunk", "cut_chunk", "file_link"):
+        extra[f"w5_{name}"] = str(d / f"{name}.zarr")
+    extra.update(w5_fifo_store=str(d / "fifo.zarr"), w5_fifo_nc=str(d / "fifo.nc"), w5_proc_link=str(d / "proc_link"))
+    return root, {**paths, **extra}
+
+
+def test_walk5_bad_inputs(w5_env, tmp_path, monkeypatch):
+    argvs = [_split(c)[0] for c in CASES + CASES_WK2 + CASES_W3 + CASES_W5]
+    assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
+    root, paths = w5_env
+    _run_batch(CASES_W5, (root, paths, None), tmp_path, monkeypatch)

@@ -244,6 +244,11 @@ def load_stores(paths) -> list:
 
     for p in find_stores(paths):
         check_store(p, argument="store")   # a Zarr array or another format: one line, not zarr's error
+        from ..store.integrity import StoreDamagedError, missing_chunks
+
+        missing = missing_chunks(p)   # read as fill values below, not as an error
+        if missing:
+            raise StoreDamagedError(p, missing[0])
         try:
             ds = open_store(p).load()
         except Exception:   # a chunk that does not decode: name it and the repair, as query and export do

@@ -111,9 +111,18 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
                          "give another --out (--force replaces only a chain study)")
     from ..models.chain.study import main
 
-    main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else []),
-          *(["--presets-only"] if presets_only else []), *(["--published-nu-only"] if published_nu_only else []),
-          *(["--catalogs-only"] if catalogs_only else []), *(["--ell-scan-only"] if ell_scan_only else [])])
+    made = [p for p in [out.absolute(), *out.absolute().parents] if not p.exists()]
+    try:
+        main([str(workflow), "--out", str(out), *(["--from-data"] if from_data else []),
+              *(["--presets-only"] if presets_only else []), *(["--published-nu-only"] if published_nu_only else []),
+              *(["--catalogs-only"] if catalogs_only else []), *(["--ell-scan-only"] if ell_scan_only else [])])
+    except BaseException:   # a stopped run ("left nothing new") left the empty --out it had made
+        for directory in made:
+            try:
+                directory.rmdir()
+            except OSError:
+                break
+        raise
     if from_data:   # (a run says where it wrote, and in how long, itself)
         click.echo(f"wrote {out / 'REPORT.md'} and its figures from {data}")
 

@@ -313,7 +313,9 @@ def _not_a_number(value, example: str) -> str:
            "is below the smallest double (~5e-324) and would be read as 0" if _underflows(text) else
            "is beyond the range of a double (|x| < ~1.8e308) and would be read as infinity" if _overflows(text) else
            "is not a number")
-    return f"{text!r} {why}; give e.g. {example}"
+    from ..errors import _shorten
+
+    return f"{_shorten(repr(text))} {why}; give e.g. {example}"   # (10^5 characters were printed whole)
 
 
 def quiet_heyoka() -> None:

@@ -6,7 +6,7 @@ import math
 
 import click
 
-from ._common import Whole, _not_a_number, echo_json, examples, number
+from ._common import Whole, _not_a_number, echo_json, examples, format_value, number
 
 __all__ = ["COMMANDS", "MAX_OUTPUTS"]
 
@@ -165,8 +165,10 @@ def hopf_cmd(state_law, a, b, dc, v_lp, mass, damping, as_json) -> None:
     if as_json:
         echo_json(record)
         return
-    for key, value in record.items():
-        click.echo(f"{key:22s} {value:.17g}" if isinstance(value, float) else f"{key:22s} {value}")
+    for key, value in record.items():   # lists and None as words, not Python's ['aging'] and None
+        shown = (f"{value:.17g}" if isinstance(value, float) else
+                 ", ".join(format_value(v) for v in value) if isinstance(value, (list, tuple)) else format_value(value))
+        click.echo(f"{key:22s} {shown}")
 
 
 @click.command("rate-state", epilog=examples(

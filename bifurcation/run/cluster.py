@@ -115,6 +115,11 @@ def _check_scheduler_file(path: Path) -> None:
     if not isinstance(data, dict) or not isinstance(data.get("address"), str) or "://" not in data["address"]:
         raise InputError("--scheduler", str(path), "is a file but not a scheduler file (JSON with the "
                          "scheduler's address)", fix)
+    try:   # a file naming port 0 or 99999 waited 10 s to fail connecting, as such an address did
+        _check_port(data["address"])
+    except InputError as exc:
+        raise InputError("--scheduler", str(path), f"names the address {data['address']!r}, which {exc.problem}",
+                         "give the file the running `dask scheduler --scheduler-file PATH` wrote, or tcp://HOST:PORT") from None
 
 
 #: The most worker processes of an embedded cluster: each holds a core and ~200 MB, so more than a few per

@@ -97,9 +97,23 @@ def verify(store, *, repair: bool = False, scheduler=None, workers=None, progres
                          "is only used to recompute damaged tiles", "add --repair, or leave it out")
     _check_free(path)
     damage, n_tiles, n_chunks = scan(path)
-    if not repair or not damage:
+    if not repair or not (damage or _pending(path)):
         return VerifyReport(str(path), n_tiles, n_chunks, tuple(damage))
     return _repair(path, damage, n_tiles, n_chunks, scheduler, workers, progress)
+
+
+#: The tiles a repair cleared and has not yet recomputed, in the store (a repair killed after clearing them
+#: left them not computed, and the next ``verify --repair`` found "0 damaged" and did nothing).
+PENDING = ".bifurcation.repair.json"
+
+
+def _pending(path: Path) -> list[tuple]:
+    import json
+
+    try:
+        return [tuple(t) for t in json.loads((path / PENDING).read_text(encoding="utf-8"))["tiles"]]
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
 
 
 def _repair(path: Path, first, n_tiles, n_chunks, scheduler, workers, progress) -> VerifyReport:
@@ -111,25 +125,35 @@ def _repair(path: Path, first, n_tiles, n_chunks, scheduler, workers, progress) 
 
     workflow = parse_workflow(read_attrs(path)["workflow_toml"], source=f"{path} (workflow_toml)")
     with StoreLock(path).acquire(command="bifurcation verify --repair"):
-        restored, _, tiles = _clear(path, workflow)
+        restored, _, tiles = _clear(path, workflow, pending=path / PENDING)
+    tiles = sorted(set(tiles) | set(_pending(path)))   # with those an earlier repair left undone
     regions = [tuple(slice(k * c, (k + 1) * c) for k, c in zip(tile, (1, *workflow.tiles))) for tile in tiles]
     summary = {}
     if regions:
         summary = submit(workflow, store=path, scheduler=scheduler, workers=workers, progress=progress,
                          only=regions, command="bifurcation verify --repair").to_dict()
     after, _, _ = scan(path)
+    if not after and not summary.get("failed"):
+        (path / PENDING).unlink(missing_ok=True)
     return VerifyReport(str(path), n_tiles, n_chunks, tuple(first), len(tiles), restored, tuple(after), summary)
 
 
-def _clear(path: Path, workflow, kinds=("damaged", "unfinished")) -> tuple[tuple, list, list]:
+def _clear(path: Path, workflow, kinds=("damaged", "unfinished"), pending: Path | None = None) -> tuple[tuple, list, list]:
     """Under the lock: restore metadata, rewrite coordinates, delete the chunks of the tiles with damage of
-    ``kinds``."""
+    ``kinds`` (first listed in ``pending``, if given, with those it lists already)."""
+    import json
+
     from ..store.integrity import clear_tiles, damaged_tiles, restore_metadata, scan
 
     restored = tuple(restore_metadata(path))
     damage, _, _ = scan(path)
     _rewrite_coordinates(path, workflow, damage)
     tiles = damaged_tiles(damage, kinds)
+    if pending is not None and tiles:
+        todo = sorted(set(tiles) | set(_pending(path)))
+        part = pending.with_name(pending.name + ".part")
+        part.write_text(json.dumps({"tiles": [list(map(int, t)) for t in todo]}), encoding="utf-8")
+        part.replace(pending)
     clear_tiles(path, tiles)
     return restored, damage, tiles
 

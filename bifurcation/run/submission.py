@@ -201,6 +201,9 @@ def submit(workflow, store=None, scheduler=None, workers=None, progress=None, ne
     if workers_timeout is not None and target is None:   # silently ignored before (issue 21 walk)
         raise InputError("--workers-timeout", workers_timeout, "applies to an existing scheduler's workers; the "
                          "embedded cluster starts its own", "drop --workers-timeout, or pass --scheduler ADDRESS")
+    if dashboard and target is not None and target[0] != "client":   # was ignored after a 10 s connect
+        raise InputError("--dashboard", True, "serves the embedded cluster's dashboard; an existing scheduler "
+                         "serves its own", "drop --dashboard and open the scheduler's (http://HOST:8787 by default)")
     if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
         raise InputError("retries", retries, "is not a number of retries", "give an integer >= 0 such as 3")
     if writer not in WRITERS:

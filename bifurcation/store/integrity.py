@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["DONE", "Damage", "StoreDamagedError", "TileReader", "broken_metadata", "clear_tiles", "damaged_tiles",
-           "repair_command", "repair_fix", "restore_metadata", "scan"]
+           "missing_chunks", "repair_command", "repair_fix", "restore_metadata", "scan"]
 
 #: The resume mask: True where a point's values are written.
 DONE = "done"
@@ -278,6 +278,22 @@ def scan(path) -> tuple[list[Damage], int, int]:
         damage += more
         n_chunks += n_more
     return damage, n_tiles, n_chunks
+
+
+def missing_chunks(path) -> list[Damage]:
+    """The damage ``scan`` finds by file names alone: array metadata missing, or a data chunk missing
+    beside a written tile's ``done``. Reads no chunk (milliseconds on any store), for the commands that
+    load a whole store: zarr reads a missing chunk as its fill value, so a deleted ``delta`` chunk was a
+    log-scale ValueError traceback from ``report`` and a silent "0 points" from ``fit-period``."""
+    damage = broken_metadata(path)
+    if damage:
+        return damage
+    reader = TileReader(path)
+    for tile in reader.tiles():
+        if reader.exists(DONE, tile):
+            damage += [Damage(reader.key(name, tile), tile, "missing (deleted?) in a written tile")
+                       for name in reader.variables if not reader.exists(name, tile)]
+    return damage
 
 
 def damaged_tiles(damage: list[Damage], kinds=("damaged", "unfinished")) -> list[tuple]:

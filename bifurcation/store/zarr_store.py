@@ -155,8 +155,13 @@ def _check_axes(path, attrs: dict, argument: str) -> None:
 
     try:
         model = get_model(store_model(attrs))
-    except InputError:
-        return   # (an unknown model is named by the command that reads it)
+    except InputError as exc:   # status, verify, export and submit went on with it; query said "model='nope'"
+        from ..models import model_names
+
+        raise InputError(argument, str(path), f"holds a store of the model {store_model(attrs)!r}, which this "
+                         f"version of bifurcation does not know (written by version "
+                         f"{attrs.get('version_bifurcation', '?')})",
+                         f"read it with the version that wrote it; this one knows {', '.join(model_names())}") from exc
     missing = [a.name for a in model.axes if not (Path(path) / a.name / "zarr.json").is_file()]
     if missing:
         raise InputError(argument, str(path), f"was written by an older version of bifurcation "

@@ -21,6 +21,7 @@ figures: ``_study_figures``, ``_study_mfd``; the workflow's check: ``study_workf
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -40,7 +41,15 @@ __all__ = ["main", "saved_data", "study_blocks"]
 def _exit_with_parent(parent: int) -> None:
     """In a pool worker: end when ``parent`` (the study) is gone. A kill -9 of `study chain` left its forked
     workers alive and idle for good (~200 MB each), waiting on a queue that no one would fill."""
+    import signal
     import threading
+
+    # forked with the CLI's handlers, SIGTERM raised Terminated inside the run, which the pool sent back as a
+    # result and went on: the pool's terminate() did not end it. Ctrl-C reaches the whole process group; the
+    # study (the parent) decides, and ends the workers
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
     def watch():
         while os.getppid() == parent:
@@ -50,9 +59,21 @@ def _exit_with_parent(parent: int) -> None:
     threading.Thread(target=watch, daemon=True, name="exit-with-parent").start()
 
 
-def _pool(workers: int) -> ProcessPoolExecutor:
-    """The study's worker processes, each ending with this process (``_exit_with_parent``)."""
-    return ProcessPoolExecutor(workers, initializer=_exit_with_parent, initargs=(os.getpid(),))
+@contextlib.contextmanager
+def _pool(workers: int):
+    """The study's worker processes, each ending with this process (``_exit_with_parent``). A Ctrl-C, SIGTERM
+    or error in the study ends them at once: ``with ProcessPoolExecutor`` waited for every queued run first
+    (SIGINT of `study chain` after 86 s printed "interrupted", then hung for good: the process joined workers
+    that waited on a queue its exiting manager thread no longer fed)."""
+    pool = ProcessPoolExecutor(workers, initializer=_exit_with_parent, initargs=(os.getpid(),))
+    try:
+        yield pool
+    except BaseException:
+        for process in list((getattr(pool, "_processes", None) or {}).values()):   # no public way before 3.14
+            process.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def _sweep(args):

@@ -183,7 +183,9 @@ def hopf_point(*, a, b, dc, state_law, v_lp, mass=None, damping=0.0, dps: int = 
             raise InputError("mass" if spec.inertial else "a, b, dc, v_lp",
                              spec.mass if spec.inertial else (spec.a, spec.b, spec.dc, v_lp),
                              f"{eta}the first Lyapunov coefficient's linear system is singular at {dps} digits",
-                             "give a smaller mass" if spec.inertial else
+                             ("give a smaller mass" if spec.mass * v_lp ** 2 / (spec.a * min(spec.dc)) > 1 else
+                              "give a larger mass, or omit --mass for the quasi-static slider")   # (5e-324 was told
+                             if spec.inertial else                                               # "smaller")
                              "give values of physical size (e.g. a = 0.01, b = 0.015, dc = 0.01, v_lp = 1)") from None
         # Degenerate: |l1| below half the working digits of the size of its terms (the terms are
         # O(1); a true zero comes out at ~10^-dps, a nonzero l1 far above 10^-dps/2).

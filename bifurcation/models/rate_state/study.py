@@ -94,6 +94,10 @@ _POINTS_FIX = ("give 3 to 1000 points (a branch point is a periodic orbit: secon
 _NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
+#: The longest branch label: it names the branch in the store (query --law), the table and the legend.
+_LABEL_MAX = 100
+
+
 def load_study(path) -> StudySpec:
     """Read and validate a rate-state workflow (one ``InputError`` line on the first problem), with the
     workflows' one validator (``bifurcation.workflow.validate``)."""
@@ -123,6 +127,12 @@ def load_study(path) -> StudySpec:
         label = br.string("label", f"{law} {i}")
         if not label.strip():   # the store finds a branch by its label (query --law): an empty one cannot be
             raise InputError(br.path("label"), label, "is empty", "give the branch a label, e.g. \"prz, quasi-static\"")
+        if not label.isprintable() or len(label) > _LABEL_MAX:   # a line break split the printed table; 5000
+            # characters pushed the figure's legend off the page (both were run, then written)
+            shown = label if len(label) <= 40 else f"{label[:40]}..."
+            raise InputError(br.path("label"), shown, "has a line break or a control character" if not
+                             label.isprintable() else f"has {len(label)} characters",
+                             f"give a label of at most {_LABEL_MAX} printable characters on one line, e.g. \"prz, quasi-static\"")
         if label.strip() in labels:   # a branch is found in the store by its label
             raise InputError(br.path("label"), label, f"repeats branch[{labels[label.strip()]}].label",
                              "give each branch its own label")
@@ -299,7 +309,9 @@ def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
         l1_sim = lyapunov_by_simulation(hs, branch.hopf, br.v_lp, 5e-3)
         results.append({"spec": br, "branch": branch, "period_check": checks, "period_check_quad": quad,
                         "l1_simulation": l1_sim, "seconds": time.perf_counter() - t0})
-        echo(f"  {br.label}: {len(branch.points)} points, folds at {list(branch.folds)}, "
+        folds = (f"folds at points {', '.join(str(i) for i in branch.folds)}" if branch.folds else
+                 "no fold")   # (was Python's "folds at []")
+        echo(f"  {br.label}: {len(branch.points)} points, {folds}, "
              f"{branch.hopf.criticality} (l1 {branch.hopf.lyapunov_coefficient:.4g}, simulated {l1_sim:.4g}), "
              f"max period check {max(checks):.1e}, {branch.meta['stop']}, {time.perf_counter() - t0:.1f} s")
     fates = _quasi_static_fates(spec)

@@ -68,7 +68,7 @@ AXES = (
     Axis("events", "K", "events computed per run", bounds=(1, 10**9), example=1000, default_tile=1,
          dtype="int64"),
     Axis("periodic", "ends", "chain ends: 0 free, 1 periodic", bounds=(0, 1), example=0, default_tile=1,
-         dtype="int64", default=0),
+         dtype="int64", default=0, names=("free", "periodic")),   # shown and queried as the chain's are
 )
 
 #: Per-event outputs: the Burridge–Knopoff chain's catalog schema (bifurcation/models/chain/model.py).
