@@ -560,6 +560,254 @@ def _taylor_pair(fw, fv, cr, i, j, sci, scj, c3, amp, l2):
     fw[j, 18], fv[j, 18], cr[j, 18] = Wb18, Vb18, Rb18
     fw[i, 19], fv[i, 19], cr[i, 19] = Wa19, Va19, Ra19
     fw[j, 19], fv[j, 19], cr[j, 19] = Wb19, Vb19, Rb19
+
+
+@_jit
+def _taylor_triple(fw, fv, cr, i, j, k, sci, scj, sck, c3, amp, l2):
+    """Orders 1 … P − 1 of three slipping slots i, j, k in a row (j between) whose other neighbours are stuck."""
+    Wa0 = fw[i, 0]
+    Va0 = fv[i, 0]
+    Ra0 = cr[i, 0]
+    k0a = -c3 * Ra0
+    kca = l2 * sci - 1.0
+    Wb0 = fw[j, 0]
+    Vb0 = fv[j, 0]
+    Rb0 = cr[j, 0]
+    k0b = -c3 * Rb0
+    kcb = l2 * scj - 1.0
+    Wc0 = fw[k, 0]
+    Vc0 = fv[k, 0]
+    Rc0 = cr[k, 0]
+    k0c = -c3 * Rc0
+    kcc = l2 * sck - 1.0
+    Ra1 = k0a * (Va0 * Ra0)
+    Wa1 = Va0 * 0.5
+    Va1 = (kca * Wa0 + l2 * Wb0 + 1.0 - Ra1 * amp) * 0.5
+    Rb1 = k0b * (Vb0 * Rb0)
+    Wb1 = Vb0 * 0.5
+    Vb1 = (kcb * Wb0 + l2 * (Wa0 + Wc0) + 1.0 - Rb1 * amp) * 0.5
+    Rc1 = k0c * (Vc0 * Rc0)
+    Wc1 = Vc0 * 0.5
+    Vc1 = (kcc * Wc0 + l2 * Wb0 + 1.0 - Rc1 * amp) * 0.5
+    Ra2 = k0a * (Va0 * Ra1 + Va1 * Ra0)
+    Wa2 = Va1 * 0.3333333333333333
+    Va2 = (kca * Wa1 + l2 * Wb1 - Ra2 * amp) * 0.3333333333333333
+    Rb2 = k0b * (Vb0 * Rb1 + Vb1 * Rb0)
+    Wb2 = Vb1 * 0.3333333333333333
+    Vb2 = (kcb * Wb1 + l2 * (Wa1 + Wc1) - Rb2 * amp) * 0.3333333333333333
+    Rc2 = k0c * (Vc0 * Rc1 + Vc1 * Rc0)
+    Wc2 = Vc1 * 0.3333333333333333
+    Vc2 = (kcc * Wc1 + l2 * Wb1 - Rc2 * amp) * 0.3333333333333333
+    Ra3 = k0a * (Va1 * Ra1 + Va0 * Ra2 + Va2 * Ra0)
+    Wa3 = Va2 * 0.25
+    Va3 = (kca * Wa2 + l2 * Wb2 - Ra3 * amp) * 0.25
+    Rb3 = k0b * (Vb1 * Rb1 + Vb0 * Rb2 + Vb2 * Rb0)
+    Wb3 = Vb2 * 0.25
+    Vb3 = (kcb * Wb2 + l2 * (Wa2 + Wc2) - Rb3 * amp) * 0.25
+    Rc3 = k0c * (Vc1 * Rc1 + Vc0 * Rc2 + Vc2 * Rc0)
+    Wc3 = Vc2 * 0.25
+    Vc3 = (kcc * Wc2 + l2 * Wb2 - Rc3 * amp) * 0.25
+    Ra4 = k0a * (Va1 * Ra2 + Va2 * Ra1 + Va0 * Ra3 + Va3 * Ra0)
+    Wa4 = Va3 * 0.2
+    Va4 = (kca * Wa3 + l2 * Wb3 - Ra4 * amp) * 0.2
+    Rb4 = k0b * (Vb1 * Rb2 + Vb2 * Rb1 + Vb0 * Rb3 + Vb3 * Rb0)
+    Wb4 = Vb3 * 0.2
+    Vb4 = (kcb * Wb3 + l2 * (Wa3 + Wc3) - Rb4 * amp) * 0.2
+    Rc4 = k0c * (Vc1 * Rc2 + Vc2 * Rc1 + Vc0 * Rc3 + Vc3 * Rc0)
+    Wc4 = Vc3 * 0.2
+    Vc4 = (kcc * Wc3 + l2 * Wb3 - Rc4 * amp) * 0.2
+    Ra5 = k0a * (Va1 * Ra3 + Va2 * Ra2 + Va3 * Ra1 + Va0 * Ra4 + Va4 * Ra0)
+    Wa5 = Va4 * 0.16666666666666666
+    Va5 = (kca * Wa4 + l2 * Wb4 - Ra5 * amp) * 0.16666666666666666
+    Rb5 = k0b * (Vb1 * Rb3 + Vb2 * Rb2 + Vb3 * Rb1 + Vb0 * Rb4 + Vb4 * Rb0)
+    Wb5 = Vb4 * 0.16666666666666666
+    Vb5 = (kcb * Wb4 + l2 * (Wa4 + Wc4) - Rb5 * amp) * 0.16666666666666666
+    Rc5 = k0c * (Vc1 * Rc3 + Vc2 * Rc2 + Vc3 * Rc1 + Vc0 * Rc4 + Vc4 * Rc0)
+    Wc5 = Vc4 * 0.16666666666666666
+    Vc5 = (kcc * Wc4 + l2 * Wb4 - Rc5 * amp) * 0.16666666666666666
+    Ra6 = k0a * (Va1 * Ra4 + Va2 * Ra3 + Va3 * Ra2 + Va4 * Ra1 + Va0 * Ra5 + Va5 * Ra0)
+    Wa6 = Va5 * 0.14285714285714285
+    Va6 = (kca * Wa5 + l2 * Wb5 - Ra6 * amp) * 0.14285714285714285
+    Rb6 = k0b * (Vb1 * Rb4 + Vb2 * Rb3 + Vb3 * Rb2 + Vb4 * Rb1 + Vb0 * Rb5 + Vb5 * Rb0)
+    Wb6 = Vb5 * 0.14285714285714285
+    Vb6 = (kcb * Wb5 + l2 * (Wa5 + Wc5) - Rb6 * amp) * 0.14285714285714285
+    Rc6 = k0c * (Vc1 * Rc4 + Vc2 * Rc3 + Vc3 * Rc2 + Vc4 * Rc1 + Vc0 * Rc5 + Vc5 * Rc0)
+    Wc6 = Vc5 * 0.14285714285714285
+    Vc6 = (kcc * Wc5 + l2 * Wb5 - Rc6 * amp) * 0.14285714285714285
+    Ra7 = k0a * (Va1 * Ra5 + Va2 * Ra4 + Va3 * Ra3 + Va4 * Ra2 + Va5 * Ra1 + Va0 * Ra6 + Va6 * Ra0)
+    Wa7 = Va6 * 0.125
+    Va7 = (kca * Wa6 + l2 * Wb6 - Ra7 * amp) * 0.125
+    Rb7 = k0b * (Vb1 * Rb5 + Vb2 * Rb4 + Vb3 * Rb3 + Vb4 * Rb2 + Vb5 * Rb1 + Vb0 * Rb6 + Vb6 * Rb0)
+    Wb7 = Vb6 * 0.125
+    Vb7 = (kcb * Wb6 + l2 * (Wa6 + Wc6) - Rb7 * amp) * 0.125
+    Rc7 = k0c * (Vc1 * Rc5 + Vc2 * Rc4 + Vc3 * Rc3 + Vc4 * Rc2 + Vc5 * Rc1 + Vc0 * Rc6 + Vc6 * Rc0)
+    Wc7 = Vc6 * 0.125
+    Vc7 = (kcc * Wc6 + l2 * Wb6 - Rc7 * amp) * 0.125
+    Ra8 = k0a * (Va1 * Ra6 + Va2 * Ra5 + Va3 * Ra4 + Va4 * Ra3 + Va5 * Ra2 + Va6 * Ra1 + Va0 * Ra7 + Va7 * Ra0)
+    Wa8 = Va7 * 0.1111111111111111
+    Va8 = (kca * Wa7 + l2 * Wb7 - Ra8 * amp) * 0.1111111111111111
+    Rb8 = k0b * (Vb1 * Rb6 + Vb2 * Rb5 + Vb3 * Rb4 + Vb4 * Rb3 + Vb5 * Rb2 + Vb6 * Rb1 + Vb0 * Rb7 + Vb7 * Rb0)
+    Wb8 = Vb7 * 0.1111111111111111
+    Vb8 = (kcb * Wb7 + l2 * (Wa7 + Wc7) - Rb8 * amp) * 0.1111111111111111
+    Rc8 = k0c * (Vc1 * Rc6 + Vc2 * Rc5 + Vc3 * Rc4 + Vc4 * Rc3 + Vc5 * Rc2 + Vc6 * Rc1 + Vc0 * Rc7 + Vc7 * Rc0)
+    Wc8 = Vc7 * 0.1111111111111111
+    Vc8 = (kcc * Wc7 + l2 * Wb7 - Rc8 * amp) * 0.1111111111111111
+    Ra9 = k0a * (Va1 * Ra7 + Va2 * Ra6 + Va3 * Ra5 + Va4 * Ra4 + Va5 * Ra3 + Va6 * Ra2 + Va7 * Ra1 + Va0 * Ra8 + Va8 * Ra0)
+    Wa9 = Va8 * 0.1
+    Va9 = (kca * Wa8 + l2 * Wb8 - Ra9 * amp) * 0.1
+    Rb9 = k0b * (Vb1 * Rb7 + Vb2 * Rb6 + Vb3 * Rb5 + Vb4 * Rb4 + Vb5 * Rb3 + Vb6 * Rb2 + Vb7 * Rb1 + Vb0 * Rb8 + Vb8 * Rb0)
+    Wb9 = Vb8 * 0.1
+    Vb9 = (kcb * Wb8 + l2 * (Wa8 + Wc8) - Rb9 * amp) * 0.1
+    Rc9 = k0c * (Vc1 * Rc7 + Vc2 * Rc6 + Vc3 * Rc5 + Vc4 * Rc4 + Vc5 * Rc3 + Vc6 * Rc2 + Vc7 * Rc1 + Vc0 * Rc8 + Vc8 * Rc0)
+    Wc9 = Vc8 * 0.1
+    Vc9 = (kcc * Wc8 + l2 * Wb8 - Rc9 * amp) * 0.1
+    Ra10 = k0a * (Va1 * Ra8 + Va2 * Ra7 + Va3 * Ra6 + Va4 * Ra5 + Va5 * Ra4 + Va6 * Ra3 + Va7 * Ra2 + Va8 * Ra1 + Va0 * Ra9 + Va9 * Ra0)
+    Wa10 = Va9 * 0.09090909090909091
+    Va10 = (kca * Wa9 + l2 * Wb9 - Ra10 * amp) * 0.09090909090909091
+    Rb10 = k0b * (Vb1 * Rb8 + Vb2 * Rb7 + Vb3 * Rb6 + Vb4 * Rb5 + Vb5 * Rb4 + Vb6 * Rb3 + Vb7 * Rb2 + Vb8 * Rb1 + Vb0 * Rb9 + Vb9 * Rb0)
+    Wb10 = Vb9 * 0.09090909090909091
+    Vb10 = (kcb * Wb9 + l2 * (Wa9 + Wc9) - Rb10 * amp) * 0.09090909090909091
+    Rc10 = k0c * (Vc1 * Rc8 + Vc2 * Rc7 + Vc3 * Rc6 + Vc4 * Rc5 + Vc5 * Rc4 + Vc6 * Rc3 + Vc7 * Rc2 + Vc8 * Rc1 + Vc0 * Rc9 + Vc9 * Rc0)
+    Wc10 = Vc9 * 0.09090909090909091
+    Vc10 = (kcc * Wc9 + l2 * Wb9 - Rc10 * amp) * 0.09090909090909091
+    Ra11 = k0a * (Va1 * Ra9 + Va2 * Ra8 + Va3 * Ra7 + Va4 * Ra6 + Va5 * Ra5 + Va6 * Ra4 + Va7 * Ra3 + Va8 * Ra2 + Va9 * Ra1 + Va0 * Ra10 + Va10 * Ra0)
+    Wa11 = Va10 * 0.08333333333333333
+    Va11 = (kca * Wa10 + l2 * Wb10 - Ra11 * amp) * 0.08333333333333333
+    Rb11 = k0b * (Vb1 * Rb9 + Vb2 * Rb8 + Vb3 * Rb7 + Vb4 * Rb6 + Vb5 * Rb5 + Vb6 * Rb4 + Vb7 * Rb3 + Vb8 * Rb2 + Vb9 * Rb1 + Vb0 * Rb10 + Vb10 * Rb0)
+    Wb11 = Vb10 * 0.08333333333333333
+    Vb11 = (kcb * Wb10 + l2 * (Wa10 + Wc10) - Rb11 * amp) * 0.08333333333333333
+    Rc11 = k0c * (Vc1 * Rc9 + Vc2 * Rc8 + Vc3 * Rc7 + Vc4 * Rc6 + Vc5 * Rc5 + Vc6 * Rc4 + Vc7 * Rc3 + Vc8 * Rc2 + Vc9 * Rc1 + Vc0 * Rc10 + Vc10 * Rc0)
+    Wc11 = Vc10 * 0.08333333333333333
+    Vc11 = (kcc * Wc10 + l2 * Wb10 - Rc11 * amp) * 0.08333333333333333
+    Ra12 = k0a * (Va1 * Ra10 + Va2 * Ra9 + Va3 * Ra8 + Va4 * Ra7 + Va5 * Ra6 + Va6 * Ra5 + Va7 * Ra4 + Va8 * Ra3 + Va9 * Ra2 + Va10 * Ra1 + Va0 * Ra11 + Va11 * Ra0)
+    Wa12 = Va11 * 0.07692307692307693
+    Va12 = (kca * Wa11 + l2 * Wb11 - Ra12 * amp) * 0.07692307692307693
+    Rb12 = k0b * (Vb1 * Rb10 + Vb2 * Rb9 + Vb3 * Rb8 + Vb4 * Rb7 + Vb5 * Rb6 + Vb6 * Rb5 + Vb7 * Rb4 + Vb8 * Rb3 + Vb9 * Rb2 + Vb10 * Rb1 + Vb0 * Rb11 + Vb11 * Rb0)
+    Wb12 = Vb11 * 0.07692307692307693
+    Vb12 = (kcb * Wb11 + l2 * (Wa11 + Wc11) - Rb12 * amp) * 0.07692307692307693
+    Rc12 = k0c * (Vc1 * Rc10 + Vc2 * Rc9 + Vc3 * Rc8 + Vc4 * Rc7 + Vc5 * Rc6 + Vc6 * Rc5 + Vc7 * Rc4 + Vc8 * Rc3 + Vc9 * Rc2 + Vc10 * Rc1 + Vc0 * Rc11 + Vc11 * Rc0)
+    Wc12 = Vc11 * 0.07692307692307693
+    Vc12 = (kcc * Wc11 + l2 * Wb11 - Rc12 * amp) * 0.07692307692307693
+    Ra13 = k0a * (Va1 * Ra11 + Va2 * Ra10 + Va3 * Ra9 + Va4 * Ra8 + Va5 * Ra7 + Va6 * Ra6 + Va7 * Ra5 + Va8 * Ra4 + Va9 * Ra3 + Va10 * Ra2 + Va11 * Ra1 + Va0 * Ra12 + Va12 * Ra0)
+    Wa13 = Va12 * 0.07142857142857142
+    Va13 = (kca * Wa12 + l2 * Wb12 - Ra13 * amp) * 0.07142857142857142
+    Rb13 = k0b * (Vb1 * Rb11 + Vb2 * Rb10 + Vb3 * Rb9 + Vb4 * Rb8 + Vb5 * Rb7 + Vb6 * Rb6 + Vb7 * Rb5 + Vb8 * Rb4 + Vb9 * Rb3 + Vb10 * Rb2 + Vb11 * Rb1 + Vb0 * Rb12 + Vb12 * Rb0)
+    Wb13 = Vb12 * 0.07142857142857142
+    Vb13 = (kcb * Wb12 + l2 * (Wa12 + Wc12) - Rb13 * amp) * 0.07142857142857142
+    Rc13 = k0c * (Vc1 * Rc11 + Vc2 * Rc10 + Vc3 * Rc9 + Vc4 * Rc8 + Vc5 * Rc7 + Vc6 * Rc6 + Vc7 * Rc5 + Vc8 * Rc4 + Vc9 * Rc3 + Vc10 * Rc2 + Vc11 * Rc1 + Vc0 * Rc12 + Vc12 * Rc0)
+    Wc13 = Vc12 * 0.07142857142857142
+    Vc13 = (kcc * Wc12 + l2 * Wb12 - Rc13 * amp) * 0.07142857142857142
+    Ra14 = k0a * (Va1 * Ra12 + Va2 * Ra11 + Va3 * Ra10 + Va4 * Ra9 + Va5 * Ra8 + Va6 * Ra7 + Va7 * Ra6 + Va8 * Ra5 + Va9 * Ra4 + Va10 * Ra3 + Va11 * Ra2 + Va12 * Ra1 + Va0 * Ra13 + Va13 * Ra0)
+    Wa14 = Va13 * 0.06666666666666667
+    Va14 = (kca * Wa13 + l2 * Wb13 - Ra14 * amp) * 0.06666666666666667
+    Rb14 = k0b * (Vb1 * Rb12 + Vb2 * Rb11 + Vb3 * Rb10 + Vb4 * Rb9 + Vb5 * Rb8 + Vb6 * Rb7 + Vb7 * Rb6 + Vb8 * Rb5 + Vb9 * Rb4 + Vb10 * Rb3 + Vb11 * Rb2 + Vb12 * Rb1 + Vb0 * Rb13 + Vb13 * Rb0)
+    Wb14 = Vb13 * 0.06666666666666667
+    Vb14 = (kcb * Wb13 + l2 * (Wa13 + Wc13) - Rb14 * amp) * 0.06666666666666667
+    Rc14 = k0c * (Vc1 * Rc12 + Vc2 * Rc11 + Vc3 * Rc10 + Vc4 * Rc9 + Vc5 * Rc8 + Vc6 * Rc7 + Vc7 * Rc6 + Vc8 * Rc5 + Vc9 * Rc4 + Vc10 * Rc3 + Vc11 * Rc2 + Vc12 * Rc1 + Vc0 * Rc13 + Vc13 * Rc0)
+    Wc14 = Vc13 * 0.06666666666666667
+    Vc14 = (kcc * Wc13 + l2 * Wb13 - Rc14 * amp) * 0.06666666666666667
+    Ra15 = k0a * (Va1 * Ra13 + Va2 * Ra12 + Va3 * Ra11 + Va4 * Ra10 + Va5 * Ra9 + Va6 * Ra8 + Va7 * Ra7 + Va8 * Ra6 + Va9 * Ra5 + Va10 * Ra4 + Va11 * Ra3 + Va12 * Ra2 + Va13 * Ra1 + Va0 * Ra14 + Va14 * Ra0)
+    Wa15 = Va14 * 0.0625
+    Va15 = (kca * Wa14 + l2 * Wb14 - Ra15 * amp) * 0.0625
+    Rb15 = k0b * (Vb1 * Rb13 + Vb2 * Rb12 + Vb3 * Rb11 + Vb4 * Rb10 + Vb5 * Rb9 + Vb6 * Rb8 + Vb7 * Rb7 + Vb8 * Rb6 + Vb9 * Rb5 + Vb10 * Rb4 + Vb11 * Rb3 + Vb12 * Rb2 + Vb13 * Rb1 + Vb0 * Rb14 + Vb14 * Rb0)
+    Wb15 = Vb14 * 0.0625
+    Vb15 = (kcb * Wb14 + l2 * (Wa14 + Wc14) - Rb15 * amp) * 0.0625
+    Rc15 = k0c * (Vc1 * Rc13 + Vc2 * Rc12 + Vc3 * Rc11 + Vc4 * Rc10 + Vc5 * Rc9 + Vc6 * Rc8 + Vc7 * Rc7 + Vc8 * Rc6 + Vc9 * Rc5 + Vc10 * Rc4 + Vc11 * Rc3 + Vc12 * Rc2 + Vc13 * Rc1 + Vc0 * Rc14 + Vc14 * Rc0)
+    Wc15 = Vc14 * 0.0625
+    Vc15 = (kcc * Wc14 + l2 * Wb14 - Rc15 * amp) * 0.0625
+    Ra16 = k0a * (Va1 * Ra14 + Va2 * Ra13 + Va3 * Ra12 + Va4 * Ra11 + Va5 * Ra10 + Va6 * Ra9 + Va7 * Ra8 + Va8 * Ra7 + Va9 * Ra6 + Va10 * Ra5 + Va11 * Ra4 + Va12 * Ra3 + Va13 * Ra2 + Va14 * Ra1 + Va0 * Ra15 + Va15 * Ra0)
+    Wa16 = Va15 * 0.058823529411764705
+    Va16 = (kca * Wa15 + l2 * Wb15 - Ra16 * amp) * 0.058823529411764705
+    Rb16 = k0b * (Vb1 * Rb14 + Vb2 * Rb13 + Vb3 * Rb12 + Vb4 * Rb11 + Vb5 * Rb10 + Vb6 * Rb9 + Vb7 * Rb8 + Vb8 * Rb7 + Vb9 * Rb6 + Vb10 * Rb5 + Vb11 * Rb4 + Vb12 * Rb3 + Vb13 * Rb2 + Vb14 * Rb1 + Vb0 * Rb15 + Vb15 * Rb0)
+    Wb16 = Vb15 * 0.058823529411764705
+    Vb16 = (kcb * Wb15 + l2 * (Wa15 + Wc15) - Rb16 * amp) * 0.058823529411764705
+    Rc16 = k0c * (Vc1 * Rc14 + Vc2 * Rc13 + Vc3 * Rc12 + Vc4 * Rc11 + Vc5 * Rc10 + Vc6 * Rc9 + Vc7 * Rc8 + Vc8 * Rc7 + Vc9 * Rc6 + Vc10 * Rc5 + Vc11 * Rc4 + Vc12 * Rc3 + Vc13 * Rc2 + Vc14 * Rc1 + Vc0 * Rc15 + Vc15 * Rc0)
+    Wc16 = Vc15 * 0.058823529411764705
+    Vc16 = (kcc * Wc15 + l2 * Wb15 - Rc16 * amp) * 0.058823529411764705
+    Ra17 = k0a * (Va1 * Ra15 + Va2 * Ra14 + Va3 * Ra13 + Va4 * Ra12 + Va5 * Ra11 + Va6 * Ra10 + Va7 * Ra9 + Va8 * Ra8 + Va9 * Ra7 + Va10 * Ra6 + Va11 * Ra5 + Va12 * Ra4 + Va13 * Ra3 + Va14 * Ra2 + Va15 * Ra1 + Va0 * Ra16 + Va16 * Ra0)
+    Wa17 = Va16 * 0.05555555555555555
+    Va17 = (kca * Wa16 + l2 * Wb16 - Ra17 * amp) * 0.05555555555555555
+    Rb17 = k0b * (Vb1 * Rb15 + Vb2 * Rb14 + Vb3 * Rb13 + Vb4 * Rb12 + Vb5 * Rb11 + Vb6 * Rb10 + Vb7 * Rb9 + Vb8 * Rb8 + Vb9 * Rb7 + Vb10 * Rb6 + Vb11 * Rb5 + Vb12 * Rb4 + Vb13 * Rb3 + Vb14 * Rb2 + Vb15 * Rb1 + Vb0 * Rb16 + Vb16 * Rb0)
+    Wb17 = Vb16 * 0.05555555555555555
+    Vb17 = (kcb * Wb16 + l2 * (Wa16 + Wc16) - Rb17 * amp) * 0.05555555555555555
+    Rc17 = k0c * (Vc1 * Rc15 + Vc2 * Rc14 + Vc3 * Rc13 + Vc4 * Rc12 + Vc5 * Rc11 + Vc6 * Rc10 + Vc7 * Rc9 + Vc8 * Rc8 + Vc9 * Rc7 + Vc10 * Rc6 + Vc11 * Rc5 + Vc12 * Rc4 + Vc13 * Rc3 + Vc14 * Rc2 + Vc15 * Rc1 + Vc0 * Rc16 + Vc16 * Rc0)
+    Wc17 = Vc16 * 0.05555555555555555
+    Vc17 = (kcc * Wc16 + l2 * Wb16 - Rc17 * amp) * 0.05555555555555555
+    Ra18 = k0a * (Va1 * Ra16 + Va2 * Ra15 + Va3 * Ra14 + Va4 * Ra13 + Va5 * Ra12 + Va6 * Ra11 + Va7 * Ra10 + Va8 * Ra9 + Va9 * Ra8 + Va10 * Ra7 + Va11 * Ra6 + Va12 * Ra5 + Va13 * Ra4 + Va14 * Ra3 + Va15 * Ra2 + Va16 * Ra1 + Va0 * Ra17 + Va17 * Ra0)
+    Wa18 = Va17 * 0.05263157894736842
+    Va18 = (kca * Wa17 + l2 * Wb17 - Ra18 * amp) * 0.05263157894736842
+    Rb18 = k0b * (Vb1 * Rb16 + Vb2 * Rb15 + Vb3 * Rb14 + Vb4 * Rb13 + Vb5 * Rb12 + Vb6 * Rb11 + Vb7 * Rb10 + Vb8 * Rb9 + Vb9 * Rb8 + Vb10 * Rb7 + Vb11 * Rb6 + Vb12 * Rb5 + Vb13 * Rb4 + Vb14 * Rb3 + Vb15 * Rb2 + Vb16 * Rb1 + Vb0 * Rb17 + Vb17 * Rb0)
+    Wb18 = Vb17 * 0.05263157894736842
+    Vb18 = (kcb * Wb17 + l2 * (Wa17 + Wc17) - Rb18 * amp) * 0.05263157894736842
+    Rc18 = k0c * (Vc1 * Rc16 + Vc2 * Rc15 + Vc3 * Rc14 + Vc4 * Rc13 + Vc5 * Rc12 + Vc6 * Rc11 + Vc7 * Rc10 + Vc8 * Rc9 + Vc9 * Rc8 + Vc10 * Rc7 + Vc11 * Rc6 + Vc12 * Rc5 + Vc13 * Rc4 + Vc14 * Rc3 + Vc15 * Rc2 + Vc16 * Rc1 + Vc0 * Rc17 + Vc17 * Rc0)
+    Wc18 = Vc17 * 0.05263157894736842
+    Vc18 = (kcc * Wc17 + l2 * Wb17 - Rc18 * amp) * 0.05263157894736842
+    Ra19 = k0a * (Va1 * Ra17 + Va2 * Ra16 + Va3 * Ra15 + Va4 * Ra14 + Va5 * Ra13 + Va6 * Ra12 + Va7 * Ra11 + Va8 * Ra10 + Va9 * Ra9 + Va10 * Ra8 + Va11 * Ra7 + Va12 * Ra6 + Va13 * Ra5 + Va14 * Ra4 + Va15 * Ra3 + Va16 * Ra2 + Va17 * Ra1 + Va0 * Ra18 + Va18 * Ra0)
+    Wa19 = Va18 * 0.05
+    Va19 = (kca * Wa18 + l2 * Wb18 - Ra19 * amp) * 0.05
+    Rb19 = k0b * (Vb1 * Rb17 + Vb2 * Rb16 + Vb3 * Rb15 + Vb4 * Rb14 + Vb5 * Rb13 + Vb6 * Rb12 + Vb7 * Rb11 + Vb8 * Rb10 + Vb9 * Rb9 + Vb10 * Rb8 + Vb11 * Rb7 + Vb12 * Rb6 + Vb13 * Rb5 + Vb14 * Rb4 + Vb15 * Rb3 + Vb16 * Rb2 + Vb17 * Rb1 + Vb0 * Rb18 + Vb18 * Rb0)
+    Wb19 = Vb18 * 0.05
+    Vb19 = (kcb * Wb18 + l2 * (Wa18 + Wc18) - Rb19 * amp) * 0.05
+    Rc19 = k0c * (Vc1 * Rc17 + Vc2 * Rc16 + Vc3 * Rc15 + Vc4 * Rc14 + Vc5 * Rc13 + Vc6 * Rc12 + Vc7 * Rc11 + Vc8 * Rc10 + Vc9 * Rc9 + Vc10 * Rc8 + Vc11 * Rc7 + Vc12 * Rc6 + Vc13 * Rc5 + Vc14 * Rc4 + Vc15 * Rc3 + Vc16 * Rc2 + Vc17 * Rc1 + Vc0 * Rc18 + Vc18 * Rc0)
+    Wc19 = Vc18 * 0.05
+    Vc19 = (kcc * Wc18 + l2 * Wb18 - Rc19 * amp) * 0.05
+    fw[i, 1], fv[i, 1], cr[i, 1] = Wa1, Va1, Ra1
+    fw[j, 1], fv[j, 1], cr[j, 1] = Wb1, Vb1, Rb1
+    fw[k, 1], fv[k, 1], cr[k, 1] = Wc1, Vc1, Rc1
+    fw[i, 2], fv[i, 2], cr[i, 2] = Wa2, Va2, Ra2
+    fw[j, 2], fv[j, 2], cr[j, 2] = Wb2, Vb2, Rb2
+    fw[k, 2], fv[k, 2], cr[k, 2] = Wc2, Vc2, Rc2
+    fw[i, 3], fv[i, 3], cr[i, 3] = Wa3, Va3, Ra3
+    fw[j, 3], fv[j, 3], cr[j, 3] = Wb3, Vb3, Rb3
+    fw[k, 3], fv[k, 3], cr[k, 3] = Wc3, Vc3, Rc3
+    fw[i, 4], fv[i, 4], cr[i, 4] = Wa4, Va4, Ra4
+    fw[j, 4], fv[j, 4], cr[j, 4] = Wb4, Vb4, Rb4
+    fw[k, 4], fv[k, 4], cr[k, 4] = Wc4, Vc4, Rc4
+    fw[i, 5], fv[i, 5], cr[i, 5] = Wa5, Va5, Ra5
+    fw[j, 5], fv[j, 5], cr[j, 5] = Wb5, Vb5, Rb5
+    fw[k, 5], fv[k, 5], cr[k, 5] = Wc5, Vc5, Rc5
+    fw[i, 6], fv[i, 6], cr[i, 6] = Wa6, Va6, Ra6
+    fw[j, 6], fv[j, 6], cr[j, 6] = Wb6, Vb6, Rb6
+    fw[k, 6], fv[k, 6], cr[k, 6] = Wc6, Vc6, Rc6
+    fw[i, 7], fv[i, 7], cr[i, 7] = Wa7, Va7, Ra7
+    fw[j, 7], fv[j, 7], cr[j, 7] = Wb7, Vb7, Rb7
+    fw[k, 7], fv[k, 7], cr[k, 7] = Wc7, Vc7, Rc7
+    fw[i, 8], fv[i, 8], cr[i, 8] = Wa8, Va8, Ra8
+    fw[j, 8], fv[j, 8], cr[j, 8] = Wb8, Vb8, Rb8
+    fw[k, 8], fv[k, 8], cr[k, 8] = Wc8, Vc8, Rc8
+    fw[i, 9], fv[i, 9], cr[i, 9] = Wa9, Va9, Ra9
+    fw[j, 9], fv[j, 9], cr[j, 9] = Wb9, Vb9, Rb9
+    fw[k, 9], fv[k, 9], cr[k, 9] = Wc9, Vc9, Rc9
+    fw[i, 10], fv[i, 10], cr[i, 10] = Wa10, Va10, Ra10
+    fw[j, 10], fv[j, 10], cr[j, 10] = Wb10, Vb10, Rb10
+    fw[k, 10], fv[k, 10], cr[k, 10] = Wc10, Vc10, Rc10
+    fw[i, 11], fv[i, 11], cr[i, 11] = Wa11, Va11, Ra11
+    fw[j, 11], fv[j, 11], cr[j, 11] = Wb11, Vb11, Rb11
+    fw[k, 11], fv[k, 11], cr[k, 11] = Wc11, Vc11, Rc11
+    fw[i, 12], fv[i, 12], cr[i, 12] = Wa12, Va12, Ra12
+    fw[j, 12], fv[j, 12], cr[j, 12] = Wb12, Vb12, Rb12
+    fw[k, 12], fv[k, 12], cr[k, 12] = Wc12, Vc12, Rc12
+    fw[i, 13], fv[i, 13], cr[i, 13] = Wa13, Va13, Ra13
+    fw[j, 13], fv[j, 13], cr[j, 13] = Wb13, Vb13, Rb13
+    fw[k, 13], fv[k, 13], cr[k, 13] = Wc13, Vc13, Rc13
+    fw[i, 14], fv[i, 14], cr[i, 14] = Wa14, Va14, Ra14
+    fw[j, 14], fv[j, 14], cr[j, 14] = Wb14, Vb14, Rb14
+    fw[k, 14], fv[k, 14], cr[k, 14] = Wc14, Vc14, Rc14
+    fw[i, 15], fv[i, 15], cr[i, 15] = Wa15, Va15, Ra15
+    fw[j, 15], fv[j, 15], cr[j, 15] = Wb15, Vb15, Rb15
+    fw[k, 15], fv[k, 15], cr[k, 15] = Wc15, Vc15, Rc15
+    fw[i, 16], fv[i, 16], cr[i, 16] = Wa16, Va16, Ra16
+    fw[j, 16], fv[j, 16], cr[j, 16] = Wb16, Vb16, Rb16
+    fw[k, 16], fv[k, 16], cr[k, 16] = Wc16, Vc16, Rc16
+    fw[i, 17], fv[i, 17], cr[i, 17] = Wa17, Va17, Ra17
+    fw[j, 17], fv[j, 17], cr[j, 17] = Wb17, Vb17, Rb17
+    fw[k, 17], fv[k, 17], cr[k, 17] = Wc17, Vc17, Rc17
+    fw[i, 18], fv[i, 18], cr[i, 18] = Wa18, Va18, Ra18
+    fw[j, 18], fv[j, 18], cr[j, 18] = Wb18, Vb18, Rb18
+    fw[k, 18], fv[k, 18], cr[k, 18] = Wc18, Vc18, Rc18
+    fw[i, 19], fv[i, 19], cr[i, 19] = Wa19, Va19, Ra19
+    fw[j, 19], fv[j, 19], cr[j, 19] = Wb19, Vb19, Rb19
+    fw[k, 19], fv[k, 19], cr[k, 19] = Wc19, Vc19, Rc19
 # -- end of generated code
 
 
@@ -597,28 +845,35 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
             gt = g * c4 if sig == 0.0 else (sig + (1.0 - sig) * g) * c4
             fw[i, 0] = vn
             fv[i, 0] = (d[i] + l2 * c - wn + tau) + gt
-    # a slipping slot with stuck neighbours (their rows zero: no coupling past order 0), or two adjacent ones,
-    # by kernels written out in scalars, their sums ordered to shorten the dependency from one order to the
-    # next (``_taylor_block``, ``_taylor_pair``); longer runs of slipping slots by the loop
+    # runs of one, two or three slipping slots whose other neighbours are stuck (a stuck slot's rows are zero:
+    # nothing couples through it past order 0) by kernels written out in scalars, their sums ordered to shorten
+    # the dependency from one order to the next (``_taylor_block``, ``_taylor_pair``, ``_taylor_triple``);
+    # longer runs and rings by the loop
     coupled = P != 20
     for t in range(ns):
         i = idx[t]
         lf, rt = left[i], right[i]
-        k = 0
-        if lf >= 0 and slip[lf]:
-            k += 1
-        if rt >= 0 and slip[rt]:
-            k += 1
-        if k > 1 or (k == 1 and lf == rt):
-            coupled = True
+        sl = lf >= 0 and slip[lf] != 0
+        sr = rt >= 0 and slip[rt] != 0
+        if (sl or sr) and lf == rt:
+            coupled = True                   # two blocks on a ring: each the other's both neighbours
+        if sl and sr:                        # the middle of a run: its ends' other neighbours must be stuck
+            a, b = left[lf], right[rt]
+            if (a >= 0 and slip[a] != 0) or (b >= 0 and slip[b] != 0):
+                coupled = True
     if not coupled:
         for t in range(ns):
             i = idx[t]
             lf, rt = left[i], right[i]
             if lf >= 0 and slip[lf]:
-                continue                 # the pair's right slot: done with its left one
+                continue                     # not the run's left end: done with it
             if rt >= 0 and slip[rt]:
-                _taylor_pair(fw, fv, cr, i, rt, selfc[i] - 2.0, selfc[rt] - 2.0, c3, amp, l2)
+                r2 = right[rt]
+                if r2 >= 0 and slip[r2]:
+                    _taylor_triple(fw, fv, cr, i, rt, r2, selfc[i] - 2.0, selfc[rt] - 2.0, selfc[r2] - 2.0,
+                                   c3, amp, l2)
+                else:
+                    _taylor_pair(fw, fv, cr, i, rt, selfc[i] - 2.0, selfc[rt] - 2.0, c3, amp, l2)
             else:
                 _taylor_block(fw, fv, cr, i, selfc[i] - 2.0, c3, amp, l2)
     nl = ns if coupled else 0
