@@ -29,6 +29,26 @@ def _law_pieces(law):
     raise ValueError(law)
 
 
+def _fade_cap(vs, nu_f, h, dps):
+    """Shorten a step so that the friction of e^{−x} cannot come back unseen within it.
+
+    The series of 1 − e^{−x(t)} beyond its constant is proportional to e^{−x0}: at large x (x ~ 1/ν_f) it
+    does not limit the step, which then crossed the friction's return near the stop (docs/engine.md,
+    "Friction that fades"): without this cap, at ν = 1e-6, ν_f = 1e-4 this reference gave
+    Δ = 2.0000031280449, 6.5e-9 above tests/_indep3_block.py and the engine (2.0000031215258). As
+    tests/_indep3_block.py does: above x_neg, where e^{−x} is 10 decades below the working precision, a
+    step may not take x below x_neg; below it, x may change by at most 1 per step (e^{−x} by a factor e).
+    """
+    x_neg = (dps + 10) * mp.log(10)
+    xs = [c / nu_f for c in vs]
+    if xs[0] > x_neg:
+        d = list(xs)
+        d[0] -= x_neg
+        r = tt.first_root(d, h)
+        return r if r is not None and r > 0 else h
+    return min(h, 1 / max(abs(xs[1]), mpf(10) ** -30))
+
+
 def single_cycle(law, nu, nu_f, dps=50, order=40, tol=None):
     """Δ, stop time, t1 (first U̇ = ν_f, None if never), max U̇ of one cycle, as mpf."""
     with mp.workdps(dps):
@@ -53,6 +73,8 @@ def single_cycle(law, nu, nu_f, dps=50, order=40, tol=None):
             sysm = systems[piece]
             xs, gs, _o = sysm.series(t, st, order)
             h = tt.step_size(xs, order, tol)
+            if law == "exponential":
+                h = _fade_cap(xs[1], nu_f, h, dps)
             # event candidates in (0, h]
             hits = []
             r = tt.first_root(gs[0], h, skip0=first)

@@ -72,6 +72,6 @@ def test_domain_corners_and_sample(precision):
             tol = TOL[precision]
             if k == "creep_time" and precision == "double":
                 # t1 is located inside a step of O(1) length: an absolute error of ~ε (measured 1.9e-16
-                # at ν_f = 1.17e-4, where t1 = 4.0e-3: 4.7e-14 relative; README states no bound for t1)
+                # at ν_f = 1.17e-4, where t1 = 4.0e-3: 4.7e-14 relative; README, "Precision", states it)
                 tol = max(tol, 4.4e-16 / float(p[k]))
             assert rel <= tol, (where, k, got, p[k], rel)

@@ -56,8 +56,8 @@ EDGES = [("exponential", 1e-4, 0.02), ("piecewise-linear", 0.1, 0.03), ("carlson
          ("exponential", 0.1, 0.95)]
 
 
-def _check(law, nu, nuf, precision):
-    r = ref.single_cycle(LAWS[law], nu, nuf)
+def _check(law, nu, nuf, precision, r=None):
+    r = ref.single_cycle(LAWS[law], nu, nuf) if r is None else r
     p = bf.slip(law, nu=nu, nu_f=nuf, precision=precision)
     expected = "creep" if (nuf > 0.5 and r["creep_time"] is None) else "stick-slip"
     if abs(nu * r["stop_time"] - r["delta"] + 1) > 1:   # the spring beats static friction after the stop
@@ -114,3 +114,28 @@ def test_limit_against_mpmath(law, nuf):
     lim = bf.limit(law, nu_f=nuf)
     assert abs(mpf(float(lim.delta0)) - r["delta0"]) / r["delta0"] <= 4e-16
     assert abs(mpf(float(lim.max_velocity0)) - r["max_velocity0"]) / r["max_velocity0"] <= 4e-16
+
+
+@pytest.mark.slow
+def test_fading_exponential_at_small_nu_f():
+    """e^{−x} at ν = 1e-6, ν_f = 1e-4: the friction comes back near the stop after x ~ 1e4 (~10 s).
+
+    Before its step cap (_indep_single._fade_cap) this reference stepped over that return and gave
+    Δ = 2.0000031280449; with it, Δ = 2.00000312152581189379263492433…, which tests/_indep3_block.py
+    (tests/data/indep3_block.json, 45 digits, order 32) also gives: measured agreement ≤ 2.6e-30 relative
+    in all four fields, checked here to 1e-28 (the json keeps 30 digits). The engine is held to TOL as above,
+    in both precisions.
+    """
+    import json
+    import pathlib
+
+    from mpmath import mp
+
+    r = ref.single_cycle("exponential", 1e-6, 1e-4)
+    pts = json.loads((pathlib.Path(__file__).parent / "data" / "indep3_block.json").read_text())["points"]
+    other = next(p for p in pts if p["law"] == "exponential" and p["nu"] == 1e-6 and p["nu_f"] == 1e-4)
+    with mp.workdps(50):
+        for k in FIELDS:
+            assert abs(r[k] - mpf(other[k])) <= mpf(10) ** -28 * abs(r[k]), k
+    for precision in ("double", "quad"):
+        _check("exponential", 1e-6, 1e-4, precision, r)

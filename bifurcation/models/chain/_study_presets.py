@@ -179,7 +179,8 @@ def _fit_cell(x) -> str:
     return ((f"**no scaling range** ({dec:.2f} decades above x_min): " if dec < 1 else "")
             + f"α = {f['alpha']:.3f} ± {f['alpha_block_err']:.3f} (block bootstrap, blocks of {f['block']}; i.i.d. "
             f"{f['alpha_err']:.3f}) above x_min = {f['xmin']:.3g} ({f['n_tail']} of {f['n']} events); b_P = "
-            f"{f['b_P']:.3f}, b_M = {f['b_M']:.3f}; KS {f['ks']:.4f}; p = {f['p']:.2f} ± {res:.2f} "
+            f"{f['b_P']:.3f}, b_M = {f['b_M']:.3f}; KS (powerlaw's D) {f['ks']:.4f}, two-sided ≤ "
+            f"{math.ceil((f['ks'] + 1 / f['n_tail']) * 1e4) / 1e4:.4f}; p = {f['p']:.2f} ± {res:.2f} "
             f"({round(f['p'] * f['bootstrap'])} of {f['bootstrap']} samples, ≤ {p_upper(f['p'], f['bootstrap']):.2g} at "
             f"95 %); LR: {lr}")
 
@@ -209,7 +210,11 @@ def preset_section(data) -> list:
                      "far from its fit as the data" if p_upper(0.0, b) <= 0.1 else "not enough to rule a power law out")
                      for b in Bs) + "; "
          + f"moving-block bootstrap of α with {data.get('presets_cfg', {}).get('block_bootstrap', 100)} "
-         "resamples of blocks of ⌈n^(1/3)⌉ events). Where a preset's own number was changed, the row says why. "
+         "resamples of blocks of ⌈n^(1/3)⌉ events). "
+         "KS (powerlaw's D): `powerlaw`'s KS distance, whose empirical CDF is (i − 1)/n at the i-th smallest size, "
+         "one side of each step (powerlaw-devs/powerlaw issue #111); the two-sided supremum lies between D and "
+         "D + 1/n_tail (the bound given), and is not given itself because these catalogs are not kept; the bootstrap p "
+         "compares like with like. Where a preset's own number was changed, the row says why. "
          "Which numbers of each preset were read in a source: docs/chain.md \"Presets\" and presets.py. "
          "Event membership: all-stuck, so the chain presets are run here at a smaller ν than their own 0.01 (the "
          "rows say why); at their own ν the events are split in time by a velocity threshold instead "
