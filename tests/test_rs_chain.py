@@ -134,11 +134,18 @@ def test_a_bad_tolerance_is_a_one_line_error():
         run(spec, s0, 3, tol="x")
 
 
-def test_stress_balance_per_event_and_that_it_can_fail():
+# N = 6 (explicit code, the integrator of tests/test_rs_chain_checkpoint.py) and N = 20 (heyoka's compact mode,
+# N > COMPACT_ABOVE = 16, as that file's compact-mode test): the two code paths, on integrators other fast tests
+# compile anyway; N = 16 was an explicit integrator no other fast test used (3.6 s of CPU to compile cold)
+@pytest.mark.parametrize("n", [6, 20])
+def test_stress_balance_per_event_and_that_it_can_fail(n):
     # ΔΣ(μ_j + ηV_j) over an event = k(N V_lp Δt − ΔP): the two sides come from different variables
     # (x, y against the integrated P). Rounding of a sum of N O(1) terms over the stress change of a
     # one-block event (~1e-3): ~1e-12, so 1e-10 is the bound.
-    spec = RSChainSpec(n=16, ell=1.0, **QD)
+    from bifurcation.models.rs_chain._system import COMPACT_ABOVE
+
+    assert (n > COMPACT_ABOVE) == (n == 20)
+    spec = RSChainSpec(n=n, ell=1.0, **QD)
     r = run(spec, initial_state(spec, 1.0, 1), 60)
     # (a short event can load more than it slips: its "drop" is negative; the balance holds either way)
     assert r.status == RSChainStatus.COMPLETE and np.all(r.stress_drop != 0)

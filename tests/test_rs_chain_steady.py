@@ -138,7 +138,7 @@ def test_events_then_steady_keeps_the_events_bit_for_bit():
 
 
 @pytest.mark.parametrize("case", [
-    dict(n=16, state_law="aging", a=0.01, b=0.015, dc=0.01, k=0.1, ell=1.0, v_lp=1.0, eta=1e-3, events=30),
+    dict(n=20, state_law="aging", a=0.01, b=0.015, dc=0.01, k=0.1, ell=1.0, v_lp=1.0, eta=1e-3, events=30),
     dict(n=4, state_law="slip", a=0.01, b=0.015, dc=0.01, k=0.1, ell=3.0, v_lp=1.0, eta=1e-3, events=40),
     dict(n=3, state_law="aging", a=0.01, b=0.015, dc=0.01, k=0.05, ell=1.0, v_lp=1.0, mass=1e-4, eta=1e-3,
          periodic=True, events=8),

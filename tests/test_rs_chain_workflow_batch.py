@@ -21,8 +21,9 @@ from bifurcation.workflow import parse_workflow
 CATALOG = ("t_start", "potency", "duration", "max_velocity")
 QD = dict(state_law="aging", a=0.01, b=0.015, dc=0.01, k=0.1, v_lp=1.0, eta=1e-3, v_th=10.0)
 
-# N = 5 quasi-dynamic (aging law, η = 1e-3, k = 0.1); 3 seeds x 2 couplings = 6 points in one tile: 6 chains
-# of one structure in 4 lanes (two refills).
+# N = 6 quasi-dynamic (aging law, η = 1e-3, k = 0.1); 3 seeds x 2 couplings = 6 points in one tile: 6 chains
+# of one structure in 4 lanes (two refills). N = 6: the scalar and 4-lane integrators tests/test_rs_chain_checkpoint.py
+# and tests/test_rs_chain_batch.py compile anyway (N = 5 compiled two of its own: ~2 s of CPU on an empty heyoka cache).
 WORKFLOW = textwrap.dedent("""
     [study]
     name = "rs-batch"
@@ -32,7 +33,7 @@ WORKFLOW = textwrap.dedent("""
     laws = ["aging"]
     batch = {batch}
     [grid.n]
-    values = [5]
+    values = [6]
     [grid.k]
     values = [0.1]
     [grid.ell]
@@ -85,7 +86,7 @@ def test_batch_4_equals_batch_1_per_event_through_the_store(tmp_path):
             # hypocentres: equal, except where the scalar run's first two up-crossings of the event are
             # within 1e-9 of t (a tie that rounding decides; tests/test_rs_chain_batch.py's rule): at ℓ = 3
             # the free ends synchronise (gaps 2e-16 .. 0 from the 6th event), and there either tied block
-            direct = run(spec := RSChainSpec(n=5, ell=ell, **QD), initial_state(spec, 1.0, seed), 8, crossings=True)
+            direct = run(spec := RSChainSpec(n=6, ell=ell, **QD), initial_state(spec, 1.0, seed), 8, crossings=True)
             assert np.array_equal(direct.t_start, a["t_start"])       # the batch = 1 store is the scalar run
             up = direct.crossings[direct.crossings[:, 2] == 1]
             for i, (t0, d) in enumerate(zip(direct.t_start, direct.duration)):
@@ -228,7 +229,7 @@ def test_a_batch_tile_killed_after_three_checkpoints_resumes_from_the_store_bit_
     (WORKFLOW.format(batch=0, catalog=8), "engine.batch=0: is not a lane count"),
     # tiles of several points, but no two of one structure: N differs, then η = 0 with M = 0 (never batched),
     # then the events: each ran one by one, silently, before this check
-    (WORKFLOW.format(batch=4, catalog=8).replace("values = [5]", "values = [4, 5]").replace("ell = 2\nseed = 3\n",
+    (WORKFLOW.format(batch=4, catalog=8).replace("values = [6]", "values = [4, 6]").replace("ell = 2\nseed = 3\n",
                                                                                          "n = 2\n"),
      "engine.batch=4: has no lanes to fill: no tile holds two chains of one structure"),
     (WORKFLOW.format(batch=4, catalog=8).replace("values = [1e-3]", "values = [0.0]"),
