@@ -227,6 +227,14 @@ def _dense(F, y0, i, th):
     return y0[i] + y
 
 
+@_jit
+def _dense_called(F, y0, i, th):
+    """``_dense`` called, not inlined: in a start's event function (every inlined ``_root`` held three copies) and
+    in the maximisations. With ``_root_called``: the cold compile 42-46 s -> 32-33 s CPU, the same catalog, per
+    event within 0.5 % of an unchanged copy timed alongside (N = 64, 256); every ``_dense`` called: 3 % slower."""
+    return _dense(F, y0, i, th)
+
+
 @_inline
 def _root8(x):
     """x^(1/8) for the step-size controller by three square roots: libm's pow took ~20 % of a step's time
@@ -1002,12 +1010,12 @@ def _event_value(kind, i, th, win, tau, h, l2, nu, target):
     2 switch (v − v_break)."""
     if kind == 1:     # (a stuck slot's dense output is its start value: zero rows, no polynomial to evaluate)
         lf, rt = win.left[i], win.right[i]
-        wi = _dense(win.fw, win.w, i, th) if win.slip[i] else win.w[i]
+        wi = _dense_called(win.fw, win.w, i, th) if win.slip[i] else win.w[i]
         c = (win.selfc[i] - 2.0) * wi
         if lf >= 0:
-            c += _dense(win.fw, win.w, lf, th) if win.slip[lf] else win.w[lf]
+            c += _dense_called(win.fw, win.w, lf, th) if win.slip[lf] else win.w[lf]
         if rt >= 0:
-            c += _dense(win.fw, win.w, rt, th) if win.slip[rt] else win.w[rt]
+            c += _dense_called(win.fw, win.w, rt, th) if win.slip[rt] else win.w[rt]
         return win.dn[i] + l2 * c - wi + (tau + th * h)
     return _dense(win.fv, win.v, i, th) - target
 
@@ -1045,6 +1053,13 @@ def _root(kind, i, win, tau, h, l2, nu, target, f0, f1):
 
 
 @_jit
+def _root_called(kind, i, win, tau, h, l2, nu, target, f0, f1):
+    """``_root`` called, not inlined: for the rare friction-piece switches and velocity thresholds (three call
+    sites, each an inlined copy of the root finder to compile; see ``_dense_called``)."""
+    return _root(kind, i, win, tau, h, l2, nu, target, f0, f1)
+
+
+@_jit
 def _bisect(kind, i, win, tau, h, l2, nu, target, a, b, neg):
     """θ in (a, b] past the sign change of the event function (< 0 at a if ``neg``, else > 0; the other
     side at b), to rounding, by bisection (rare paths: ``_start_before``, ``_past_excursion``)."""
@@ -1078,19 +1093,19 @@ def _extremum(i, win, sg):
     a, b = 0.0, 1.0
     c = b - g * (b - a)
     d = a + g * (b - a)
-    fc = sg * _dense(win.fv, win.v, i, c)
-    fd = sg * _dense(win.fv, win.v, i, d)
+    fc = sg * _dense_called(win.fv, win.v, i, c)
+    fd = sg * _dense_called(win.fv, win.v, i, d)
     for _ in range(80):
         if b - a < 1e-12:
             break
         if fc > fd:
             b, d, fd = d, c, fc
             c = b - g * (b - a)
-            fc = sg * _dense(win.fv, win.v, i, c)
+            fc = sg * _dense_called(win.fv, win.v, i, c)
         else:
             a, c, fc = c, d, fd
             d = a + g * (b - a)
-            fd = sg * _dense(win.fv, win.v, i, d)
+            fd = sg * _dense_called(win.fv, win.v, i, d)
     return c if fc > fd else d
 
 
@@ -1102,7 +1117,7 @@ def _past_excursion(i, win, tau, h, l2, nu, vb, up):
     back and forth there until max_steps). 2 if no excursion is seen."""
     sg = -1.0 if up else 1.0
     th = _extremum(i, win, sg)
-    if sg * (_dense(win.fv, win.v, i, th) - vb) <= 0.0:
+    if sg * (_dense_called(win.fv, win.v, i, th) - vb) <= 0.0:
         return 2.0
     return _bisect(2, i, win, tau, h, l2, nu, vb, th, 1.0, up)
 
@@ -1132,7 +1147,7 @@ def _inside(i, win, tau, h, l2, nu, nu_fs, law, pc, dip):
     every root of a step)."""
     sg = -1.0 if dip else 1.0
     th = _extremum(i, win, sg)
-    ve = _dense(win.fv, win.v, i, th)
+    ve = _dense_called(win.fv, win.v, i, th)
     if dip:
         if ve <= 0.0:
             return _bisect(0, i, win, tau, h, l2, nu, 0.0, 0.0, th, False), 0, -1
@@ -1203,28 +1218,28 @@ def _vmax_at(i, win, lim):
                 x = xn
                 if done:
                     break
-            return _dense(F, win.v, i, x), x
+            return _dense_called(F, win.v, i, x), x
         if fa > 0.0 and fb >= 0.0:
             # rising up to lim (a cut before the maximum): the largest v is v(lim), where golden section's ~57
             # evaluations converged to within 1e-12 (v a part in ~1e-12 low)
-            return _dense(F, win.v, i, lim), lim
+            return _dense_called(F, win.v, i, lim), lim
     g = 0.6180339887498949
     a, b = 0.0, lim
     c = b - g * (b - a)
     d = a + g * (b - a)
-    fc = _dense(win.fv, win.v, i, c)
-    fd = _dense(win.fv, win.v, i, d)
+    fc = _dense_called(win.fv, win.v, i, c)
+    fd = _dense_called(win.fv, win.v, i, d)
     for _ in range(80):
         if b - a < 1e-12:
             break
         if fc > fd:
             b, d, fd = d, c, fc
             c = b - g * (b - a)
-            fc = _dense(win.fv, win.v, i, c)
+            fc = _dense_called(win.fv, win.v, i, c)
         else:
             a, c, fc = c, d, fd
             d = a + g * (b - a)
-            fd = _dense(win.fv, win.v, i, d)
+            fd = _dense_called(win.fv, win.v, i, d)
     return (fc, c) if fc > fd else (fd, d)
 
 
@@ -1505,11 +1520,11 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above)
                             dense = True
                         tv = bnd * nu_fs / nu
                         if (va - tv < 0.0) if bnd == up else (va - tv > 0.0):
-                            th = _root(2, i, win, tau, hh, l2, nu, tv, va - tv, vb - tv)
+                            th = _root_called(2, i, win, tau, hh, l2, nu, tv, va - tv, vb - tv)
                         else:     # at the breakpoint at the step's start (switched there)
                             th = _past_excursion(i, win, tau, hh, l2, nu, tv, bnd == up)
                             if th > 1.0:
-                                th = _root(2, i, win, tau, hh, l2, nu, tv, va - tv, vb - tv)
+                                th = _root_called(2, i, win, tau, hh, l2, nu, tv, va - tv, vb - tv)
                         if th < best:
                             best, kind_b, slot_b, brk_b = th, 2, i, (pc if bnd == up else pc - 1)
                 if va > 0.0 and (kv[i, 0] < 0.0 < kv[i, 12] or (npieces > 1 and kv[i, 12] < 0.0 < kv[i, 0])) and \
@@ -1551,7 +1566,7 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above)
                             if not dense:
                                 _dense_prepare(m, hh, tau, win, law, gfun, fr, l2)
                                 dense = True
-                            th = _root(2, i, win, tau, hh, l2, nu, vth, fa_t, fb_t)
+                            th = _root_called(2, i, win, tau, hh, l2, nu, vth, fa_t, fb_t)
                         if th < best:
                             best, kind_b, slot_b = th, 3, i
             else:
