@@ -399,7 +399,7 @@ def _probe(laws, **env):
 def test_a_new_process_loads_the_compiled_loop_from_the_disk_cache(tmp_path, laws):
     """numba keeps the compiled loop on disk: once this process has run both law kinds (Carlson–Langer,
     and the tape that every other law, formulas included, runs through), a new process loads them from
-    the cache (hits, no miss) instead of compiling again (~42 s of CPU per kind, _compiled.COMPILE_SECONDS). The loop used to take
+    the cache (hits, no miss) instead of compiling again (~33 s of CPU per kind, _compiled.COMPILE_SECONDS). The loop used to take
     the law's function as an argument, which numba refused to cache ("uses dynamic globals"). With an
     empty cache directory ``compiled()`` says a compile is due (the CLI's notice), without compiling."""
     u0 = check_initial(6, 1.0, "free", None, 0.1, 3)

@@ -127,7 +127,7 @@ def test_chain_still_running_line_with_verify_does_not_claim_an_event(monkeypatc
 
 
 def test_chain_compiling_says_compiling_not_still_sliding(monkeypatch):
-    """While numba compiles the compiled engine (~42 s of CPU on a cold cache) no event has started: the
+    """While numba compiles the compiled engine (~33 s of CPU on a cold cache) no event has started: the
     still-running line said 'event 1 of 3 still sliding after 30 s' (issue 21, walk 4). A stand-in compile
     (0.6 s inside the first call of the engine) with no writable cache: both lines say compiling, and that
     every run compiles again; none claims an event."""

@@ -2007,8 +2007,9 @@ TOL = 1e-11
 #: CPU seconds of compiling ``run_events`` for one law kind with a cold disk cache, for the CLI's notice:
 #: a 10-event `bifurcation chain --engine compiled` (N = 16) took 43.0–44.8 s of CPU with NUMBA_CACHE_DIR
 #: an empty directory and 1.1–1.5 s with it filled, Carlson–Langer and exp(−x) alike (2026-11-26; wall time
-#: 55–88 s at load 4–5 on 2 cores; docs/chain.md, "Engines")
-COMPILE_SECONDS = 42
+#: 55–88 s at load 4–5 on 2 cores; docs/chain.md, "Engines"); since _dense and _root are called, not
+#: inlined, at their cold sites (2026-11-26 12:30), a one-event run's compile 32.9 and 31.6 s against 46.0 and 42.4
+COMPILE_SECONDS = 33
 
 
 class CompiledChain:
