@@ -236,13 +236,11 @@ def test_a_run_that_stops_early_keeps_its_events_and_says_so():
     assert "did not end" in out["messages"][0]
 
 
-def test_a_run_killed_between_checkpoints_resumes_bit_identical(workflow, serial, tmp_path, monkeypatch):
-    """In process: the task dies (an exception) after its 2nd checkpoint of a 30-event run (C = 8); the
-    recomputed tile restores 16 events and its catalog equals the uninterrupted run's."""
+def _kill_after_second_checkpoint(workflow, path, run_id, monkeypatch):
+    """Compute the tile of the run (n = 6, ν_f = 0.3, seed 2) in process and kill it (KeyboardInterrupt, not an
+    Exception: nothing catches it on the way out) right after its 2nd checkpoint (C = 8: 16 events saved)."""
     from bifurcation.store.catalog import Checkpoints
 
-    path = tmp_path / "ck.zarr"
-    run_id = create_store(path, workflow)["run_id"]
     tile = next(t for t in iter_tiles(workflow) if t.index == (0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0))
     calls = []
     original = Checkpoints.save
@@ -251,12 +249,22 @@ def test_a_run_killed_between_checkpoints_resumes_bit_identical(workflow, serial
         original(self, i, *args, **kwargs)
         calls.append(i)
         if calls.count(0) == 2:
-            raise KeyboardInterrupt("killed")   # not an Exception: nothing catches it on the way out
+            raise KeyboardInterrupt("killed")
 
     monkeypatch.setattr(Checkpoints, "save", dying)
     with pytest.raises(KeyboardInterrupt):
         compute_tile(tile, tile_checkpoints(path, run_id, tile))
     monkeypatch.undo()
+    return tile
+
+
+def test_a_run_killed_between_checkpoints_resumes_bit_identical(workflow, serial, tmp_path, monkeypatch):
+    """In process: the task dies (an exception) after its 2nd checkpoint of a 30-event run (C = 8); the
+    recomputed tile restores 16 events and its catalog equals the uninterrupted run's."""
+
+    path = tmp_path / "ck.zarr"
+    run_id = create_store(path, workflow)["run_id"]
+    tile = _kill_after_second_checkpoint(workflow, path, run_id, monkeypatch)
     assert list((path / "checkpoints").glob("*.npz"))
     values = compute_tile(tile, tile_checkpoints(path, run_id, tile))
     write_tile(path, tile, values, run_id)
@@ -274,24 +282,10 @@ def test_query_catalog_of_a_run_killed_mid_run_names_its_checkpointed_events(wor
     """A run killed after its 2nd checkpoint (C = 8: 16 events saved) is not done: `query --catalog` says
     how many events are checkpointed and how to resume (the store's own submit command), not "has not
     computed this run yet" (issue 21, walk 4). Like status and report it shows no catalog of an unfinished run."""
-    from bifurcation.store.catalog import Checkpoints
 
     path = tmp_path / "ck.zarr"
     run_id = create_store(path, workflow, command="bifurcation submit chain.toml --store ck.zarr --new-store")["run_id"]
-    tile = next(t for t in iter_tiles(workflow) if t.index == (0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0))
-    calls = []
-    original = Checkpoints.save
-
-    def dying(self, i, *args, **kwargs):
-        original(self, i, *args, **kwargs)
-        calls.append(i)
-        if calls.count(0) == 2:
-            raise KeyboardInterrupt("killed")
-
-    monkeypatch.setattr(Checkpoints, "save", dying)
-    with pytest.raises(KeyboardInterrupt):
-        compute_tile(tile, tile_checkpoints(path, run_id, tile))
-    monkeypatch.undo()
+    tile = _kill_after_second_checkpoint(workflow, path, run_id, monkeypatch)
     args = ["query", "--store", str(path), "--law", "carlson-langer", "--n", "6", "--nu-f", "0.3",
             "--events", "30", "--periodic", "0", "--catalog"]
     result = CliRunner().invoke(cli, args)
