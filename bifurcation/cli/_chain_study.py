@@ -68,21 +68,17 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
     if ell_scan_only and (from_data or presets_only or published_nu_only or catalogs_only):
         raise InputError("--ell-scan-only", "with another of --from-data, --presets-only, --catalogs-only, "
                          "--published-nu-only", "is a run of its own", "give --ell-scan-only alone")
-    if ell_scan_only and not cfg.get("ell_scan"):
-        raise InputError("--ell-scan-only", str(workflow), "has no [ell_scan] table",
-                         "add one (workflows/chain-report.toml has it) or drop --ell-scan-only")
-    if ell_scan_only and not data.is_file():
-        raise InputError("--ell-scan-only", str(data), "does not exist: the report is re-rendered from it",
-                         "run the whole study once, or give --out results/chain")
-    if catalogs_only and not data.is_file():
-        raise InputError("--catalogs-only", str(data), "does not exist: the report is re-rendered from it",
-                         "run the whole study once, or give --out results/chain")
-    if published_nu_only and not cfg.get("published_nu"):
-        raise InputError("--published-nu-only", str(workflow), "has no [published_nu] table",
-                         "add one (workflows/chain-report.toml has it) or drop --published-nu-only")
-    if published_nu_only and not data.is_file():
-        raise InputError("--published-nu-only", str(data), "does not exist: the report is re-rendered from it",
-                         "run the whole study once, or give --out results/chain")
+    # At most one "--*-only" flag is left here (the checks above): its workflow table, then the data it re-renders.
+    for flag, given, table in (("--ell-scan-only", ell_scan_only, "ell_scan"),
+                               ("--published-nu-only", published_nu_only, "published_nu")):
+        if given and not cfg.get(table):
+            raise InputError(flag, str(workflow), f"has no [{table}] table",
+                             f"add one (workflows/chain-report.toml has it) or drop {flag}")
+    for flag, given in (("--ell-scan-only", ell_scan_only), ("--catalogs-only", catalogs_only),
+                        ("--published-nu-only", published_nu_only)):
+        if given and not data.is_file():
+            raise InputError(flag, str(data), "does not exist: the report is re-rendered from it",
+                             "run the whole study once, or give --out results/chain")
     if presets_only and not data.is_file():
         raise InputError("--presets-only", str(data), "does not exist: the other sections are read from it",
                          "run the whole study once (without --presets-only), or give --out results/chain")
