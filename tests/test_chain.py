@@ -32,7 +32,7 @@ def test_one_block_is_the_single_block_engine(law, nu, nu_f):
     """N = 1: every event is the single block's cycle: potency Δ, recurrence Δ/ν.
 
     Tolerance 1e-14: both engines integrate the same scaled equation with the same tolerance; the
-    single-block engine's own error near ν_f = 1/2 reaches 1.1e-14 (README, Precision).
+    single-block engine's own error near ν_f = 1/2 reaches 1.1e-14 (docs/engine.md, Precision).
     """
     one = bf.slip(law, nu=nu, nu_f=nu_f)
     r = chain(law, n=1, ell=1.0, nu=nu, nu_f=nu_f, u0=[0.0], events=3)

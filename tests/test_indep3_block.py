@@ -10,7 +10,7 @@ earlier references cover only for ν ∈ [1e-15, 0.3], ν_f ∈ [0.02, 0.95]: 23
 1e-18, 1e-20; ν_f = 1e-4, 3e-4, 1e-3, 0.98, 2, 10) and 16 points drawn log-uniformly over the whole
 domain (numpy default_rng(20261126)); four laws, one of them a formula. Both precisions.
 
-Tolerances: README "Precision" (double: 3e-15 away from ν_f ≈ 1/2, max(1e-14, κε) just above it;
+Tolerances: docs/engine.md "Precision" (double: 3e-15 away from ν_f ≈ 1/2, max(1e-14, κε) just above it;
 quad: a real128 result returned as a double, one ulp either way, 2.3e-16). None of these points is
 within 0.08 of 1/2, so 5e-15 in double (3e-15 with room for the times and max U̇, which share the
 step errors, as tests/test_indep_single.py). Statuses: as tests/test_indep_single.py — no-stick where
@@ -72,6 +72,6 @@ def test_domain_corners_and_sample(precision):
             tol = TOL[precision]
             if k == "creep_time" and precision == "double":
                 # t1 is located inside a step of O(1) length: an absolute error of ~ε (measured 1.9e-16
-                # at ν_f = 1.17e-4, where t1 = 4.0e-3: 4.7e-14 relative; README, "Precision", states it)
+                # at ν_f = 1.17e-4, where t1 = 4.0e-3: 4.7e-14 relative; docs/engine.md, "Precision", states it)
                 tol = max(tol, 4.4e-16 / float(p[k]))
             assert rel <= tol, (where, k, got, p[k], rel)

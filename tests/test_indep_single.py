@@ -25,7 +25,7 @@ import bifurcation as bf
 import _indep_single as ref
 from _indep_sample import sample
 
-# README, "Precision": double-precision Δ is within 3e-15 of the exact solution everywhere except
+# docs/engine.md, "Precision": double-precision Δ is within 3e-15 of the exact solution everywhere except
 # on the creep side right at ν_f ≈ 0.51 (1.1e-14); none of these points is there, 5e-15 is that
 # bound with room for the other outputs (stop time, t1, max velocity), which share the same step
 # errors. Quad runs at tolerance 1.9e-34 and is returned as a double, Δ and max U̇ as ν times the
@@ -107,7 +107,7 @@ def test_limit_against_mpmath(law, nuf):
 
     Reference: started ε = 1e-22 along the fast eigenvector at 50 digits; ε = 1e-26 changes Δ0 by
     ≤ 3e-38 relative (measured at these points). The package's Δ0 is a double from a 12th-order
-    manifold series and its compiled integrator (README: Eq. 18 to ≤ 3e-16), so 4e-16 relative;
+    manifold series and its compiled integrator (docs/engine.md, "Precision": Eq. 18 to ≤ 3e-16), so 4e-16 relative;
     measured ≤ 1.1e-16.
     """
     r = ref.limit_delta0(law, nuf)

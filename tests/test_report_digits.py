@@ -105,7 +105,7 @@ def test_rounding_level_numbers_print_as_a_bound():
 
     from bifurcation.analysis.claims import ROUNDING, deviation_text
 
-    assert ROUNDING == 1e-14   # README's "≤ 1e-14 relative" between machines
+    assert ROUNDING == 1e-14   # docs/engine.md / report/_stable.py: "≤ 1e-14 relative" between machines
     assert deviation_text(2.2e-16) == deviation_text(0.0) == deviation_text(-4.4e-16) == "< 1e-14 (rounding)"
     assert deviation_text(2.9e-6) == "2.9e-06" and deviation_text(1e-14) == "1.0e-14"
     text = _committed()

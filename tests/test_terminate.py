@@ -119,7 +119,7 @@ def test_a_batch_jobs_sigterm_to_every_process_leaves_no_damage(tmp_path):
     submitting process, which finishes the tiles being written; status 143, no lock, no damaged chunk,
     no process left."""
     # 2 × 1024 × 512 points: helpers start once the work left exceeds HANDOVER_CPU_SECONDS (10 s); at one
-    # process's ~41 µs a point (README, 10^6 points in 41.3 s) that is ~43 s, so a machine 3× faster still
+    # process's ~41 µs a point (docs/benchmarks.md, 10^6 points in 41.3 s) that is ~43 s, so a machine 3× faster still
     # starts one. The former 196 608 points (~8 s) started none on the idle machine (CI, 2026-11-26).
     text = (TOML.replace("num = 32", "num = 1024").replace("num = 24", "num = 512")
             .replace("nu = 16", "nu = 64").replace("nu_f = 4", "nu_f = 8"))

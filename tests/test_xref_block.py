@@ -149,7 +149,7 @@ def test_limit_against_odefun(law, nu_f):
     The start error is O(ε^{2−λ−/λ+}): ε = 1e-18 and 1e-22 changed Δ0 by ≤ 1.6e-33 at ν_f = 0.07, 0.31
     and 1.8e-23 at 0.49 (carlson-langer, measured when written); ε = 1e-22 here. Measured (double): Δ0
     ≤ 3.0e-16 for ν_f ≤ 0.31, 4.0e-16 (Δ0) and 4.8e-16 (max U̇) for 1/(1+x+x²) at 0.49, where the limit
-    orbit's conditioning grows towards 1/2 (README: double and real128 limits agree to ≤ 5e-15 at 1/2);
+    orbit's conditioning grows towards 1/2 (docs/engine.md, "Precision": double and real128 limits agree to ≤ 5e-15 at 1/2);
     quad ≤ 1e-16. Held to 1e-15.
     """
     b = ref.limit_delta0(law, nu_f, eps=mpf("1e-22"), dps=28)
@@ -161,7 +161,7 @@ def test_limit_against_odefun(law, nu_f):
 @pytest.mark.slow
 @pytest.mark.parametrize("law", ["carlson-langer", "exponential", "1/(1+x+x^2)"])
 def test_precision_just_above_one_half_off_the_grid(law):
-    """README, "Precision": off tests/test_precision.py's grid, ν_f just above 1/2 (0.502, 0.505, 0.52),
+    """docs/engine.md, "Precision": off tests/test_precision.py's grid, ν_f just above 1/2 (0.502, 0.505, 0.52),
     double Δ within max(1e-14, κε), κ = |d ln Δ/d ln ν_f| from two quad runs (ν_f and ν_f(1 + 1e-9),
     given as decimals, so read exactly in real128). Reference: quad, which agrees with the mpmath
     references above to ≤ 1.5e-16. Measured when written (AVX2): error/bound ≤ 0.72 over 225 points."""
@@ -183,7 +183,7 @@ def test_precision_just_above_one_half_off_the_grid(law):
                                                 ("exp(-x-x^2)", 1e-6, 0.01)], 2))
 def test_fading_friction_small_nu_f(law, nu, nu_f):
     """A Gaussian fade: Φ = e^{−x−x²} is below 1e-300 for most of the slip (x = U̇/ν_f up to 50–100)
-    and comes back within Δx ≈ 0.1 before the stop, the case the engine's rungs are for (README, "Friction
+    and comes back within Δx ≈ 0.1 before the stop, the case the engine's rungs are for (docs/engine.md, "Friction
     that fades"). The reference restarts odefun at every h where Φ is invisible to it (tests/_xref_block.py;
     without that it stepped over the return, 3.7e-4 off at ν_f = 0.01, where the engine, scipy DOP853 with
     max_step 0.01 and the restarted reference agree). Measured: ≤ 3e-16 (24 s, 77 s, 224 s)."""

@@ -11,7 +11,7 @@ held to 2.3e-16 (one ulp either way).
 
 Series: μ, V, θ after a load-point step 1 → 2.5 at t = 5 (slip law, Dc = 0.5, η = 0.05, k = 0.05), by
 mpmath.odefun in (V, θ). Measured: μ within 4.9e-17, V 1.3e-16, θ 7.1e-17 relative (two other
-sets, two state variables with and without mass, ≤ 1.9e-16 / 3.7e-16 / 2.2e-16). README: "our μ is
+sets, two state variables with and without mass, ≤ 1.9e-16 / 3.7e-16 / 2.2e-16). docs/rate-state.md: "our μ is
 within 2e-16 relative" of the package's own mpmath reference; held to 2.3e-16 for μ and 5e-16 for V
 and θ (V carries the error of ln V times e^x: a few ulps).
 """

@@ -61,7 +61,7 @@ def _rel(a, b) -> float:
 
 
 #: Deviations below this are rounding: heyoka compiles for the host CPU (and numpy's double functions
-#: vectorise per CPU), so their digits differ between machines (≤ 1e-14 relative, README "Digits"); the
+#: vectorise per CPU), so their digits differ between machines (≤ 1e-14 relative, docs/engine.md "Precision"); the
 #: report prints such a deviation as this bound, not as its machine's digits (2.2e-16 here, 0 elsewhere).
 ROUNDING = 1e-14
 

@@ -259,7 +259,7 @@ def chain_cmd(preset, law, n, ell, nu, nu_f, ends, u0, amplitude, seed, events, 
                    + (f"; {r.message}" if r.message else "") + _over_bound(r, work, n, float(nu), engine))
         click.echo("(events and hypocentres count from 0: hypocentre 0 is block j = 1 of docs/chain.md)")
         below = sum(1 for i in range(r.events) if r["n_blocks"][i] == 0) if r.v_threshold else 0
-        if below:   # a table of zeros said nothing about why (README's --v-threshold example: 50 of 50)
+        if below:   # a table of zeros said nothing about why (docs/chain.md's --v-threshold example: 50 of 50)
             click.echo(f"({below} of {r.events} events had no block faster than V_th = {r.v_threshold:g}: n_blocks "
                        "and potency count only those, so they are 0 there)")
         if r.verification is not None:

@@ -2,7 +2,7 @@
 
 heyoka compiles its Taylor integrator for the host CPU (vector width, fused multiply-add), so the
 engine's results on two machines differ in the last bits: by at most the engine's own error, ≤ 1e-14
-relative (README, "Precision"). The fits of the report amplify such differences, some a lot (the
+relative (docs/engine.md, "Precision"). The fits of the report amplify such differences, some a lot (the
 coefficient K2 of a 14-term expansion, the largest residual of a fit): a committed report rewritten on
 another CPU changed in its last digits. So each fitted number is printed only to the digits that a
 data change of that size cannot move: the fits are repeated on copies of the data whose Δ and T are
@@ -21,7 +21,7 @@ import numpy as np
 __all__ = ["MARGIN", "PERTURBATION", "SEEDS", "perturb", "spread", "stable"]
 
 #: Relative size of the perturbation: the data error the fits assume (``analysis.period_fit``
-#: ``DEFAULT_RELATIVE_ERROR``; the engine's median error against real128 is ~1e-16, README "Precision").
+#: ``DEFAULT_RELATIVE_ERROR``; the engine's median error against real128 is ~1e-16, docs/engine.md "Precision").
 PERTURBATION = 2.2e-16
 #: Seeds of the perturbed repetitions.
 SEEDS = (11, 12, 13)

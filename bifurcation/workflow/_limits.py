@@ -5,7 +5,7 @@ them, so a 10 KB workflow that declares 200 ranges of 10^5 points is refused in 
 its count, instead of taking minutes and gigabytes to build a grid that would be refused anyway.
 The counts are upper bounds (points shared by several ranges are counted once per range).
 
-Limits (documented in README and the workflow schema):
+Limits (documented in docs/studies.md, "Bounds and limits", and the workflow schema):
 
 * ``AXIS_MAX_POINTS`` = 10^5 points declared on one axis, over all its values and ranges;
 * ``MAX_POINTS`` = 10^8 points in the grid (laws × the axes): the resume mask alone is one byte a
