@@ -89,7 +89,7 @@ def test_the_stop_phase_model_stops_where_the_lone_trajectory_stops():
 
 
 def test_event_shares_partition_the_catalog_and_one_block_events_take_no_step():
-    """``run_event_shares`` (docs/chain.md, "Why N = 64 and 256 stay below 1.0×") splits a compiled catalog by event
+    """``run_event_shares`` (docs/chain.md, "Issue 18's ideas for N = 64 and 256") splits a compiled catalog by event
     size: its rows partition the events and the steps (each share sums to 1 to rounding), and no one-block event took
     a Taylor step (on a free chain the stored lone trajectory, ``_lone``, ends every one: interior or end block).
     (Not every two-block event takes steps: two lone blocks far apart in one event do not, 0.9 % of events at N = 64.)"""

@@ -438,7 +438,7 @@ def run_event_shares(*, sizes=(64, 256), events: int = 20_000, transient: int = 
     """Where the compiled engine's Taylor steps go, by event size (the bench's start and law): per size 1, 2, 3, 4
     and ≥ 5 blocks, its share of the events, of the events that took steps (the others ended on the stored lone
     trajectory, ``_lone``) and of all steps, and the steps per such event. What a stored family of two-block
-    events could save at most (docs/chain.md, "Why N = 64 and 256 stay below 1.0×"). Reported, never asserted."""
+    events could save at most (docs/chain.md, "Issue 18's ideas for N = 64 and 256"). Reported, never asserted."""
     from ...laws import resolve_law
     from ._compiled import CompiledChain
     from ._validate import check_initial
