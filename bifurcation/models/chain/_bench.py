@@ -12,8 +12,8 @@ its noise) measures the rates at several dt. The event magnitude distribution is
 event slips the same amount), and an atom moved by RK4's error (2e-3 relative at dt = 0.05) makes the
 raw KS distance the atom's whole weight. Timings are CPU seconds of this single-threaded process
 (wall-clock shown too: on a shared machine it measures the other jobs), reported, never asserted.
-``python -m bifurcation.models.chain._bench suite|ks|long|atom|tolerance|stop`` runs the suite, the longer KS study,
-the tolerance grid and stop-phase model (docs/chain.md, "Speed") and the 10^5-event timing of results/chain/REPORT.md ("Speed").
+``python -m bifurcation.models.chain._bench suite|ks|long|atom|tolerance|stop|shares`` runs the suite, the longer KS study,
+the tolerance grid, stop-phase model and steps by event size (docs/chain.md, "Speed") and the 10^5-event timing of results/chain/REPORT.md ("Speed").
 """
 
 from __future__ import annotations
@@ -432,6 +432,38 @@ def run_million(*, n: int = 1024, events: int = 1_000_000, nu: float = 1e-4, nu_
     return res
 
 
+def run_event_shares(*, sizes=(64, 256), events: int = 20_000, transient: int = 1000, law: str = "carlson-langer",
+                     ell: float = 1.0, nu: float = 1e-4, nu_f: float = 0.2, amplitude: float = 0.1, seed: int = 1,
+                     echo=print) -> dict:
+    """Where the compiled engine's Taylor steps go, by event size (the bench's start and law): per size 1, 2, 3, 4
+    and ≥ 5 blocks, its share of the events, of the events that took steps (the others ended on the stored lone
+    trajectory, ``_lone``) and of all steps, and the steps per such event. What a stored family of two-block
+    events could save at most (docs/chain.md, "Issue 18's ideas for N = 64 and 256"). Reported, never asserted."""
+    from ...laws import resolve_law
+    from ._compiled import CompiledChain
+    from ._validate import check_initial
+
+    say = echo or (lambda *_: None)
+    law_obj = resolve_law(law)
+    rows = []
+    for n in sizes:
+        u0 = _steady_start_compiled(law_obj, n, ell, nu, nu_f, check_initial(n, ell, "free", None, amplitude, seed),
+                                    transient)
+        cat = CompiledChain(law_obj, n, ell, nu, nu_f, "free", u0).run(events)["catalog"]
+        nb, st = cat["n_blocks"], cat["steps"]
+        total = max(int(st.sum()), 1)
+        for lo, hi in ((1, 1), (2, 2), (3, 3), (4, 4), (5, n)):
+            sel = (nb >= lo) & (nb <= hi)
+            stepped = sel & (st > 0)
+            r = {"n": n, "size": lo if lo == hi else f"{lo}+", "events": float(sel.mean()),
+                 "stepped": float(stepped.mean()), "steps": float(st[sel].sum() / total),
+                 "steps_per_event": float(st[stepped].mean()) if stepped.any() else 0.0}
+            rows.append(r)
+            say(f"  N = {n:4d}, size {r['size']!s:>2}: {r['events']:.3f} of events, {r['stepped']:.3f} with steps "
+                f"({r['steps_per_event']:.1f} each), {r['steps']:.3f} of all steps")
+    return {"rows": rows}
+
+
 def run_lone_block_check(*, n: int = 64, events: int = 300, dts=(0.2, 0.1, 0.05, 0.02), nu: float = 1e-3,
                          nu_f: float = 0.2, seed: int = 1, echo=print) -> dict:
     """Relative error of the lone interior block's slip, exact engine and RK4, against the closed form
@@ -649,3 +681,5 @@ if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md 
         run_tolerance_grid()
     elif what == "stop":
         run_stop_phase()
+    elif what == "shares":
+        run_event_shares()
