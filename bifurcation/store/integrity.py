@@ -247,12 +247,33 @@ def broken_metadata(path) -> list[Damage]:
     """Arrays of the store (as its consolidated metadata lists them) whose ``zarr.json`` is missing or
     unreadable (a deleted ``done/``)."""
     damage = []
-    for name in _consolidated(path):
-        try:
-            json.loads((Path(path) / name / "zarr.json").read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            damage.append(Damage(f"{name}/zarr.json", (), "array metadata missing or unreadable"))
+    for name, record in _consolidated(path).items():
+        problem = _metadata_problem(Path(path) / name / "zarr.json", record)
+        if problem:
+            damage.append(Damage(f"{name}/zarr.json", (), problem))
     return damage
+
+
+#: The keys of an array's zarr.json that say how its chunks are read (its attributes may change).
+_LAYOUT = ("shape", "data_type", "chunk_grid", "chunk_key_encoding", "fill_value", "codecs", "dimension_names")
+
+
+def _metadata_problem(file: Path, record) -> str | None:
+    """What is wrong with the array metadata ``file`` against its ``record`` in the consolidated metadata (None
+    if nothing). A zarr.json edited to another shape or data type was a KeyError or TypeError traceback from
+    query, export, report, verify and submit (walk 6)."""
+    try:
+        meta = json.loads(file.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return "array metadata missing or unreadable"
+    if not isinstance(meta, dict) or not isinstance(record, dict) or meta.get("node_type") != record.get("node_type"):
+        return "array metadata unreadable"
+    if record.get("node_type") != "array":
+        return None
+    changed = [key for key in _LAYOUT if meta.get(key) != record.get(key)]
+    if changed:
+        return f"array metadata differs from the store's record of it ({', '.join(changed)})"
+    return None
 
 
 def scan(path) -> tuple[list[Damage], int, int]:
@@ -321,11 +342,12 @@ def restore_metadata(path) -> list[str]:
     restored = []
     for name, meta in _consolidated(path).items():
         file = Path(path) / name / "zarr.json"
-        try:
-            json.loads(file.read_text(encoding="utf-8"))
+        if _metadata_problem(file, meta) is None:
             continue
-        except (OSError, ValueError):
-            pass
+        if file.is_dir() and not file.is_symlink():
+            import shutil
+
+            shutil.rmtree(file)
         file.parent.mkdir(parents=True, exist_ok=True)
         file.write_text(json.dumps(meta, indent=2), encoding="utf-8")
         restored.append(name)
