@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import itertools
 import json
+import os
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterator
@@ -178,6 +180,9 @@ class TileReader:
         region = self.region(tile)
         present = {name: self.exists(name, tile) for name in self.variables}
         self._values = values = {}
+        odd = self.not_files(tile, present)
+        if odd:
+            return odd
         if not any(present.values()):   # never written: fill values (the store's reading of it)
             for name, array in self.variables.items():
                 shape = tuple(s.stop - s.start for s in region)
@@ -208,6 +213,14 @@ class TileReader:
                     return self._as_not_computed(region, values[DONE])
                 return [Damage(self.key(name, tile), tile, "holds a value where done is False", "unfinished")]
         return []
+
+    def not_files(self, tile: tuple, present: dict | None = None) -> list[Damage]:
+        """Chunk paths of ``tile`` that exist but are not files (a directory, a link that loops or leads nowhere):
+        a submit failed on them with "Is a directory", exit 1, and a directory at ``done``'s chunk read as a tile
+        never written (walk 6)."""
+        present = present if present is not None else {name: self.exists(name, tile) for name in self.variables}
+        return [Damage(self.key(name, tile), tile, "is not a chunk file (a directory, or a link to nothing)")
+                for name, ok in present.items() if not ok and os.path.lexists(self.path / self.key(name, tile))]
 
     def _as_not_computed(self, region, done=None) -> list:
         """A tile a live writer is writing: the points already done are kept, the rest read as fill."""
@@ -311,6 +324,7 @@ def missing_chunks(path) -> list[Damage]:
         return damage
     reader = TileReader(path)
     for tile in reader.tiles():
+        damage += reader.not_files(tile)
         if reader.exists(DONE, tile):
             damage += [Damage(reader.key(name, tile), tile, "missing (deleted?) in a written tile")
                        for name in reader.variables if not reader.exists(name, tile)]
@@ -331,7 +345,11 @@ def clear_tiles(path, tiles: list[tuple]) -> None:
     catalogs = has_catalog(path)
     for tile in tiles:
         for name in [DONE, *(n for n in reader.variables if n != DONE)]:
-            (reader.path / reader.key(name, tuple(tile))).unlink(missing_ok=True)
+            chunk = reader.path / reader.key(name, tuple(tile))
+            if chunk.is_dir() and not chunk.is_symlink():   # a directory where a chunk goes (not_files)
+                shutil.rmtree(chunk)
+            else:
+                chunk.unlink(missing_ok=True)
         if catalogs:   # after done: the runs' catalogs and checkpoints go with their tile
             clear_catalogs(path, reader.shape, reader.region(tuple(tile)))
 
@@ -345,8 +363,6 @@ def restore_metadata(path) -> list[str]:
         if _metadata_problem(file, meta) is None:
             continue
         if file.is_dir() and not file.is_symlink():
-            import shutil
-
             shutil.rmtree(file)
         file.parent.mkdir(parents=True, exist_ok=True)
         file.write_text(json.dumps(meta, indent=2), encoding="utf-8")
