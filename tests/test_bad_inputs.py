@@ -2142,3 +2142,16 @@ def test_report_of_a_store_with_no_point_done(tmp_path, monkeypatch):
     result = CliRunner().invoke(cli, ["report", "--store", str(store), "--out", str(tmp_path / "rep")])
     assert result.exit_code == 0, result.output
     assert "0 of 4 points done" in (tmp_path / "rep" / "REPORT.md").read_text()
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "two"])
+def test_a_bad_numba_thread_count_in_the_environment(value, monkeypatch, tmp_path):
+    """NUMBA_NUM_THREADS (read by numba at import) that numba refuses: one line naming it, before the command
+    (`NUMBA_NUM_THREADS=0 bifurcation chain ... --engine compiled` was numba's ValueError traceback, walk 6)."""
+    monkeypatch.setenv("NUMBA_NUM_THREADS", value)
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(cli, shlex.split(CHAIN_CLI) + ["--engine", "compiled"])
+    lines = result.stderr.splitlines()
+    assert result.exit_code == 2 and len(lines) == 1, result.output
+    assert lines[0].startswith(f"bifurcation: error: NUMBA_NUM_THREADS='{value}': is not a positive number"), lines
+    assert result.stdout == "" and list(tmp_path.iterdir()) == []
