@@ -2155,3 +2155,17 @@ def test_a_bad_numba_thread_count_in_the_environment(value, monkeypatch, tmp_pat
     assert result.exit_code == 2 and len(lines) == 1, result.output
     assert lines[0].startswith(f"bifurcation: error: NUMBA_NUM_THREADS='{value}': is not a positive number"), lines
     assert result.stdout == "" and list(tmp_path.iterdir()) == []
+
+
+def test_export_removes_what_a_killed_export_left(env, tmp_path, monkeypatch):
+    """An export killed (kill -9) mid-write leaves its ``.NAME.part-PID`` (no ``finally`` runs): the next export to
+    that name removes those of dead processes (each kill left one, as large as the export, walk 6), not a live one's."""
+    _, paths, _ = env
+    monkeypatch.chdir(tmp_path)
+    dead = tmp_path / f".x.csv.part-{2 ** 22 + 7}"   # above the default pid_max: no such process
+    dead.write_text("a,b\n1,")
+    mine = tmp_path / f".x.csv.part-{os.getppid()}"   # a live process's (the runner's parent): kept
+    mine.write_text("a,b\n")
+    result = CliRunner().invoke(cli, ["export", "--store", paths["sb"], "--out", str(tmp_path / "x.csv")])
+    assert result.exit_code == 0, result.output
+    assert not dead.exists() and mine.exists() and (tmp_path / "x.csv").is_file()
