@@ -2169,3 +2169,24 @@ def test_export_removes_what_a_killed_export_left(env, tmp_path, monkeypatch):
     result = CliRunner().invoke(cli, ["export", "--store", paths["sb"], "--out", str(tmp_path / "x.csv")])
     assert result.exit_code == 0, result.output
     assert not dead.exists() and mine.exists() and (tmp_path / "x.csv").is_file()
+
+
+def test_export_to_a_read_only_file_system(env, tmp_path, monkeypatch):
+    """--out on a read-only file system: one line naming --out, exit 2. The clean-up of the temporary file raised
+    EROFS too (even for a file that is not there), which replaced that line by 'Read-only file system:
+    .x.nc.part-PID', exit 1 (walk 6, on a tmpfs remounted read-only; here the two calls are made to fail so)."""
+    import errno
+    import pathlib
+
+    _, paths, _ = env
+    monkeypatch.chdir(tmp_path)
+
+    def read_only(*args, **kwargs):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+
+    monkeypatch.setattr(os, "replace", read_only)
+    monkeypatch.setattr(pathlib.Path, "unlink", read_only)
+    result = CliRunner().invoke(cli, ["export", "--store", paths["sb"], "--out", str(tmp_path / "x.csv")])
+    lines = result.stderr.splitlines()
+    assert result.exit_code == 2 and len(lines) == 1, result.output
+    assert lines[0].startswith(f"bifurcation: error: --out='{tmp_path / 'x.csv'}': cannot be written (Read-only"), lines

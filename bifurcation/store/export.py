@@ -201,7 +201,10 @@ def export(store, out, fmt: str | None = None, *, force: bool = False, partial: 
         raise InputError("--out", str(out), f"cannot be written ({exc.strerror or exc})",
                          "choose a writable path with free space") from None
     finally:
-        tmp.unlink(missing_ok=True)
+        try:
+            tmp.unlink(missing_ok=True)
+        except OSError:   # a read-only file system says so even of a file that is not there: it hid the line above
+            pass          # (exit 1 naming the temporary file, walk 6)
     from .catalog import has_catalog
 
     written = {"out": str(out), "format": fmt, "points": points, "computed": int(read_done(path).sum())}
