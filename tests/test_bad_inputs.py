@@ -1822,3 +1822,371 @@ def test_walk5_bad_inputs(w5_env, tmp_path, monkeypatch):
     assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
     root, paths = w5_env
     _run_batch(CASES_W5, (root, paths, None), tmp_path, monkeypatch)
+
+
+# -- walk 6 (issue 21, helper walk6): kinds the blocks above do not hold, batched as walk 2's. Rows marked "# fixed"
+#    failed before: an array's zarr.json edited to another data type or shape (a TypeError / KeyError traceback from
+#    query, export, report, verify and submit), a lock file that is a directory (exit 1, "Is a directory"), a chunk
+#    path that is a directory or a link that loops (a submit failed with exit 1; a directory at done's chunk read
+#    as a tile never written), rate-state --cycle with two velocities (named --at) or without a Hopf point (JSON on
+#    stdout, no option named), a chain study's sweep.nu_f out of order or repeated (its up and down branches ran
+#    under each other's names), a nu_f_max below every nu_f, near_half.cpu of 1e12 s. The rest were refused
+#    already: 1e309, -0.0, 0x10, '1_000', ' 0.4'-style numbers on options not tried before, TOML of odd types,
+#    names, tables and models, stores damaged in further ways, paths that are files.
+_W6_STUDY = {
+    "amplitude_neg": ("amplitude = 0.1", "amplitude = -0.1"),
+    "catalog_nu_f_309": ("nu_f = [0.2, 0.35]", "nu_f = [0.2, 1e309]"),
+    "catalog_seed_str": ("seed = 1\nskip", 'seed = "1"\nskip'),
+    "catalog_skip_neg": ("skip = 300", "skip = -1"),
+    "cycles_zero": ("cycles_per_step = [20, 3, 3, 3, 2]", "cycles_per_step = [0, 3, 3, 3, 2]"),
+    "dupkey": ("workers = 2", "workers = 2\nworkers = 3"),
+    "ends_int": ('ends = "free"', "ends = 1"),
+    "longest_nan": ("longest_event = 0.5", "longest_event = nan"),
+    "maxev_huge": ("max_events_per_step = 20000", "max_events_per_step = 100000000000"),
+    "model_table": ("[study]", '[model]\nname = "chain"\n[study]'),
+    "nh_cpu_neg": ("cpu = 45", "cpu = -45"),
+    "nh_cpu_huge": ("cpu = 45", "cpu = 1e12"),
+    "nh_events_huge": ("events = 20000\nlongest_event = 2.0", "events = 2000000000000\nlongest_event = 2.0"),
+    "nh_nus_mismatch": ("nus = [1e-3, 1e-4]", "nus = [1e-3, 1e-4, 1e-5]"),
+    "no_chain": ("[chain]", "[chainx]"),
+    "nu_negzero": ("nu = 1e-3\nends", "nu = -0.0\nends"),
+    "scan_nu_inf": ("scan_nu = 1e-9", "scan_nu = inf"),
+    "scan_points_huge": ("scan_points = 41", "scan_points = 100000000"),
+    "seeds_neg": ("seeds = [1, 6, 6, 4, 2]", "seeds = [1, -6, 6, 4, 2]"),
+    "sizes_huge": ("sizes = [1, 4, 16, 64, 256]", "sizes = [" + ",".join(["4"] * 100000) + "]"),
+    "small_nu_big": ("nu = 1e-4\nsizes = [1, 4, 16]", "nu = 10.0\nsizes = [1, 4, 16]"),
+    "sweep_aot": ("[sweep]  ", "[[sweep]]"),
+    "threshold_ells_neg": ("ells = [0.5, 1.0, 2.0]", "ells = [-0.5, 1.0, 2.0]"),
+    "threshold_nus_zero": ("nus = [1e-6, 1e-9, 1e-12]", "nus = [0.0, 1e-9, 1e-12]"),
+    "transient_neg": ("transient_cycles = 3", "transient_cycles = -3"),
+    "workers_huge": ("workers = 2", "workers = 100000"),
+    "workers_str": ("workers = 2", 'workers = "2"'),
+    "nu_f_desc": ("nu_f = [0.15, 0.2,", "nu_f = [0.2, 0.15,"),
+    "nu_f_dup": ("nu_f = [0.15, 0.2,", "nu_f = [0.15, 0.15, 0.2,"),
+    "nu_f_max_low": ("nu_f_max = [0.65, 0.65, 0.65, 0.65, 0.5]", "nu_f_max = [0.1, 0.65, 0.65, 0.65, 0.5]"),
+}
+STUDY_WORKFLOWS.update({f"w6_{k}": v for k, v in _W6_STUDY.items()})
+STUDY_CASES_W6 = [f"study chain {{study_w6_{name}}} --out {{newdir}} ## {needle}" for name, needle in [
+    ("amplitude_neg", "chain.amplitude=-0.1"), ("catalog_nu_f_309", "holds the number 1e309"),
+    ("catalog_seed_str", "catalog.seed='1': is a string"), ("catalog_skip_neg", "catalog.skip=-1"),
+    ("cycles_zero", "sweep.cycles_per_step[0]=0.0"), ("dupkey", "is not valid TOML"), ("ends_int", "chain.ends=1"),
+    ("longest_nan", "sweep.longest_event=nan"), ("maxev_huge", "sweep.max_events_per_step=100000000000"),
+    ("model_table", "model="), ("nh_cpu_neg", "near_half.cpu=-45.0"),
+    ("nh_cpu_huge", "near_half.cpu=1000000000000.0: is out of range"),                                      # fixed
+    ("nh_events_huge", "near_half.events=2000000000000"), ("nh_nus_mismatch", "near_half.nu_f='2 lists'"),
+    ("no_chain", "chainx="), ("nu_negzero", "chain.nu=0.0"), ("scan_nu_inf", "threshold.scan_nu=inf"),
+    ("scan_points_huge", "threshold.scan_points=100000000"), ("seeds_neg", "sweep.seeds[1]=-6"),
+    ("sizes_huge", "has more than 1000 values"), ("small_nu_big", "sweep_small_nu.nu=10.0"), ("sweep_aot", "sweep=[{{"),
+    ("threshold_ells_neg", "threshold.ells[0]=-0.5"), ("threshold_nus_zero", "threshold.nus[0]=0.0"),
+    ("transient_neg", "sweep.transient_cycles=-3.0"), ("workers_huge", "study.workers=100000"),
+    ("workers_str", "study.workers='2'"),
+    ("nu_f_desc", "sweep.nu_f=[0.2, 0.15, 0.25"),                                                            # fixed
+    ("nu_f_dup", "is not in ascending order without repeats"),                                              # fixed
+    ("nu_f_max_low", "sweep.nu_f_max[0]=0.1: is below every nu_f")]]                                         # fixed
+WORKFLOWS.update({f"w6_{k}": v for k, v in {
+    "rsc_eta_309": (RSC, "values = [1e-3]", "values = [1e309]"),
+    "rsc_model_str": (RSC, '[model]\nname = "rs-chain"', 'model = "rs-chain"'),
+    "rsc_model_upper": (RSC, 'name = "rs-chain"', 'name = "RS-CHAIN"'),
+    "fig_batch_float": (FIG, 'precision = "double"', 'precision = "double"\nbatch = 4.0'),
+    "fig_law_sup2": (FIG, 'laws = ["carlson-langer"]', 'laws = ["1/(1+x²)"]'),
+    "fig_maxsteps_negzero": (FIG, 'precision = "double"', 'precision = "double"\nmax_steps = -0'),
+    "fig_model_chain": (FIG, "[engine]", '[model]\nname = "chain"\n[engine]'),
+    "fig_model_damped": (FIG, "[engine]", '[model]\nname = "damped-block"\n[engine]'),
+    "fig_model_rs": (FIG, "[engine]", '[model]\nname = "rate-state"\n[engine]'),
+    "fig_name_dash": (FIG, 'name = "bad-input"', 'name = "-rf"'),
+    "fig_name_dot": (FIG, 'name = "bad-input"', 'name = "."'),
+    "fig_name_dotdot": (FIG, 'name = "bad-input"', 'name = ".."'),
+    "fig_name_empty": (FIG, 'name = "bad-input"', 'name = ""'),
+    "fig_name_abs": (FIG, 'name = "bad-input"', 'name = "/tmp/x"'),
+    "fig_name_space": (FIG, 'name = "bad-input"', 'name = "a b"'),
+    "fig_no_grid": (FIG, "[grid.nu]\nvalues = [1e-6, 1e-9]\n[grid.nu_f]\nvalues = [0.3, 0.4]\n", ""),
+    "fig_underscore_float": (FIG, "values = [0.3, 0.4]", "values = [0.3, 0_4]"),
+    "fig_tmax_309": (FIG, 'precision = "double"', 'precision = "double"\nt_max = 1e309'),
+    "chain_periodic_str": (CHAIN, "[grid.periodic]\nvalues = [0]", '[grid.periodic]\nvalues = ["periodic"]'),
+    "chain_preset_int": (CHAIN, 'laws = ["carlson-langer"]', 'laws = ["carlson-langer"]\npreset = 5'),
+}.items()})
+_W6_SUBMIT = {
+    "rsc_eta_309": "holds the number 1e309", "rsc_model_str": "study.model='rs-chain'",
+    "rsc_model_upper": "model.name='RS-CHAIN'", "fig_batch_float": "engine.batch=4.0", "fig_law_sup2": "(U+00B2)",
+    "fig_maxsteps_negzero": "engine.max_steps=0", "fig_model_chain": "grid.n is missing",
+    "fig_model_damped": "grid.gamma is missing", "fig_model_rs": "grid.nu=", "fig_name_dash": "study.name='-rf'",
+    "fig_name_dot": "study.name='.'", "fig_name_dotdot": "study.name='..'", "fig_name_empty": "study.name=''",
+    "fig_name_abs": "study.name='/tmp/x'", "fig_name_space": "study.name='a b'", "fig_no_grid": "grid is missing",
+    "fig_underscore_float": "is not valid TOML", "fig_tmax_309": "holds the number 1e309",
+    "chain_periodic_str": "grid.periodic.values[0]='periodic'", "chain_preset_int": "engine.preset=5"}
+#: damaged stores of w6_env, as every reading command meets them
+_W6_STORE_ROWS = [
+    *[f"{cmd} ## has a lock file .bifurcation.lock that cannot be read (Is a directory)" for cmd in (         # fixed
+        "status --store {w6_lock_dir}", "verify --store {w6_lock_dir}",
+        "export --store {w6_lock_dir} --out {outdir}/x.nc", "submit {wf_fig} --store {w6_lock_dir}")],
+    *[f"{cmd} ## chunk delta/zarr.json: array metadata differs from the store's record of it (data_type)" for cmd in (
+        "query --store {w6_arr_dtype}", "export --store {w6_arr_dtype} --out {outdir}/x.nc",                     # fixed
+        "report --store {w6_arr_dtype} --out {newdir}", "extrapolate --store {w6_arr_dtype} --law carlson-langer --nu-f 0.4")],
+    *[f"{cmd} ## chunk delta/zarr.json: array metadata differs from the store's record of it (shape)" for cmd in (
+        "query --store {w6_arr_shape}", "export --store {w6_arr_shape} --out {outdir}/x.nc",                     # fixed
+        "report --store {w6_arr_shape} --out {newdir}", "fit-period --store {w6_arr_shape} --law carlson-langer --nu-f 0.4")],
+    *[f"{cmd} ## chunk done/c/0/0/0: is not a chunk file" for cmd in (                                        # fixed
+        "query --store {w6_done_dir}", "report --store {w6_done_dir} --out {newdir}",
+        "export --store {w6_done_dir} --out {outdir}/x.nc")],
+    *[f"{cmd} ## chunk delta/c/0/0/0: is not a chunk file" for cmd in (
+        "query --store {w6_chunk_dir}", "export --store {w6_chunk_dir} --out {outdir}/x.nc",
+        "report --store {w6_chunk_dir} --out {newdir}", "extrapolate --store {w6_chunk_dir} --law carlson-langer --nu-f 0.4",
+        "query --store {w6_chunk_loop}", "export --store {w6_chunk_loop} --out {outdir}/x.nc")],
+    "query --store {w6_cat_chunk_dir} --catalog ## chunk catalog/t_start/c/0: catalog chunk missing",
+    "export --store {w6_cat_chunk_dir} --out {outdir}/x.nc ## catalog/t_start/c/0",
+    "query --store {w6_cat_chunk_cut} --catalog ## chunk catalog/t_start/c/0: checksum mismatch",
+    "status --store {w6_no_attrs} ## is not a bifurcation store",
+    "status --store {w6_meta_empty} ## has a root zarr.json that is not valid JSON",
+    *[f"{cmd} --store {{w6_model_chain}} ## it has no axis n, ell" for cmd in ("status", "query", "verify")],
+    "query --store {w6_nu_dir} ## it has no axis nu",
+    "submit {wf_fig} --store {w6_file}/s.zarr ## cannot be created (Not a directory)",
+    "continue {wf_rs} --out {w6_file}/x ## is a file",
+    "report --store {sb} --out {w6_file}/x ## is a file",
+]
+CASES_W6 = [
+    *[f"submit {{wf_w6_{name}}} --store {{newstore}} ## {needle}" for name, needle in _W6_SUBMIT.items()],
+    *_W6_STORE_ROWS,
+    # rate-state --cycle (fixed): two velocities, and no Hopf point, refused before any run
+    "rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3,1e-2 --cycle ## --v-lp='0.001,0.01': must be one load-point velocity",
+    "rate-state --state-law slip --a 0.01 --b 0.005 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json ## --b='0.005': sums to <= a = 0.01",
+    "rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --mass 1e300 ## --mass=1e+300: gives no loss of stability",
+    "rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1 --cycle --damping 1 ## --damping=1.0: gives ηV_lp = 1",
+    # numbers and words on every command, refused already
+    'slip --law carlson-langer --nu 1e309 --nu-f 0.4 ## --nu',
+    'slip --law carlson-langer --nu 1e-9 --nu-f 1e309 ## --nu-f',
+    'slip --law carlson-langer --nu -0.0 --nu-f 0.4 ## --nu',
+    'slip --law carlson-langer --nu 1e-9,,1e-6 --nu-f 0.4 ## --nu',
+    'slip --law carlson-langer --nu 1e-9 --nu-f 0.4,0.3 ## --nu-f',
+    'limit --law carlson-langer --nu-f -0.0 ## --nu-f',
+    'limit --law carlson-langer --nu-f 0x10 ## --nu-f',
+    'limit --law carlson-langer --nu-f 1_000 ## --nu-f',
+    'limit --law carlson-langer --nu-f 0.4,0.3 ## --nu-f',
+    'chain --law carlson-langer --n 4 --ell 1e309 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 ## --ell',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0x10 --seed 1 --events 3 ## --amplitude',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 0x10 --events 3 ## --seed',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 0x10 ## --events',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 1e309 ## --events',
+    'chain --law carlson-langer --n -0 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 ## --n',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --sigma -0.0 --engine compiled --verify 1e309 ## --verify',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --sigma 1e309 ## --sigma',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --v-threshold 1e309 ## --v-threshold',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --v-threshold -0.0 ## --v-threshold',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 -0.0,0,0,0 --u0 0,0,0,0 --events 3 ## --u0',
+    "chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 '0,0,0,0,' --events 3 ## --u0",
+    "chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 '[0,0,0,0]' --events 3 ## --u0",
+    "chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 '0 0 0 0' --events 3 ## --u0",
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 0,0,0,1e309 --events 3 ## --u0',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --u0 0,0,0,-inf --events 3 ## --u0',
+    "chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --ends 'free ' ## --ends",
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --ends ｆｒｅｅ ## --ends',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --ends 1 ## --ends',
+    'chain --law carlson-langer --n 4 --ell 1 --nu 1e-3 --nu-f 0.3 --amplitude 0.1 --seed 1 --events 3 --precision quad --engine compiled --verify 0.5 ## --precision',
+    'chain --preset carlson-langer-1991 --n 1 --u0 1e309 --events 3 ## --u0',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 1e309 ## --t-end',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 0x10 ## --t-end',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at -0.0 --t-end 40 ## --at',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 1_0 --t-end 40 ## --at',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 1_000 ## --t-end',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k -0.0 --v-lp 1,10 --at 10 --t-end 40 ## --k',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,1e309 --at 10 --t-end 40 ## --v-lp',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 --damping -0.0 --damping 1 ## --damping',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 --outputs -0 ## --outputs',
+    'rate-state --state-law aging --a 0.005 --b 0.01 --dc 10 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 --mass 0x10 ## --mass',
+    'rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json --precision quad ## --precision',
+    'rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 1e309 --v-lp 1e-3 --cycle --json ## --k',
+    'rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k -0.0 --v-lp 1e-3 --cycle --json ## --k',
+    'rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --cycle --json --cycle ## --cycle',
+    'rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e300 --cycle --json ## --v-lp',
+    'rate-state --state-law slip --a 0.01 --b 0.015 --dc 1e-300 --k 32 --v-lp 1e-3 --cycle --json ## --dc',
+    'rate-state --state-law prz --a 0.01 --b 0.015 --dc 1e-4 --k 32 --v-lp 1e-3 --damping 1e-300 --mass 1e-300 --cycle --json ## --mass',
+    'hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01 --v-lp 1e309 ## --v-lp',
+    'hopf --state-law slip --a -0.0 --b 0.015 --dc 0.01 --v-lp 1 ## --a',
+    'hopf --state-law slip --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 --damping -0.0 --json --json ## --json',
+    'hopf --state-law slip --a 0.01 --b 0.015, --dc 0.01 --v-lp 1 ## --b',
+    'hopf --state-law slip --a 0.01 --b 0x1 --dc 0.01 --v-lp 1 ## --b',
+    'query --store {sb} --nu-f -0.0 ## --nu-f',
+    'query --store {sb} --nu 1e309 ## --nu',
+    'query --store {chain} --amplitude 0x10 ## --amplitude',
+    'query --store {chain} --ell -0.0 ## --ell',
+    'query --store {chain} --sigma inf ## --sigma',
+    'query --store {chain} --catalog --events 1e3 ## --events',
+    'query --store {sb} --nearest --nu-f 1e309 ## --nu-f',
+    'query --store {sb} --done-only --catalog ## --catalog',
+    'query --store {sb} --kappa 1 ## --kappa',
+    'query --store {sb} --point -1 ## --point',
+    "query --store {sb} --law 'CARLSON-LANGER' --nearest ## --law",
+    'extrapolate --store {sb} --law carlson-langer --nu-f -0.0 ## --nu-f',
+    'extrapolate --store {sb} --law carlson-langer --nu-f 1e309 ## --nu-f',
+    'extrapolate --store {sb} --law carlson-langer --nu-f 0.4,0.3 ## --nu-f',
+    'extrapolate --store {sb} --law carlson-langer --nu-f 0.35 --nearest --nearest ## --nearest',
+    'fit-period --store {sb} --law carlson-langer --nu-f 0x1 ## --nu-f',
+    "fit-period --store {sb} --law 'carlson-langer,exponential' --nu-f 0.4 ## --law",
+    'extrapolate --store {root}/results/rate-state/branches.zarr --law aging --nu-f 0.4 ## --store',
+    'fit-period --store {root}/results/rate-state/branches.zarr --law aging --nu-f 0.4 ## --store',
+    'bench --points 1e3 ## --points',
+    'bench --points -0 ## --points',
+    'bench --subset 1e309 ## --subset',
+    'bench --suite CHAIN ## --suite',
+    "bench --suite ' chain' ## --suite",
+    'bench --pipeline 0x2 ## --pipeline',
+    'export --store {sb} --out {outdir}/x.nc. ## --out',
+    'export --store {sb} --out {outdir}/x.nc --format csv --format netcdf ## --format',
+    'export --store {sb} --out {outdir}/x.csv --partial --partial ## --partial',
+    'export --store {sb} --out {outdir}/sub/../x.nc ## --out',
+    'export --store {sb} --out {existing_nc}/x.nc ## --out',
+    'export --store {sb} --out {outdir}/x.nc --json --json ## --json',
+    'report --store {sb} --out {existing_nc} ## --out',
+    'report --store {sb} --out /dev/full ## --out',
+    'report --store {chain} --store {sb} --store {missing} --out {newdir} ## --store',
+    'status --store {sb}/zarr.json ## --store',
+    'status --store {sb}/.. ## --store',
+    'status --store /dev/full ## --store',
+    'status --store {fifo} ## --store',
+    'verify --store {sb} --repair --workers 0x2 ## --workers',
+    'verify --store {sb} --repair --workers 1e3 ## --workers',
+    'verify --store {sb} --scheduler tcp://127.0.0.1:0 --repair ## --scheduler',
+    'verify --store {sb} --json --json ## --json',
+    'verify --store /proc/self ## --store',
+]
+
+
+@pytest.fixture(scope="module")
+def w6_env(study_env):
+    """``study_env`` with the damaged stores of walk 6 (in the same checked root)."""
+    root, paths, _ = study_env
+    d = root / "w6"
+    d.mkdir(exist_ok=True)
+    extra = {}
+
+    def copy(name, source="sb") -> Path:
+        shutil.copytree(paths[source], d / f"{name}.zarr", symlinks=True)
+        extra[f"w6_{name}"] = str(d / f"{name}.zarr")
+        return d / f"{name}.zarr"
+
+    chunk = Path("delta") / "c" / "0" / "0" / "0"
+    (copy("lock_dir") / ".bifurcation.lock").mkdir()
+    for name, key, value in (("arr_dtype", "data_type", "int8"), ("arr_shape", "shape", [9, 9, 9])):
+        meta = json.loads((copy(name) / "delta" / "zarr.json").read_text())
+        meta[key] = value
+        (d / f"{name}.zarr" / "delta" / "zarr.json").write_text(json.dumps(meta))
+    for name, part in (("done_dir", Path("done") / "c" / "0" / "0" / "0"), ("chunk_dir", chunk)):
+        os.remove(copy(name) / part)
+        (d / f"{name}.zarr" / part).mkdir()
+    os.remove(copy("chunk_loop") / chunk)
+    os.symlink(d / "chunk_loop.zarr" / chunk, d / "chunk_loop.zarr" / chunk)
+    cat = Path("catalog") / "t_start" / "c" / "0"
+    os.remove(copy("cat_chunk_dir", "chain") / cat)
+    (d / "cat_chunk_dir.zarr" / cat).mkdir()
+    os.truncate(copy("cat_chunk_cut", "chain") / cat, 3)
+    for name, edit in (("no_attrs", lambda a: a.clear()), ("model_chain", lambda a: a.__setitem__("model", "chain"))):
+        meta = json.loads((copy(name) / "zarr.json").read_text())
+        edit(meta["attributes"])
+        (d / f"{name}.zarr" / "zarr.json").write_text(json.dumps(meta))
+    os.truncate(copy("meta_empty") / "zarr.json", 0)
+    shutil.rmtree(copy("nu_dir") / "nu")
+    (d / "file").write_text("a file where a directory goes\n")
+    extra["w6_file"] = str(d / "file")
+    return root, {**paths, **extra}
+
+
+def test_walk6_bad_inputs(w6_env, tmp_path, monkeypatch):
+    argvs = [_split(c)[0] for c in CASES + CASES_WK2 + CASES_W3 + CASES_W5 + CASES_W6]
+    assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
+    root, paths = w6_env
+    _run_batch(CASES_W6, (root, paths, None), tmp_path, monkeypatch)
+
+
+def test_walk6_bad_study_inputs(study_env, tmp_path, monkeypatch):
+    _run_batch(STUDY_CASES_W6, study_env, tmp_path, monkeypatch)
+
+
+def test_walk6_damage_is_repaired(env, tmp_path, monkeypatch):
+    """The damage walk 6 found (an array's metadata edited, a directory at a data chunk and at done's chunk, a
+    lock file of bytes that are not UTF-8) is named by `verify` (exit 1), undone by `verify --repair` or by a
+    resume, after which the store reads as the one it was copied from (the query's text, every digit)."""
+    _, paths, _ = env
+    monkeypatch.chdir(tmp_path)
+    want = CliRunner().invoke(cli, ["query", "--store", paths["sb"], "--format", "csv"]).stdout
+    chunk = Path("delta") / "c" / "0" / "0" / "0"
+    for name in ("meta", "chunk_dir", "done_dir", "lock_bytes"):
+        store = tmp_path / f"{name}.zarr"
+        shutil.copytree(paths["sb"], store)
+        if name == "meta":
+            meta = json.loads((store / "period" / "zarr.json").read_text())
+            meta["data_type"] = "int16"
+            (store / "period" / "zarr.json").write_text(json.dumps(meta))
+        elif name == "lock_bytes":   # an unknown holder, as an empty lock file: stale once old
+            (store / ".bifurcation.lock").write_bytes(b"\xff\xfe\x00")
+            os.utime(store / ".bifurcation.lock", (1.0, 1.0))
+        else:
+            part = chunk if name == "chunk_dir" else Path("done") / "c" / "0" / "0" / "0"
+            os.remove(store / part)
+            (store / part).mkdir()
+        checked = CliRunner().invoke(cli, ["verify", "--store", str(store)])
+        assert checked.exception is None or isinstance(checked.exception, SystemExit), repr(checked.exception)
+        assert checked.exit_code == (0 if name == "lock_bytes" else 1), (name, checked.output)
+        fix = ["submit", paths["wf_fig"], "--store", str(store)] if name == "chunk_dir" else \
+            ["verify", "--store", str(store), "--repair"]
+        fixed = CliRunner().invoke(cli, fix)
+        assert fixed.exit_code == 0, (name, fixed.output)
+        assert CliRunner().invoke(cli, ["verify", "--store", str(store)]).exit_code == 0, name
+        assert CliRunner().invoke(cli, ["query", "--store", str(store), "--format", "csv"]).stdout == want, name
+
+
+def test_report_of_a_store_with_no_point_done(tmp_path, monkeypatch):
+    """A store no point of which is done (a submit killed before its first tile): `report` writes its report,
+    saying so (a log-scale ValueError traceback before, walk 6)."""
+    store = tmp_path / "s.zarr"
+    _single_block_store(store, (1, 1), skip_after=0)
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(cli, ["report", "--store", str(store), "--out", str(tmp_path / "rep")])
+    assert result.exit_code == 0, result.output
+    assert "0 of 4 points done" in (tmp_path / "rep" / "REPORT.md").read_text()
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "two"])
+def test_a_bad_numba_thread_count_in_the_environment(value, monkeypatch, tmp_path):
+    """NUMBA_NUM_THREADS (read by numba at import) that numba refuses: one line naming it, before the command
+    (`NUMBA_NUM_THREADS=0 bifurcation chain ... --engine compiled` was numba's ValueError traceback, walk 6)."""
+    monkeypatch.setenv("NUMBA_NUM_THREADS", value)
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(cli, shlex.split(CHAIN_CLI) + ["--engine", "compiled"])
+    lines = result.stderr.splitlines()
+    assert result.exit_code == 2 and len(lines) == 1, result.output
+    assert lines[0].startswith(f"bifurcation: error: NUMBA_NUM_THREADS='{value}': is not a positive number"), lines
+    assert result.stdout == "" and list(tmp_path.iterdir()) == []
+
+
+def test_export_removes_what_a_killed_export_left(env, tmp_path, monkeypatch):
+    """An export killed (kill -9) mid-write leaves its ``.NAME.part-PID`` (no ``finally`` runs): the next export to
+    that name removes those of dead processes (each kill left one, as large as the export, walk 6), not a live one's."""
+    _, paths, _ = env
+    monkeypatch.chdir(tmp_path)
+    dead = tmp_path / f".x.csv.part-{2 ** 22 + 7}"   # above the default pid_max: no such process
+    dead.write_text("a,b\n1,")
+    mine = tmp_path / f".x.csv.part-{os.getppid()}"   # a live process's (the runner's parent): kept
+    mine.write_text("a,b\n")
+    result = CliRunner().invoke(cli, ["export", "--store", paths["sb"], "--out", str(tmp_path / "x.csv")])
+    assert result.exit_code == 0, result.output
+    assert not dead.exists() and mine.exists() and (tmp_path / "x.csv").is_file()
+
+
+def test_export_to_a_read_only_file_system(env, tmp_path, monkeypatch):
+    """--out on a read-only file system: one line naming --out, exit 2. The clean-up of the temporary file raised
+    EROFS too (even for a file that is not there), which replaced that line by 'Read-only file system:
+    .x.nc.part-PID', exit 1 (walk 6, on a tmpfs remounted read-only; here the two calls are made to fail so)."""
+    import errno
+    import pathlib
+
+    _, paths, _ = env
+    monkeypatch.chdir(tmp_path)
+
+    def read_only(*args, **kwargs):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+
+    monkeypatch.setattr(os, "replace", read_only)
+    monkeypatch.setattr(pathlib.Path, "unlink", read_only)
+    result = CliRunner().invoke(cli, ["export", "--store", paths["sb"], "--out", str(tmp_path / "x.csv")])
+    lines = result.stderr.splitlines()
+    assert result.exit_code == 2 and len(lines) == 1, result.output
+    assert lines[0].startswith(f"bifurcation: error: --out='{tmp_path / 'x.csv'}': cannot be written (Read-only"), lines

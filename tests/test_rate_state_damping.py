@@ -130,7 +130,7 @@ def test_cycle_cli_json():
     ({"--damping": "abc", "--t-end": "3"}, "'abc' is not a number"),
     ({"--k": "45", "--damping": "1", "--cycle": None}, "--cycle: steady-sliding: no limit cycle at k/k_c = 1.125"),
     ({"--v-lp": "1e-3,2e-3", "--at": "5", "--damping": "1", "--cycle": None}, "must be one load-point velocity"),
-    ({"--damping": "10", "--cycle": None}, "--cycle: no-hopf-point"),
+    ({"--damping": "10", "--cycle": None}, "--damping=10.0: gives ηV_lp = 0.01 >= b - a"),   # named before any run (walk 6)
     ({}, "--t-end is missing"),
     # a run length with --cycle was checked, then silently ignored (merge of rs's --cycle with ux's checks)
     ({"--damping": "1", "--cycle": None, "--t-end": "40"}, "--t-end=40.0: does not apply with --cycle"),

@@ -139,6 +139,16 @@ def _stdout_closed() -> bool:
         return False
 
 
+def _bad_environment() -> str | None:
+    """An environment variable a library reads at import, checked before the command: NUMBA_NUM_THREADS=0 was
+    numba's ValueError traceback from the compiled chain engine, after the command had begun (walk 6)."""
+    text = os.environ.get("NUMBA_NUM_THREADS")
+    if text is not None and not (text.strip().isdigit() and int(text) > 0):
+        return (f"NUMBA_NUM_THREADS={text!r}: is not a positive number of threads (numba reads it); unset it, or "
+                "give e.g. NUMBA_NUM_THREADS=2")
+    return None
+
+
 class Group(click.Group):
     """A command group whose usage and input errors are one line and exit with status 2.
 
@@ -152,7 +162,8 @@ class Group(click.Group):
         name, command, rest = super().resolve_command(ctx, args)
         self._command = command
         if command is not None:
-            problem = _repeated_option(command, rest) or _empty_value(command, rest) or _bad_path(command, rest)
+            problem = (_repeated_option(command, rest) or _empty_value(command, rest) or _bad_path(command, rest)
+                       or _bad_environment())
             if problem:
                 raise click.UsageError(problem)
         return name, command, rest

@@ -226,6 +226,9 @@ def rate_state_cmd(state_law, a, b, dc, k, v_lp, at, t_end, outputs, mass, dampi
                              "of --b", "give one --dc and one --state-law per value of --b, e.g. --b 0.015,0.005 "
                              "--dc 0.01,0.1 --state-law aging (one law: the same for both)")
     spec = SliderSpec(a=a, b=b, dc=dc, state_law=laws, k=k, mass=mass, damping=damping)   # checks before work
+    if cycle and len(v_lp) != 1:   # before the step times: --at was named ("needs 1 step times", walk 6)
+        raise InputError("--v-lp", ",".join(f"{float(v):g}" for v in v_lp), "must be one load-point velocity > 0 "
+                         "with --cycle", "give a constant loading, e.g. --v-lp 1, without --at")
     try:
         history = load_history(v_lp, at=at or [])
     except InputError as exc:   # the step times are --at here (their check names them v_lp at / v_lp times)
@@ -289,6 +292,16 @@ def _cycle(spec, history, precision, as_json) -> None:
     if precision != "double":
         raise InputError("--precision", precision, "is not available with --cycle",
                          "leave --precision at double (real128 is for verification runs)")
+    from ..models.rate_state.hopf import hopf_point
+
+    try:   # no Hopf point, no cycle: refused before any run, naming the option (was JSON on stdout and "--cycle:
+        # no-hopf-point: no limit cycle: sums to <= a", naming none; walk 6). The same call limit_cycle makes first.
+        hopf_point(a=spec.a, b=spec.b, dc=spec.dc, state_law=spec.state_law, v_lp=history.velocities[0],
+                   mass=spec.mass, damping=spec.damping, dps=30, lyapunov=False)
+    except InputError as exc:
+        option = {"b": "--b", "damping": "--damping", "mass": "--mass", "v_lp": "--v-lp"}.get(exc.argument, exc.argument)
+        value = ",".join(f"{x:g}" for x in exc.value) if isinstance(exc.value, tuple) else exc.value
+        raise InputError(option, value, exc.problem + " (so no limit cycle)", exc.fix) from None
     import heyoka
 
     # a run that blows up (a status here) makes heyoka log a warning about the non-finite step

@@ -82,6 +82,7 @@ def _figure_law(ds, model, law_index: int, law: str):
             if j != k and other is not line_axis:
                 fixed[j] = len(sub[other.name]) // 2
         lines = _pick(len(sub[line_axis.name]), _MAX_LINES) if line_axis is not None else [None]
+        drawn = False
         for li in lines:
             index = []
             for j in range(len(axes)):
@@ -96,11 +97,15 @@ def _figure_law(ds, model, law_index: int, law: str):
             label = (f"{line_axis.symbol} = {_fmt_value(_labels(sub, line_axis.name)[li])}"
                      if line_axis is not None else None)
             ax.plot(x[keep], d[keep], ".-", lw=1.0, ms=3, label=label)
+            drawn |= bool(keep.any())
         ax.set_xlabel(f"{axis.symbol} ({axis.name})")
         ax.set_ylabel("Δ")
         if axis.scale == "log":
             ax.set_xscale("log")
-        ax.set_yscale("log")
+        if drawn:
+            ax.set_yscale("log")
+        else:   # a log axis of nothing: a ValueError traceback for a store no point of which is done (walk 6)
+            ax.text(0.5, 0.5, "no finished point here", transform=ax.transAxes, ha="center", va="center")
         title = f"Δ vs {axis.symbol}"
         at = ", ".join(f"{axes[j].symbol} = {_fmt_value(_labels(sub, axes[j].name)[i])}" for j, i in fixed.items())
         if at:

@@ -14,6 +14,7 @@ columns of ``bifurcation query``, floats as their shortest exact text (``repr``)
 
 from __future__ import annotations
 
+import glob
 import json
 import os
 import re
@@ -134,6 +135,17 @@ def _format(out: Path, fmt: str | None) -> str:
     return fmt
 
 
+def _remove_dead_parts(out: Path) -> None:
+    """The ``.NAME.part-PID`` files of exports to ``out`` that were killed (kill -9: no ``finally`` ran) and whose
+    process is gone: each kill left one, as large as the export, that nothing removed (walk 6)."""
+    import psutil
+
+    for part in out.parent.glob(f".{glob.escape(out.name)}.part-*"):
+        pid = part.name.rpartition("-")[2]
+        if pid.isdigit() and not psutil.pid_exists(int(pid)):
+            part.unlink(missing_ok=True)
+
+
 def export(store, out, fmt: str | None = None, *, force: bool = False, partial: bool = False) -> dict:
     """Write the store at ``store`` to ``out`` as netCDF or CSV (``fmt``, or from the suffix); returns
     ``{"out", "format", "points", "computed"}``. ``InputError`` (one line) for a bad path, a damaged store,
@@ -169,6 +181,7 @@ def export(store, out, fmt: str | None = None, *, force: bool = False, partial: 
     if damage:
         raise StoreDamagedError(path, damage[0])
     tmp = out.with_name(f".{out.name}.part-{os.getpid()}")
+    _remove_dead_parts(out)
     try:
         if fmt == "netcdf":
             ds = cf_dataset(path)
@@ -188,7 +201,10 @@ def export(store, out, fmt: str | None = None, *, force: bool = False, partial: 
         raise InputError("--out", str(out), f"cannot be written ({exc.strerror or exc})",
                          "choose a writable path with free space") from None
     finally:
-        tmp.unlink(missing_ok=True)
+        try:
+            tmp.unlink(missing_ok=True)
+        except OSError:   # a read-only file system says so even of a file that is not there: it hid the line above
+            pass          # (exit 1 naming the temporary file, walk 6)
     from .catalog import has_catalog
 
     written = {"out": str(out), "format": fmt, "points": points, "computed": int(read_done(path).sum())}

@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import itertools
 import json
+import os
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterator
@@ -178,6 +180,9 @@ class TileReader:
         region = self.region(tile)
         present = {name: self.exists(name, tile) for name in self.variables}
         self._values = values = {}
+        odd = self.not_files(tile, present)
+        if odd:
+            return odd
         if not any(present.values()):   # never written: fill values (the store's reading of it)
             for name, array in self.variables.items():
                 shape = tuple(s.stop - s.start for s in region)
@@ -208,6 +213,14 @@ class TileReader:
                     return self._as_not_computed(region, values[DONE])
                 return [Damage(self.key(name, tile), tile, "holds a value where done is False", "unfinished")]
         return []
+
+    def not_files(self, tile: tuple, present: dict | None = None) -> list[Damage]:
+        """Chunk paths of ``tile`` that exist but are not files (a directory, a link that loops or leads nowhere):
+        a submit failed on them with "Is a directory", exit 1, and a directory at ``done``'s chunk read as a tile
+        never written (walk 6)."""
+        present = present if present is not None else {name: self.exists(name, tile) for name in self.variables}
+        return [Damage(self.key(name, tile), tile, "is not a chunk file (a directory, or a link to nothing)")
+                for name, ok in present.items() if not ok and os.path.lexists(self.path / self.key(name, tile))]
 
     def _as_not_computed(self, region, done=None) -> list:
         """A tile a live writer is writing: the points already done are kept, the rest read as fill."""
@@ -247,12 +260,33 @@ def broken_metadata(path) -> list[Damage]:
     """Arrays of the store (as its consolidated metadata lists them) whose ``zarr.json`` is missing or
     unreadable (a deleted ``done/``)."""
     damage = []
-    for name in _consolidated(path):
-        try:
-            json.loads((Path(path) / name / "zarr.json").read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            damage.append(Damage(f"{name}/zarr.json", (), "array metadata missing or unreadable"))
+    for name, record in _consolidated(path).items():
+        problem = _metadata_problem(Path(path) / name / "zarr.json", record)
+        if problem:
+            damage.append(Damage(f"{name}/zarr.json", (), problem))
     return damage
+
+
+#: The keys of an array's zarr.json that say how its chunks are read (its attributes may change).
+_LAYOUT = ("shape", "data_type", "chunk_grid", "chunk_key_encoding", "fill_value", "codecs", "dimension_names")
+
+
+def _metadata_problem(file: Path, record) -> str | None:
+    """What is wrong with the array metadata ``file`` against its ``record`` in the consolidated metadata (None
+    if nothing). A zarr.json edited to another shape or data type was a KeyError or TypeError traceback from
+    query, export, report, verify and submit (walk 6)."""
+    try:
+        meta = json.loads(file.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return "array metadata missing or unreadable"
+    if not isinstance(meta, dict) or not isinstance(record, dict) or meta.get("node_type") != record.get("node_type"):
+        return "array metadata unreadable"
+    if record.get("node_type") != "array":
+        return None
+    changed = [key for key in _LAYOUT if meta.get(key) != record.get(key)]
+    if changed:
+        return f"array metadata differs from the store's record of it ({', '.join(changed)})"
+    return None
 
 
 def scan(path) -> tuple[list[Damage], int, int]:
@@ -290,6 +324,7 @@ def missing_chunks(path) -> list[Damage]:
         return damage
     reader = TileReader(path)
     for tile in reader.tiles():
+        damage += reader.not_files(tile)
         if reader.exists(DONE, tile):
             damage += [Damage(reader.key(name, tile), tile, "missing (deleted?) in a written tile")
                        for name in reader.variables if not reader.exists(name, tile)]
@@ -310,7 +345,11 @@ def clear_tiles(path, tiles: list[tuple]) -> None:
     catalogs = has_catalog(path)
     for tile in tiles:
         for name in [DONE, *(n for n in reader.variables if n != DONE)]:
-            (reader.path / reader.key(name, tuple(tile))).unlink(missing_ok=True)
+            chunk = reader.path / reader.key(name, tuple(tile))
+            if chunk.is_dir() and not chunk.is_symlink():   # a directory where a chunk goes (not_files)
+                shutil.rmtree(chunk)
+            else:
+                chunk.unlink(missing_ok=True)
         if catalogs:   # after done: the runs' catalogs and checkpoints go with their tile
             clear_catalogs(path, reader.shape, reader.region(tuple(tile)))
 
@@ -321,11 +360,10 @@ def restore_metadata(path) -> list[str]:
     restored = []
     for name, meta in _consolidated(path).items():
         file = Path(path) / name / "zarr.json"
-        try:
-            json.loads(file.read_text(encoding="utf-8"))
+        if _metadata_problem(file, meta) is None:
             continue
-        except (OSError, ValueError):
-            pass
+        if file.is_dir() and not file.is_symlink():
+            shutil.rmtree(file)
         file.parent.mkdir(parents=True, exist_ok=True)
         file.write_text(json.dumps(meta, indent=2), encoding="utf-8")
         restored.append(name)

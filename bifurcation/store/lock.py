@@ -124,6 +124,12 @@ def _read(path: Path) -> LockHolder | None:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
         return None
+    except UnicodeDecodeError:   # garbage: an unknown holder, as an empty file (a traceback before, walk 6)
+        text = ""
+    except OSError as exc:   # a directory, or unreadable: "Is a directory", exit 1 before (walk 6)
+        raise InputError("--store", str(path.parent), f"has a lock file {path.name} that cannot be read "
+                         f"({exc.strerror or type(exc).__name__})",
+                         f"remove {path} if no submit is writing the store, and run this command again") from None
     try:
         data = json.loads(text)
         return LockHolder(run=str(data["run"]), host=str(data["host"]), pid=int(data["pid"]),

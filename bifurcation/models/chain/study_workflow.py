@@ -88,7 +88,12 @@ def load_report_workflow(path) -> dict:
 
     sweep = root.table("sweep", _SWEEP)
     _sweep_lists(sweep, nu_f_max=True)
-    sweep.numbers("nu_f", most=_MOST_LIST, **_axis("nu_f"))
+    _ascending(sweep, sweep.numbers("nu_f", most=_MOST_LIST, **_axis("nu_f")))
+    for i, top in enumerate(sweep.numbers("nu_f_max")):   # no step below it: a sweep of nothing (walk 6)
+        if top < sweep.numbers("nu_f")[0] - 1e-12:
+            raise InputError(f"{sweep.path('nu_f_max')}[{i}]", top, f"is below every nu_f (the first is "
+                             f"{sweep.numbers('nu_f')[0]:g}): the sweep of N = {sweep.integers('sizes')[i]} has no step",
+                             "give nu_f_max at or above the first value of nu_f")
     sweep.number("transient_cycles", low=0)
     sweep.integer("max_events_per_step", **_axis("events"))
     sweep.number("longest_event", 0.5, above=0)
@@ -130,14 +135,14 @@ def load_report_workflow(path) -> dict:
         near.integer("events", **_axis("events"))
         _n_events(near, max(max(row) for row in sizes), near.integer("events"))
         near.number("longest_event", above=0)
-        near.number("cpu", above=0)
+        near.number("cpu", above=0, high=86400)   # CPU s per catalog, as [published_nu]: a typo refused (walk 6)
         near.integer("seed", **_axis("seed"))
 
     small = root.table("sweep_small_nu", ("nu", *(k for k in _SWEEP if k != "nu_f_max")), required=False)
     if small is not None:   # the sweep of [sweep] at another nu: the keys it gives replace those of [sweep]
         small.number("nu", **_axis("nu"))
         _sweep_lists(small, nu_f_max=False)
-        checks = {"nu_f": lambda: small.numbers("nu_f", most=_MOST_LIST, **_axis("nu_f")),
+        checks = {"nu_f": lambda: _ascending(small, small.numbers("nu_f", most=_MOST_LIST, **_axis("nu_f"))),
                   "transient_cycles": lambda: small.number("transient_cycles", low=0),
                   "max_events_per_step": lambda: small.integer("max_events_per_step", **_axis("events")),
                   "longest_event": lambda: small.number("longest_event", above=0)}
@@ -237,6 +242,14 @@ def _presets(table: Table) -> None:
         for name in ("why", "claim"):
             if run.has(name):
                 run.string(name)
+
+
+def _ascending(table: Table, values) -> None:
+    """A sweep's ν_f steps go up this list, then down it: out of order or repeated, its up and down branches
+    were run and reported under each other's names (walk 6)."""
+    if any(b <= a for a, b in zip(values, values[1:])):
+        raise InputError(table.path("nu_f"), list(values), "is not in ascending order without repeats (the sweep "
+                         "runs up this list, then down it)", "list each ν_f once, smallest first")
 
 
 def _sweep_lists(table: Table, *, nu_f_max: bool) -> None:
