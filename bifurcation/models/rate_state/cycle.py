@@ -111,7 +111,7 @@ def limit_cycle(spec, v_lp: float, *, max_steps: int = 2_000_000, progress=None)
 
     top, bottom = f.ln_v_max - x_lp, f.ln_v_min - x_lp
     ln_v_error = 2 * max(err(top, top2 - x_lp), err(bottom, bottom2 - x_lp))
-    return CycleResult("limit-cycle", "", f.period, err(f.period, period2), top, ln_v_error,
+    return CycleResult("limit-cycle", f.message, f.period, err(f.period, period2), top, ln_v_error,
                        bottom, ln_v_error, v_lp * f.period, v_lp * err(f.period, period2),
                        f.multiplier_max, f.steps)
 
