@@ -303,7 +303,7 @@ class _Direct:
     def _growing(self, rec, steps):
         """The budget ended with the run still spiralling out of steady sliding (growth ~ (1 − ρ)/2 per turn
         next to a Hopf point: ρ = 0.9997 needs ~10⁴ turns). The amplitude A_n = |w_n − w_steady| of the run's
-        later half is fitted by the normal form's A_{n+1}/A_n − 1 = c − d A_n² (Kuznetsov 2004, §3.5); Newton
+        later half is fitted by A_{n+1}/A_n − 1 = c − d A_n² (the Hopf normal form ṙ = σr + l1 r³ over one turn); Newton
         starts at the predicted amplitude √(c/d) along the run's direction. The cycle found is accepted if
         attracting and if the return map takes each of 8 points on the segment from the run's last state to
         it closer to it (no other fixed point there at that resolution: the run is on its way there)."""
