@@ -15,6 +15,18 @@ stretch of ``CHUNK_PERIODS`` linear periods 2π/ω_c:
   within ``BASIN_TOL`` of (so the run is on its way there), spanning more than ``MIN_AMPLITUDE`` in
   ln V (not the trace of the steady state on the section); the outputs are that cycle's period,
   max and min ln V over it and slip V_lp·T, and its largest |multiplier|;
+- **limit cycle, solved directly** when the approach is too slow for that (a multiplier ρ near 1, next
+  to a Hopf point): the last ``SLOW_TURNS`` steps between section states shrink steadily by ``SLOW_RHO``
+  or slower per turn and would not reach ``CANDIDATE_TOL`` within the budget (or the budget is spent).
+  Full Newton on the return map from the last section state; accepted only if it converges, the fixed
+  point is attracting (every multiplier inside the unit circle), has amplitude, and the run's last
+  section states approach it monotonically at the rate its largest multiplier predicts (within
+  ``SLOW_MATCH``·(1 − ρ)) — the run is in its linear neighbourhood, on its way there. A cycle that is not
+  attracting is said (in the message of a not-resolved point), never given as the attractor. A run that
+  ends its budget still growing steadily away from steady sliding (ρ ≥ 0.9995: the perturbation grows by
+  ~(1 − ρ)/2 per turn) starts Newton at the amplitude a normal-form fit of its growth predicts, and the
+  cycle is accepted if attracting and the return map takes the segment from the run's last state to it
+  towards it (``_Direct._growing``);
 - **unbounded growth** when ln(V/V_lp) exceeds ``BLOWUP`` or the integrator stalls with V large (the
   quasi-static slider below k_c: V → ∞ in finite time, the step size falls below the resolution of t);
 - **not resolved** when the step or time budget ends first (``max_steps`` per point; ``MAX_PERIODS``),
@@ -35,7 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["BASIN_TOL", "BLOWUP", "CANDIDATE_TOL", "CHUNK_PERIODS", "Fate", "MAX_PERIODS", "MIN_AMPLITUDE", "PERTURBATION",
-           "STEADY_TOL", "fate", "time_scale"]
+           "SLOW_MATCH", "SLOW_RHO", "SLOW_TURNS", "STEADY_TOL", "fate", "time_scale"]
 
 #: ln V − ln V_lp at the start (θ_i at steady state at V_lp; no net force).
 PERTURBATION = 1e-2
@@ -58,6 +70,16 @@ MAX_PERIODS = 4000.0
 #: ln V = −23, measured; a cycle the explicit run follows takes ~1 000–2 000).
 STIFF_STEPS = 100_000
 STIFF_PERIODS = 2.0
+#: Slow approach (a multiplier near 1, next to a Hopf point): the last ``SLOW_TURNS`` steps between section
+#: states shrink steadily, by ``SLOW_RHO`` or slower per turn, and at that rate would not reach
+#: ``CANDIDATE_TOL`` within the budget: the fixed point is solved for directly (full Newton on the return
+#: map) and accepted only if the run's last ``SLOW_TURNS`` + 1 section states approach it at the rate its
+#: largest multiplier ρ predicts, within ``SLOW_MATCH``·(1 − ρ) (the run is in the cycle's linear
+#: neighbourhood, on its way there). Slip law, a 0.0094, b 0.0218, Dc 0.0136, k 0.96 k_c, V_lp 8.96,
+#: M 1.31e-4, η 4.77e-4: ρ = 0.9977, the steps still 6e-4 after the 4000 periods of the budget.
+SLOW_RHO = 0.95
+SLOW_TURNS = 8
+SLOW_MATCH = 0.5
 
 
 @dataclass(frozen=True)
@@ -122,6 +144,7 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float, pro
     t_end = min(MAX_PERIODS * unit, t_max)
     chunk = CHUNK_PERIODS * period0
     steps, last_dist, tried, seen = 0, math.inf, math.inf, 0
+    direct = _Direct(spec, v_lp, scale[1:], period0, max_steps, u_star[1:])
 
     last_x = [float(start[0])]   # ln V after the last successful step
     marks = [(0.0, 0)]            # (time, steps) at the chunks' ends within the last STIFF_PERIODS units
@@ -197,7 +220,13 @@ def fate(spec, v_lp: float, period0: float, *, max_steps: int, t_max: float, pro
                         return Fate("cycle", period=period, ln_v_max=top_c, ln_v_min=bottom_c, slip=v_lp * period,
                                     multiplier_max=mult, steps=steps, w=tuple(float(v) for v in w))
                 # the return map has its own compiled integrator (section=True): the run resumes here
+        found = direct.attempt(rec, float(ta.time), t_end, steps)
+        if found is not None:
+            return found
         if float(ta.time) >= t_end:
+            if direct.verdict:
+                return Fate("unresolved", f"neither steady sliding nor a cycle within {float(ta.time):.6g} "
+                            f"({float(ta.time) / unit:.0f} linear periods): {direct.verdict}", steps=steps)
             return Fate("unresolved", f"neither steady sliding nor a cycle within {float(ta.time):.6g} "
                         f"({float(ta.time) / unit:.0f} linear periods); last distance to steady sliding "
                         f"{dist:.3g}", steps=steps)
@@ -214,8 +243,135 @@ def _last_upward(rec, count: int) -> list:
     return out[::-1]
 
 
-def _cycle(spec, v_lp, w0, w_scale, *, t_max, max_steps):
-    """Newton on the return map P(w) − w = 0 from ``w0``: (w, period, max ln V, min ln V, max |μ|) or None."""
+class _Direct:
+    """The slow-approach path of ``fate`` (``SLOW_RHO``): Newton on the return map from the run's last
+    section state, vouched for by the run's own approach to the fixed point found."""
+
+    def __init__(self, spec, v_lp, w_scale, period0, max_steps, w_steady):
+        self.spec, self.v_lp, self.w_scale, self.period0, self.max_steps = spec, v_lp, w_scale, period0, max_steps
+        self.w_steady = np.asarray(w_steady, dtype=float)   # steady sliding's trace on the section
+        self.tried = math.inf     # the step size at the last attempt: the next one waits for it to halve
+        self.verdict = ""         # why the last attempt was not accepted (said if the run ends unresolved)
+
+    def attempt(self, rec, now, t_end, steps):
+        ups, times = _last_upward_timed(rec, SLOW_TURNS + 1)
+        if len(ups) < SLOW_TURNS + 1:
+            return None
+        moved = [float(np.max(np.abs(b - a) / self.w_scale)) for a, b in zip(ups, ups[1:])]
+        at_end = now >= t_end
+        if at_end and moved[0] > 0 and all(b > a for a, b in zip(moved, moved[1:])):
+            return self._growing(rec, steps)
+        if not (moved[-1] > 0 and all(b < a for a, b in zip(moved, moved[1:]))):
+            return None   # not contracting steadily (growing, oscillating, or on the fixed point already)
+        rho = (moved[-1] / moved[0]) ** (1.0 / (len(moved) - 1))
+        norm = max(1.0, float(np.max(np.abs(ups[-1]) / self.w_scale)))
+        turn = (times[-1] - times[0]) / SLOW_TURNS
+        needed = math.log(moved[-1] / (CANDIDATE_TOL * norm)) / -math.log(rho) if rho < 1 else math.inf
+        # the usual path (two section states within CANDIDATE_TOL) still decides every run it can finish in
+        # its budget, so what it resolved before is unchanged to the bit
+        if not (rho >= SLOW_RHO or at_end) or (now + needed * turn <= t_end and not at_end):
+            return None
+        if not moved[-1] < self.tried / 2 and not at_end:
+            return None
+        self.tried = moved[-1]
+        found = _cycle(self.spec, self.v_lp, ups[-1], self.w_scale, t_max=self.period0 * 1e3,
+                       max_steps=self.max_steps, full=True)
+        if found is None:
+            self.verdict = (f"slow approach (steps shrink by {rho:.6g} per turn); Newton on the return map "
+                            "from the last section state did not converge")
+            return None
+        w, period, top_c, bottom_c, mult = found
+        if not top_c - bottom_c > MIN_AMPLITUDE:
+            self.verdict = "slow approach; Newton converged to the trace of steady sliding (no amplitude)"
+            return None
+        if not mult < 1:
+            self.verdict = (f"slow approach; Newton converged to a cycle that is not attracting (largest |multiplier| "
+                            f"{mult:.6g}), so not where the run goes")
+            return None
+        dist = [float(np.max(np.abs(u - w) / self.w_scale)) for u in ups]
+        rate = (dist[-1] / dist[0]) ** (1.0 / SLOW_TURNS) if dist[0] > 0 else math.nan
+        if not (all(b < a for a, b in zip(dist, dist[1:])) and abs(rate - mult) <= SLOW_MATCH * (1 - mult)):
+            self.verdict = (f"slow approach; the run's last section states approach the cycle Newton found at "
+                            f"{rate:.6g} per turn, not at its largest multiplier {mult:.6g}")
+            return None
+        return Fate("cycle", f"solved by Newton on the return map: the transient approaches the cycle at "
+                    f"{rate:.6g} per turn (largest multiplier {mult:.6g}, distance {dist[-1]:.3g} after {steps} "
+                    "Taylor steps)", period=period, ln_v_max=top_c, ln_v_min=bottom_c, slip=self.v_lp * period,
+                    multiplier_max=mult, steps=steps, w=tuple(float(v) for v in w))
+
+
+    def _growing(self, rec, steps):
+        """The budget ended with the run still spiralling out of steady sliding (growth ~ (1 − ρ)/2 per turn
+        next to a Hopf point: ρ = 0.9997 needs ~10⁴ turns). The amplitude A_n = |w_n − w_steady| of the run's
+        later half is fitted by A_{n+1}/A_n − 1 = c − d A_n² (the Hopf normal form ṙ = σr + l1 r³ over one turn); Newton
+        starts at the predicted amplitude √(c/d) along the run's direction. The cycle found is accepted if
+        attracting and if the return map takes each of 8 points on the segment from the run's last state to
+        it closer to it (no other fixed point there at that resolution: the run is on its way there)."""
+        ups, _ = _last_upward_timed(rec, 10 ** 9)
+        if len(ups) < 40:
+            return None
+        amp = np.array([float(np.max(np.abs(u - self.w_steady) / self.w_scale)) for u in ups])
+        late = amp[len(amp) // 2:]
+        if not np.all(np.diff(late) > 0):
+            self.verdict = "still moving away from steady sliding, not steadily"
+            return None
+        slope, c = np.polyfit(late[:-1] ** 2, late[1:] / late[:-1] - 1, 1)
+        if not (c > 0 and slope < 0) or not c / -slope > late[-1] ** 2:
+            self.verdict = (f"still growing away from steady sliding (section amplitude {late[-1]:.3g}); its growth "
+                            "does not slow as a supercritical Hopf cycle's would")
+            return None
+        target = math.sqrt(c / -slope)
+        start = self.w_steady + (ups[-1] - self.w_steady) * (target / late[-1])
+        found = _cycle(self.spec, self.v_lp, start, self.w_scale, t_max=self.period0 * 1e3,
+                       max_steps=self.max_steps, full=True)
+        if found is None:
+            self.verdict = (f"still growing away from steady sliding; Newton on the return map from the predicted "
+                            f"amplitude {target:.3g} did not converge")
+            return None
+        w, period, top_c, bottom_c, mult = found
+        if not (top_c - bottom_c > MIN_AMPLITUDE and mult < 1):
+            self.verdict = (f"still growing away from steady sliding; Newton converged to a fixed point that is not an "
+                            f"attracting cycle (largest |multiplier| {mult:.6g}, ln V span {top_c - bottom_c:.3g})")
+            return None
+        from .continuation import ReturnMap
+
+        pmap = ReturnMap(self.spec, self.v_lp, t_max=self.period0 * 1e3, max_steps=self.max_steps)
+        for j in range(8):
+            u = ups[-1] + (w - ups[-1]) * (j / 8)
+            r = pmap(u, self.spec.k)
+            if r is None or not np.max(np.abs(r[0] - w) / self.w_scale) < np.max(np.abs(u - w) / self.w_scale):
+                self.verdict = (f"still growing away from steady sliding; the return map does not take the segment "
+                                f"from the run's last state to the cycle Newton found towards it (point {j} of 8)")
+                return None
+        return Fate("cycle", f"solved by Newton on the return map: at the end of its budget the run was still "
+                    f"growing away from steady sliding (section amplitude {late[-1]:.3g} of {_amplitude(w, self):.3g}); "
+                    f"started at the normal form's amplitude {target:.3g}, the return map takes the segment between "
+                    f"to the cycle (largest multiplier {mult:.6g}, after {steps} Taylor steps)", period=period,
+                    ln_v_max=top_c, ln_v_min=bottom_c, slip=self.v_lp * period, multiplier_max=mult, steps=steps,
+                    w=tuple(float(v) for v in w))
+
+
+def _amplitude(w, direct):
+    """|w − w_steady|, scaled: the section amplitude of a cycle's fixed point."""
+    return float(np.max(np.abs(np.asarray(w) - direct.w_steady) / direct.w_scale))
+
+
+def _last_upward_timed(rec, count: int):
+    """``_last_upward`` with the crossings' times."""
+    out, times = [], []
+    for (_, state), crossing in zip(reversed(rec.crossing_states), reversed(rec.crossings)):
+        if crossing[2] > 0:
+            out.append(np.asarray(state[1:], dtype=float))
+            times.append(float(crossing[0]))
+            if len(out) == count:
+                break
+    return out[::-1], times[::-1]
+
+
+def _cycle(spec, v_lp, w0, w_scale, *, t_max, max_steps, full=False):
+    """Newton on the return map P(w) − w = 0 from ``w0``: (w, period, max ln V, min ln V, max |μ|) or None.
+    Chord steps (the Jacobian at ``w0``) from a candidate of the usual path, full Newton (``full``) from the
+    slow path's farther start."""
     from .continuation import ReturnMap
 
     pmap = ReturnMap(spec, v_lp, t_max=t_max, max_steps=max_steps)
@@ -234,7 +390,9 @@ def _cycle(spec, v_lp, w0, w_scale, *, t_max, max_steps):
     w = np.array(w0, dtype=float)
     try:
         J = jac(w)
-        for _ in range(8):
+        for i in range(12 if full else 8):
+            if full and i:
+                J = jac(w)
             g = G(w)
             dw = np.linalg.solve(J, -g)
             w = w + dw

@@ -9,7 +9,8 @@ their exact event times on the dense output) and slip V_lp·T.
 Error estimates: the same cycle is run again without stopping (``simulate.run_spec`` from the fixed
 point, non-terminal events at V = V_lp), and its second turn — a step grid that no longer starts on
 the section, so independent rounding and truncation — gives a second period and extrema. The estimate
-of each number is the larger of |shooting − second turn| and 4 ulps of the value, divided by 1 − ρ
+of each number is the larger of |shooting − second turn| and 4 ulps of the value (for the ln V extrema,
+of the largest of |ln V| and |ln θ_i|: the map's own variables), divided by 1 − ρ
 (ρ the largest Floquet multiplier: the fixed point of a map known to δ is known to δ/(1 − ρ)); the
 two ln V extrema share twice the larger of theirs. Where
 no attracting cycle exists the status says what happened instead (``steady-sliding``, ``unbounded-growth``,
@@ -106,12 +107,17 @@ def limit_cycle(spec, v_lp: float, *, max_steps: int = 2_000_000, progress=None)
     # came out 3.6x smaller for ln V_min than for ln V_max in a PRZ case): they get the larger of the two, twice.
     amplify = 1.0 / max(1.0 - f.multiplier_max, 1e-6)
 
-    def err(a, b):
-        return max(abs(a - b), _ULPS * abs(a)) * amplify
+    def err(a, b, floor=0.0):
+        return max(abs(a - b), _ULPS * abs(a), floor) * amplify
 
     top, bottom = f.ln_v_max - x_lp, f.ln_v_min - x_lp
-    ln_v_error = 2 * max(err(top, top2 - x_lp), err(bottom, bottom2 - x_lp))
-    return CycleResult("limit-cycle", "", f.period, err(f.period, period2), top, ln_v_error,
+    # the map works in ln V and ln θ_i, not ln(V/V_lp): its rounding is ulps of those, which a small cycle's
+    # ln(V/V_lp) (0.04 next to a Hopf point) does not show, and a second turn may agree by chance. Slip law,
+    # M 0, η 0.00173, ρ = 0.9993: extrema 7.4e-13 off an mpmath shooting, estimate 3.2e-13 from the
+    # second turn (tests/test_rscycle.py); ulps of ln θ = −5.2 give 1.3e-11.
+    floor = _ULPS * max([abs(f.ln_v_max), abs(f.ln_v_min)] + [abs(v) for v in f.w[:spec.n_states]])
+    ln_v_error = 2 * max(err(top, top2 - x_lp, floor), err(bottom, bottom2 - x_lp, floor))
+    return CycleResult("limit-cycle", f.message, f.period, err(f.period, period2), top, ln_v_error,
                        bottom, ln_v_error, v_lp * f.period, v_lp * err(f.period, period2),
                        f.multiplier_max, f.steps)
 

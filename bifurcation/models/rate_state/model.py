@@ -212,5 +212,8 @@ RATE_STATE = Model(
     units_note="those of the workflow's own V_lp, Dc and M (docs/rate-state.md)",
     # 1: the limit cycle's Newton shooting is polished with the Jacobian at the solution (2026-11-26),
     # which moves the last bits of a cycle's numbers. A store begun before must not be resumed with it.
-    revision=1,
+    # 2: next to a Hopf point a run whose approach is too slow for its budget is solved by Newton on the return
+    # map (attractor.SLOW_RHO, 2026-11-26): points that were not-resolved may now be cycles (what resolved
+    # before is unchanged to the bit), so a store begun before would mix the two answers.
+    revision=2,
 )
