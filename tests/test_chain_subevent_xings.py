@@ -82,3 +82,22 @@ def test_events_closed_in_one_segment_come_out_one_call_at_a_time():
         assert np.array_equal(cat[k], one[k]), k
     assert np.all(np.diff(cat["t_start"]) > 0)
     assert np.all(cat["duration"] > 0)
+
+
+def test_the_rk4_baseline_reads_the_same_lone_threshold_event():
+    # the bench's numba RK4 (``_bench_rk4.rk4_vth``: friction drop, one-way friction, V_th read at step ends)
+    # from the same start at dt = 1e-3: the event of the test above (reference: the engine's, checked against
+    # mpmath there) with each crossing read up to one step late, so duration within 2 dt, potency within 1e-3
+    from bifurcation.models.chain._bench_rk4 import rk4_vth
+
+    n, ell, nu, nu_f, sig = 64, 1.0, 1e-4, 0.3, 0.01
+    u = check_initial(n, ell, "free", None, 0.1, 1)
+    ref = CompiledChain(LAW, n, ell, nu, nu_f, "free", u.copy(), sigma=sig, lone=False).run(1)["catalog"]
+    vth = 0.5 * float(ref["max_velocity"][0])
+    exact = SubeventRun(LAW, n, ell, nu, nu_f, "free", u.copy(), v_threshold=vth, sigma=sig).run(1)["catalog"]
+    out, tot = np.zeros((5, 4)), np.zeros(3)
+    t_end = float(ref["t_start"][0] + ref["duration"][0]) + 1.0
+    ne, _ = rk4_vth(0, ell * ell, nu, nu_f, sig, False, u.copy(), np.zeros(n), 0.0, t_end, vth, 1e-3, 20, out, tot)
+    assert ne == 1 and int(out[3, 0]) == 2 and int(out[4, 0]) == 1
+    assert abs(out[2, 0] - exact["duration"][0]) < 2e-3
+    assert abs(out[1, 0] / exact["potency"][0] - 1) < 1e-3
