@@ -12,8 +12,8 @@ its noise) measures the rates at several dt. The event magnitude distribution is
 event slips the same amount), and an atom moved by RK4's error (2e-3 relative at dt = 0.05) makes the
 raw KS distance the atom's whole weight. Timings are CPU seconds of this single-threaded process
 (wall-clock shown too: on a shared machine it measures the other jobs), reported, never asserted.
-``python -m bifurcation.models.chain._bench suite|ks|long|atom|tolerance|stop|published-nu`` runs the suite, the longer KS study,
-the tolerance grid and stop-phase model (docs/chain.md, "Speed"), the presets at ν = 0.01 against a compiled RK4 (docs/chain.md, "Split in time") and the 10^5-event timing of results/chain/REPORT.md ("Speed").
+``python -m bifurcation.models.chain._bench suite|ks|long|atom|tolerance|stop`` runs the suite, the longer KS study,
+the tolerance grid and stop-phase model (docs/chain.md, "Speed") and the 10^5-event timing of results/chain/REPORT.md ("Speed").
 """
 
 from __future__ import annotations
@@ -704,7 +704,9 @@ if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md 
     import sys
 
     what = sys.argv[1] if len(sys.argv) > 1 else "suite"
-    if what == "suite":
+    if what == "published-nu":    # the presets at ν = 0.01 against a compiled RK4 (docs/chain.md, "Split in time")
+        run_published_nu(**({"cycles": float(sys.argv[2])} if len(sys.argv) > 2 else {}))
+    elif what == "suite":
         run_chain_bench()
     elif what == "ks":
         run_ks_study(events=int(sys.argv[2]) if len(sys.argv) > 2 else 40_000,
@@ -721,5 +723,3 @@ if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md 
         run_tolerance_grid()
     elif what == "stop":
         run_stop_phase()
-    elif what == "published-nu":
-        run_published_nu(**({"cycles": float(sys.argv[2])} if len(sys.argv) > 2 else {}))
