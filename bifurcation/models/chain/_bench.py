@@ -660,11 +660,85 @@ def run_stop_phase(*, nu: float = 1e-4, nu_f: float = 0.2, ell: float = 1.0, ord
     return {"t_stop": t_stop, "t_pole": t_pole, "rows": rows}
 
 
+#: the presets at their own loading rate (issue 17's ``[published_nu]``): (preset, ν_f); MK at α = 1, 2, 3
+PUBLISHED_NU_CASES = (("carlson-langer-1991", 0.2), ("mori-kawamura-2006", 0.5), ("mori-kawamura-2006", 0.25),
+                      ("mori-kawamura-2006", 1.0 / 6.0))
+
+
+def _rk4_vth_from(p, nu_f, u, v, t, cycles, vth, dt, prune=20):
+    from ._bench_rk4 import LAW_CODES, rk4_vth
+
+    out, tot = np.zeros((5, 10**6)), np.zeros(3)
+    uu, vv = u.copy(), v.copy()
+    ne, _ = rk4_vth(LAW_CODES[p.law], p.ell ** 2, p.nu, nu_f, p.sigma, p.ends == "periodic", uu, vv, t,
+                    t + cycles / p.nu, vth, dt, prune, out, tot)
+    return ne, out[:, :ne], tot
+
+
+def run_published_nu(*, cases=PUBLISHED_NU_CASES, transient_cycles: float = 50.0, cycles: float = 10.0,
+                     reps: int = 3, dts=(0.1, 0.05), v_threshold: float = 0.1, seed: int = 1, amplitude: float = 0.1,
+                     say=print) -> list:
+    """The compiled engine's V_th-split catalogs (``_subevents``) at the presets' own ν = 0.01 against a numba
+    active-set RK4 with the same friction drop and the same V_th split read at step ends (``_bench_rk4.rk4_vth``),
+    side by side in this process from the same state: after ``transient_cycles`` of the engine, each repetition
+    runs the engine ``cycles`` loading cycles on and RK4 (each dt) the same span from the engine's state at its
+    start (U and V of every block). Rates in events per CPU second and CPU seconds per loading cycle (the event
+    counts of the two codes differ: RK4 reads V at step ends); ratio = engine events/s ÷ RK4 events/s."""
+    from ...laws import resolve_law
+    from ._subevents import SubeventRun
+    from ._validate import check_initial
+    from .presets import get_preset
+
+    rows = []
+    for name, nu_f in cases:
+        p = get_preset(name)
+        u0 = check_initial(p.n, p.ell, p.ends, None, amplitude, seed)
+        run = SubeventRun(resolve_law(p.law), p.n, p.ell, p.nu, nu_f, p.ends, u0, v_threshold=v_threshold,
+                          sigma=p.sigma)
+        _, _, c_tr = _timed(lambda: run.run(10**6, t_stop=transient_cycles / p.nu))
+        _rk4_vth_from(p, nu_f, np.asarray(run.chain.u, dtype=float), np.zeros(p.n), run.t, 0.01, v_threshold, 0.1)  # compile
+        for rep in range(reps):
+            c = run.chain
+            m = int(run._ctx[5]) if run._ctx[0] else 0
+            u = np.array(c._g.u, dtype=float)
+            v = np.zeros(p.n)
+            for i in range(m):
+                if c._win.slip[i]:
+                    v[c._win.blk[i]] = p.nu * c._win.v[i]
+            t0 = run.t
+            steps0 = run.totals[3]
+            out, _, cpu = _timed(lambda: run.run(10**6, t_stop=t0 + cycles / p.nu))
+            ne = out["catalog"]["potency"].size
+            row = {"preset": name, "nu_f": nu_f, "rep": rep, "t0": t0, "cycles": cycles, "engine_events": ne,
+                   "engine_cpu": cpu, "engine_steps": float(run.totals[3] - steps0), "widest": int(run.totals[4]),
+                   "engine_nb_mean": float(out["catalog"]["n_blocks"].mean()) if ne else 0.0}
+            for dt in dts:
+                (nr, cat, tot), _, cpu_r = _timed(lambda: _rk4_vth_from(p, nu_f, u, v, t0, cycles, v_threshold, dt))
+                row[f"rk4_{dt:g}_events"], row[f"rk4_{dt:g}_cpu"] = nr, cpu_r
+                row[f"rk4_{dt:g}_set"] = float(tot[2])
+                row[f"rk4_{dt:g}_nb_mean"] = float(cat[4].mean()) if nr else 0.0
+                row[f"ratio_{dt:g}"] = (ne / cpu) / (nr / cpu_r) if nr and ne else float("nan")
+                row[f"ratio_cycle_{dt:g}"] = cpu_r / cpu
+            rows.append(row)
+            say(f"{name} ν_f = {nu_f:.4g} rep {rep}: engine {ne} events {cpu:.2f} CPU s "
+                f"({1e3 * cpu / max(ne, 1):.1f} ms/event, {row['engine_steps'] / max(ne, 1):.0f} steps/event, "
+                f"mean n_blocks {row['engine_nb_mean']:.1f}); " + "; ".join(
+                    f"RK4 dt {dt:g}: {row[f'rk4_{dt:g}_events']} events {row[f'rk4_{dt:g}_cpu']:.2f} CPU s "
+                    f"(set ≤ {row[f'rk4_{dt:g}_set']:.0f}, mean n_blocks {row[f'rk4_{dt:g}_nb_mean']:.1f}), "
+                    f"ratio {row[f'ratio_{dt:g}']:.3f} per event, {row[f'ratio_cycle_{dt:g}']:.3f} per cycle"
+                    for dt in dts), flush=True)
+    import os
+    say(f"load average {os.getloadavg()}")
+    return rows
+
+
 if __name__ == "__main__":   # the long measurements of results/chain/REPORT.md ("Speed")
     import sys
 
     what = sys.argv[1] if len(sys.argv) > 1 else "suite"
-    if what == "suite":
+    if what == "published-nu":    # the presets at ν = 0.01 against a compiled RK4 (docs/chain.md, "Split in time")
+        run_published_nu(**({"cycles": float(sys.argv[2])} if len(sys.argv) > 2 else {}))
+    elif what == "suite":
         run_chain_bench()
     elif what == "ks":
         run_ks_study(events=int(sys.argv[2]) if len(sys.argv) > 2 else 40_000,

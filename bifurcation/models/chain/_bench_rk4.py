@@ -256,3 +256,155 @@ def run_rk4(kind: str, law: str, *, n: int, ell: float, nu: float, nu_f: float, 
     steps = fn(LAW_CODES[law], ell * ell, nu, nu_f, ends == "periodic", u, events, dt, max_steps, out)
     return {"potency": out[0], "n_blocks": out[1].astype(np.int64), "duration": out[2], "max_velocity": out[3],
             "steps": int(steps)}
+
+
+# -- the presets at their own loading rate (ν = 0.01, σ > 0): events split in time by V_th ---------------
+@_jit
+def _acc_drop(j, su, sv, t, l2, nu, nu_f, sigma, law, n, periodic):
+    """V̇_j with the friction drop: Φ_σ(x) = (1 − σ) Φ(x/(1 − σ)) while slipping; a stuck block holds
+    any stress below 1 and starts at 1 with acceleration σ_j − (1 − σ) (one-way friction)."""
+    s = l2 * _lap(su, j, n, periodic) - su[j] + nu * t
+    if sv[j] > 0.0:
+        return s - (1.0 - sigma) * _phi(law, sv[j] / (nu_f * (1.0 - sigma)))
+    return s - (1.0 - sigma) if s >= 1.0 else 0.0
+
+
+@_jit
+def _join(j, m, idx, inset):
+    if not inset[j]:
+        inset[j] = True
+        idx[m] = j
+        return m + 1
+    return m
+
+
+@_jit
+def _far_time(u, n, l2, nu, t, periodic, inset):
+    """The earliest time a block outside the set reaches stress 1 (its neighbours are stuck)."""
+    best = np.inf
+    for j in range(n):
+        if not inset[j]:
+            s = l2 * _lap(u, j, n, periodic) - u[j] + nu * t
+            best = min(best, t + (1.0 - s) / nu)
+    return best
+
+
+@_jit
+def rk4_vth(law, l2, nu, nu_f, sigma, periodic, u, v, t, t_end, vth, dt, prune, out, tot):
+    """Fixed-step RK4 of the chain with the friction drop σ from (u, v, t) (changed in place) to t_end,
+    stepping only the active set (slipping blocks and their neighbours, stuck pairs pruned every ``prune``
+    steps), V clipped at 0 after each step (no back-slip). Events split in time as ``_subevents``, read at
+    step ends: open when some V_j > vth, closed when none; out[:, e] = t_start, potency, duration,
+    hypocentre, n_blocks. tot += [steps, slip outside events, largest set]. Returns (events, t)."""
+    n = u.size
+    idx = np.zeros(n, dtype=np.int64)
+    inset = np.zeros(n, dtype=np.bool_)
+    stamp = np.zeros(n, dtype=np.int64)
+    su, sv = u.copy(), v.copy()
+    k1, k2, k3, k4 = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
+    k2u, k3u = np.zeros(n), np.zeros(n)
+    m = 0
+    for j in range(n):
+        if v[j] > 0.0:
+            m = _join(j, m, idx, inset)
+            m = _join((j - 1) % n if periodic else max(j - 1, 0), m, idx, inset)
+            m = _join((j + 1) % n if periodic else min(j + 1, n - 1), m, idx, inset)
+    t_far = _far_time(u, n, l2, nu, t, periodic, inset)
+    ne = 0
+    opened, t0, pot, hyp, nbl, eid = False, 0.0, 0.0, -1, 0, 0
+    steps = 0
+    while t < t_end and ne < out.shape[1]:
+        if m == 0:                                  # all stuck: jump to the next failure exactly
+            t = max(t, t_far)
+            if t >= t_end:
+                break
+        if t >= t_far:                              # blocks outside the set at stress 1 join it
+            for j in range(n):
+                if not inset[j] and l2 * _lap(u, j, n, periodic) - u[j] + nu * t >= 1.0:
+                    m = _join(j, m, idx, inset)
+            t_far = _far_time(u, n, l2, nu, t, periodic, inset)
+        for q in range(m):
+            j = idx[q]
+            k1[j] = _acc_drop(j, u, v, t, l2, nu, nu_f, sigma, law, n, periodic)
+        for q in range(m):
+            j = idx[q]
+            su[j] = u[j] + 0.5 * dt * v[j]
+            sv[j] = v[j] + 0.5 * dt * k1[j]
+        for q in range(m):
+            j = idx[q]
+            k2[j] = _acc_drop(j, su, sv, t + 0.5 * dt, l2, nu, nu_f, sigma, law, n, periodic)
+        for q in range(m):
+            j = idx[q]
+            k2u[j] = sv[j]
+            su[j] = u[j] + 0.5 * dt * k2u[j]
+            sv[j] = v[j] + 0.5 * dt * k2[j]
+        for q in range(m):
+            j = idx[q]
+            k3[j] = _acc_drop(j, su, sv, t + 0.5 * dt, l2, nu, nu_f, sigma, law, n, periodic)
+        for q in range(m):
+            j = idx[q]
+            k3u[j] = sv[j]
+            su[j] = u[j] + dt * k3u[j]
+            sv[j] = v[j] + dt * k3[j]
+        for q in range(m):
+            j = idx[q]
+            k4[j] = _acc_drop(j, su, sv, t + dt, l2, nu, nu_f, sigma, law, n, periodic)
+        slip = 0.0
+        above = 0
+        top, vtop = -1, 0.0
+        for q in range(m):
+            j = idx[q]
+            du = dt / 6.0 * (v[j] + 2.0 * k2u[j] + 2.0 * k3u[j] + sv[j])
+            u[j] += du
+            su[j] = u[j]
+            slip += du
+            v[j] = max(v[j] + dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]), 0.0)
+            sv[j] = v[j]
+            if v[j] > vth:
+                above += 1
+                if v[j] > vtop:
+                    top, vtop = j, v[j]
+        t += dt
+        steps += 1
+        if opened:
+            pot += slip
+        else:
+            tot[1] += slip
+        if above > 0:
+            if not opened:
+                opened, t0, pot, hyp, nbl = True, t, 0.0, top, 0
+                eid += 1
+            for q in range(m):
+                j = idx[q]
+                if v[j] > vth and stamp[j] != eid:
+                    stamp[j] = eid
+                    nbl += 1
+        elif opened:
+            out[0, ne], out[1, ne], out[2, ne], out[3, ne], out[4, ne] = t0, pot, t - t0, hyp, nbl
+            ne += 1
+            opened = False
+        m0 = m
+        for q in range(m0):                         # the set grows around every moving block
+            j = idx[q]
+            if v[j] > 0.0:
+                m = _join((j - 1) % n if periodic else max(j - 1, 0), m, idx, inset)
+                m = _join((j + 1) % n if periodic else min(j + 1, n - 1), m, idx, inset)
+        if m > tot[2]:
+            tot[2] = m
+        if steps % prune == 0:                      # drop stuck blocks among stuck neighbours
+            k = 0
+            for q in range(m):
+                j = idx[q]
+                lf = (j - 1) % n if periodic else max(j - 1, 0)
+                rt = (j + 1) % n if periodic else min(j + 1, n - 1)
+                if v[j] == 0.0 and v[lf] == 0.0 and v[rt] == 0.0 and \
+                        l2 * _lap(u, j, n, periodic) - u[j] + nu * t < 1.0:
+                    inset[j] = False
+                    s = l2 * _lap(u, j, n, periodic) - u[j] + nu * t
+                    t_far = min(t_far, t + (1.0 - s) / nu)
+                else:
+                    idx[k] = j
+                    k += 1
+            m = k
+    tot[0] += steps
+    return ne, t

@@ -39,12 +39,27 @@ COMPLETE = 1
 
 
 @_jit
-def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f, out_i, tot, t_stop, every, ctx):
+def _xsort(xbuf, nx):
+    """Rows 1..nx of xbuf by time (insertion sort: the rows of one step are in slot order, steps in time order)."""
+    for q in range(2, nx + 1):
+        r0, r1, r2, r3 = xbuf[q, 0], xbuf[q, 1], xbuf[q, 2], xbuf[q, 3]
+        p = q - 1
+        while p >= 1 and xbuf[p, 0] > r0:
+            xbuf[p + 1, 0], xbuf[p + 1, 1], xbuf[p + 1, 2], xbuf[p + 1, 3] = xbuf[p, 0], xbuf[p, 1], xbuf[p, 2], xbuf[p, 3]
+            p -= 1
+        xbuf[p + 1, 0], xbuf[p + 1, 1], xbuf[p + 1, 2], xbuf[p + 1, 3] = r0, r1, r2, r3
+
+
+@_jit
+def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f, out_i, tot, t_stop, every, ctx,
+                  xbuf):
     """Up to k threshold events, or until the time t_stop (then possibly inside a stretch, its state kept
     in ``ctx`` so the next call goes on from there); a progress line on stdout every ``every`` events
     (0: none). out_f[:, e] = t_start, potency, duration; out_i[:, e] = hypocentre, n_blocks. ``tot``
     accumulates [all-stuck stretches ended, slip below V_th, slip in events, steps, largest window].
-    ``vth`` is V_th/ν. Returns (events done, outcome code)."""
+    ``vth`` is V_th/ν. ``xbuf``: the crossings of a segment (``_compiled._xings``, rows from 1); a segment can
+    close several events, so out_f/out_i need room for k − 1 + (rows of xbuf) events and more than k may be
+    returned (``SubeventRun.run`` keeps the surplus for the next call). Returns (events done, outcome code)."""
     n, periodic = g.s.size, par[4] != 0.0
     nu, l2, t_max = fr[0], par[0], par[5]
     acc = scal[3:6]      # [steps, Σ err, vmax] in the scalars: the engine compiles without numba's allocator (_nrt=False)
@@ -90,56 +105,64 @@ def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f,
             top, tau_far = _far(g, base, lam, nu)
             for i in range(m):
                 win.lt[i] = -1.0
-            code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc, vth, above)
+            code, j, tau, h = _segment(m, win, g, law, gfun, fr, par, tau_far, t_max - dur, h, acc, vth, above, xbuf)
             if code == 5 or code == 3:
                 break
-            slip = nu * _commit(m, tau, win, g, l2, nu)
-            if sub_open:
-                sub_pot += slip
-                tot[2] += slip
-            else:
-                tot[1] += slip
-            lam += nu * tau
-            dur += tau
-            for i in range(m):
-                win.w[i] = 0.0
-            # a block that stopped while flagged above (a stop and a crossing at one rounding) is below
-            for i in range(m):
-                b = win.blk[i]
-                if above[b] != 0 and not win.slip[i]:
-                    above[b] = 0
-                    nab -= 1
-            if code == 6:
-                b = win.blk[j]
-                if above[b] != 0:
-                    above[b] = 0
-                    nab -= 1
+            wseg = _commit(m, tau, win, g, l2, nu)
+            nx = int(xbuf[0, 0])
+            xbuf[0, 0] = 0.0
+            _xsort(xbuf, nx)
+            wdone = 0.0
+            for q in range(1, nx + 2):       # the crossings in time order, then the segment's end
+                if q <= nx:
+                    tq, b, wq = xbuf[q, 0], win.blk[int(xbuf[q, 1])], xbuf[q, 3]
                 else:
-                    above[b] = 1
+                    tq, b, wq = tau, -1, wseg
+                part = nu * (wq - wdone)
+                wdone = wq
+                if sub_open:
+                    sub_pot += part
+                    tot[2] += part
+                else:
+                    tot[1] += part
+                if q > nx:
+                    # a block that stopped while flagged above (a stop and a crossing at one rounding) is below
+                    for i in range(m):
+                        bb = win.blk[i]
+                        if above[bb] != 0 and not win.slip[i]:
+                            above[bb] = 0
+                            nab -= 1
+                elif xbuf[q, 2] != 0.0:
                     nab += 1
                     if not sub_open:
                         sub_open = True
                         sub_id += 1
-                        sub_t0 = t_start + dur
+                        sub_t0 = t_start + (dur + tq)
                         sub_pot = 0.0
                         sub_nbl = 0
                         sub_hyp = b
                     if stamp[b] != sub_id:
                         stamp[b] = sub_id
                         sub_nbl += 1
-            if sub_open and nab == 0:
-                out_f[0, nsub] = sub_t0
-                out_f[1, nsub] = sub_pot
-                out_f[2, nsub] = (t_start + dur) - sub_t0
-                out_i[0, nsub] = sub_hyp
-                out_i[1, nsub] = sub_nbl
-                nsub += 1
-                sub_open = False
-                if every > 0 and nsub % every == 0:
-                    print("  events", nsub, "t", t_start + dur, "steps", tot[3] + acc[0], "widest", tot[4])
+                else:
+                    nab -= 1
+                if sub_open and nab == 0:
+                    out_f[0, nsub] = sub_t0
+                    out_f[1, nsub] = sub_pot
+                    out_f[2, nsub] = (t_start + (dur + tq)) - sub_t0
+                    out_i[0, nsub] = sub_hyp
+                    out_i[1, nsub] = sub_nbl
+                    nsub += 1
+                    sub_open = False
+                    if every > 0 and nsub % every == 0:
+                        print("  events", nsub, "t", t_start + dur, "steps", tot[3] + acc[0], "widest", tot[4])
+            lam += nu * tau
+            dur += tau
+            for i in range(m):
+                win.w[i] = 0.0
             if code == 0:
                 break
-            if code == 6:
+            if code == 7:
                 refresh = True
             else:
                 starts[0] = win.blk[j] if code == 1 else top
@@ -186,6 +209,9 @@ class SubeventRun:
         #: [all-stuck stretches ended, slip below V_th, slip in events, DOP853 steps, widest window]
         self.totals = np.zeros(5)
         self._ctx = np.zeros(16)     # the state inside an all-stuck stretch between calls
+        self._xbuf = np.zeros((4 * n + 64, 4))     # a segment's V_th crossings (``_compiled._xings``)
+        self._pending = {q: np.zeros(0, dtype=np.int64 if q in ("hypocentre", "n_blocks") else np.float64)
+                         for q in ("t_start", "potency", "duration", "hypocentre", "n_blocks")}
 
     @property
     def t(self) -> float:
@@ -197,19 +223,25 @@ class SubeventRun:
         from .result import ChainStatus
 
         c = self.chain
-        out_f = np.zeros((3, k))
-        out_i = np.zeros((2, k), dtype=np.int64)
-        done, code = run_subevents(k, c._win, c._g, c._law, c._gfun, c._fr, c._par, c._scal,
-                                   self.v_threshold / c.nu, self._above, self._stamp, out_f, out_i, self.totals,
-                                   float(t_stop), int(every), self._ctx)
-        cat = {"t_start": out_f[0, :done].copy(), "potency": out_f[1, :done].copy(),
-               "duration": out_f[2, :done].copy(), "hypocentre": out_i[0, :done].copy(),
-               "n_blocks": out_i[1, :done].copy()}
+        keys = ("t_start", "potency", "duration", "hypocentre", "n_blocks")
+        have = self._pending["potency"].size
+        code = 1
+        if have < k:
+            out_f = np.zeros((3, k - have + self._xbuf.shape[0]))
+            out_i = np.zeros((2, out_f.shape[1]), dtype=np.int64)
+            done, code = run_subevents(k - have, c._win, c._g, c._law, c._gfun, c._fr, c._par, c._scal,
+                                       self.v_threshold / c.nu, self._above, self._stamp, out_f, out_i, self.totals,
+                                       float(t_stop), int(every), self._ctx, self._xbuf)
+            new = dict(zip(keys, (out_f[0, :done], out_f[1, :done], out_f[2, :done], out_i[0, :done], out_i[1, :done])))
+            self._pending = {q: np.concatenate((self._pending[q], new[q])) for q in keys}
+        # one segment can close several events: the surplus over k waits for the next call
+        cat = {q: self._pending[q][:k].copy() for q in keys}
+        self._pending = {q: self._pending[q][k:] for q in keys}
         status, message = ChainStatus.COMPLETE, ""
         if code == NO_STOP:
-            status, message = ChainStatus.NO_STOP, f"the step size underflowed after {done} events"
+            status, message = ChainStatus.NO_STOP, f"the step size underflowed after {cat['potency'].size} events"
         elif code == NONFINITE:
-            status, message = ChainStatus.NONFINITE, f"non-finite state after {done} events"
+            status, message = ChainStatus.NONFINITE, f"non-finite state after {cat['potency'].size} events"
         return dict(catalog=cat, status=status, message=message)
 
 
