@@ -7,7 +7,7 @@ Taylor recurrences, tests/_indep4_taylor.py, 40 digits, order 30; no code of the
 Chains (default_rng([44, i])): aging or slip; a ∈ [0.005, 0.02], b = a·U(1.2, 2), Dc log-uniform on
 [0.005, 0.05], k = k_c·U(0.1, 0.8) with k_c = (b − a)/Dc; ℓ log-uniform on [0.3, 3]; V_lp log-uniform on
 [0.1, 10], v_th = V_lp·U(2, 20); quasi-dynamic (M = 0, η = 10^U(−4, −2)) or inertial (M = 10^U(−5, −3),
-η = 0 or 10^U(−4, −2)); free or periodic; amplitude U(0.5, 1.5), seed 0..999; 2 events. A case whose reference needs more than 20 000
+η = 0 or 10^U(−4, −2)); free or periodic; amplitude U(0.5, 1.5), seed 0..999; 2 events. A case whose reference needs more than 4000
 steps (deep inertial cycles: the fast mode a/(MV) at small V) is skipped and listed in ``skipped``.
 Sliders (default_rng([45, i])): aging or slip; a, b, Dc as above; k = k_c·U(0.3, 2) (both sides of the
 quasi-static critical stiffness: stick-slip cycles, and decay to steady sliding); V_lp log-uniform on
@@ -74,7 +74,7 @@ def main():
         cs = chain_case(i)
         t0 = time.process_time()
         try:
-            cat = ref.rs_chain_events(max_steps=20000, **{q: v for q, v in cs.items() if q != "i"})
+            cat = ref.rs_chain_events(max_steps=4000, **{q: v for q, v in cs.items() if q != "i"})
         except RuntimeError as err:
             print("chain", i, "skipped:", err, flush=True)
             doc.setdefault("skipped", []).append({"chain": i, "reason": str(err)})
@@ -90,7 +90,7 @@ def main():
         cs = slider_case(i)
         t0 = time.process_time()
         try:
-            ext, x = ref.slider_extrema(max_extrema=8, max_steps=20000, **{q: v for q, v in cs.items() if q != "i"})
+            ext, x = ref.slider_extrema(max_extrema=8, max_steps=4000, **{q: v for q, v in cs.items() if q != "i"})
         except RuntimeError as err:
             print("slider", i, "skipped:", err, flush=True)
             doc.setdefault("skipped", []).append({"slider": i, "reason": str(err)})
