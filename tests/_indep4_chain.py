@@ -221,10 +221,15 @@ def event(law, n, ell, nu, nu_f, ends, sigma_f, s0, u0, t0, *, dps=40, order=40,
             # fading friction (Φ = s1 e^f): the radius above cannot see a factor e^f below rounding at the
             # step start that comes back before its end, so each step changes f by at most 2 (bounded by
             # Σ|f_k| h^k; 2^40/40! = 1e-36): e^f grows by ≤ e² per step and is always resolved where it matters
+            # (or the step keeps f below −K, K = dps·ln 10 + 20: e^f then stays below the rounding of 1)
+            K = dps * mp.log(10) + 20
             for j in sl:
                 fser = aux[j]
                 if fser:
-                    while sum(abs(fser[kk]) * hstep ** kk for kk in range(1, len(fser))) > 2:
+                    while True:
+                        bnd = sum(abs(fser[kk]) * hstep ** kk for kk in range(1, len(fser)))
+                        if bnd <= 2 or fser[0] + bnd <= -K:
+                            break
                         hstep /= 2
             # event functions on the step
             hits = []

@@ -2,7 +2,7 @@
 no test used, against helper indep4's own mpmath reference (tests/_indep4_rs.py on tests/_indep4_taylor.py:
 own series recurrences at 40 digits, order 30; no code of the package).
 
-Reference values: tests/data/indep4_rs.json, made by tests/data/make_indep4_rs.py (deterministic seeds; the
+Reference values: tests/data/indep4_rs.json (chains) and indep4_slider.json, made by tests/data/make_indep4_rs.py (deterministic seeds; the
 parameter ranges are in its docstring).
 
 Tolerances: hypocentres, sizes and extremum kinds identical; |Δ|/max(1, |x|) ≤ BOUND = 1e-12 for the
@@ -22,8 +22,9 @@ import numpy as np
 import pytest
 from mpmath import mp, mpf
 
-DATA_PATH = pathlib.Path(__file__).parent / "data" / "indep4_rs.json"
-DATA = json.loads(DATA_PATH.read_text()) if DATA_PATH.exists() else {"chains": [], "sliders": []}
+_HERE = pathlib.Path(__file__).parent / "data"
+DATA = {"chains": json.loads((_HERE / "indep4_rs.json").read_text())["chains"],
+        "sliders": json.loads((_HERE / "indep4_slider.json").read_text())["sliders"]}
 BOUND = 1e-12
 FIELDS = ("t_start", "potency", "duration", "max_velocity")
 

@@ -2,7 +2,8 @@
 radiation damping at random parameters, by helper indep4's own mpmath reference tests/_indep4_rs.py (own
 Taylor recurrences, tests/_indep4_taylor.py, 40 digits, order 30; no code of the package).
 
-    python tests/data/make_indep4_rs.py
+    python tests/data/make_indep4_rs.py chains      # -> tests/data/indep4_rs.json
+    python tests/data/make_indep4_rs.py sliders     # -> tests/data/indep4_slider.json
 
 Chains (default_rng([44, i])): aging or slip; a ∈ [0.005, 0.02], b = a·U(1.2, 2), Dc log-uniform on
 [0.005, 0.05], k = k_c·U(0.1, 0.8) with k_c = (b − a)/Dc; ℓ log-uniform on [0.3, 3]; V_lp log-uniform on
@@ -12,7 +13,8 @@ steps (deep inertial cycles: the fast mode a/(MV) at small V) is skipped and lis
 Sliders (default_rng([45, i])): aging or slip; a, b, Dc as above; k = k_c·U(0.3, 2) (both sides of the
 quasi-static critical stiffness: stick-slip cycles, and decay to steady sliding); V_lp log-uniform on
 [0.1, 10], v0 = V_lp·10^U(−0.5, 0.5); M = 10^U(−5, −3); η = 10^U(−4, −2); the first 8 ln V extrema
-within t_end = 20(b − a)/(k V_lp) + 20 Dc/V_lp, and the state there.
+within t_end = 20(b − a)/(k V_lp) + 20 Dc/V_lp (five times that from slider 8 on: some of the first eight
+saw one extremum only), and the state there.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-CHAINS, SLIDERS = 8, 8
+CHAINS, SLIDERS = 14, 16
 
 
 def chain_case(i):
@@ -60,17 +62,23 @@ def slider_case(i):
     v0 = float(v_lp * 10 ** r.uniform(-0.5, 0.5))
     mass = float(10 ** r.uniform(-5, -3))
     eta = float(10 ** r.uniform(-4, -2))
-    t_end = 20 * (b - a) / (k * v_lp) + 20 * dc / v_lp
+    t_end = (20 * (b - a) / (k * v_lp) + 20 * dc / v_lp) * (1 if i < 8 else 5)
     return dict(i=i, law=law, a=a, b=b, dc=dc, k=k, v_lp=v_lp, v0=v0, mass=mass, eta=eta, t_end=t_end)
 
 
-def main():
+def main(which):
     import _indep4_rs as ref
     from mpmath import mp, nstr
     doc = {"provenance": "tests/data/make_indep4_rs.py (helper indep4's tests/_indep4_rs.py: mpmath 40 digits, "
                          "Taylor order 30)", "digits": 25, "chains": [], "sliders": []}
-    path = HERE / "indep4_rs.json"
-    for i in range(CHAINS):
+    path = HERE / ("indep4_rs.json" if which == "chains" else "indep4_slider.json")
+    if which == "chains" and path.exists():          # resume: keep the chains done and skipped
+        old = json.loads(path.read_text())
+        doc["chains"], doc["skipped"] = old.get("chains", []), old.get("skipped", [])
+    seen = {c["i"] for c in doc["chains"]} | {q.get("chain") for q in doc.get("skipped", [])}
+    for i in range(CHAINS if which == "chains" else 0):
+        if i in seen:
+            continue
         cs = chain_case(i)
         t0 = time.process_time()
         try:
@@ -86,7 +94,7 @@ def main():
         doc["chains"].append(cs)
         print("chain", i, cs["law"], cs["n"], cs["mass"], cs["eta"], cs["cpu_seconds"], flush=True)
         path.write_text(json.dumps(doc, indent=1) + "\n")
-    for i in range(SLIDERS):
+    for i in range(SLIDERS if which == "sliders" else 0):
         cs = slider_case(i)
         t0 = time.process_time()
         try:
@@ -106,4 +114,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1])
