@@ -19,6 +19,9 @@ Checks and tolerances:
 * exact (heyoka, double, tol ε): ≤ EXACT_BOUND = 1e-12; quad (real128 returned as a double): ≤ 1e-15
   (docs/chain.md "Precision": quad agrees to ≤ 1e-25 internally, the double rounding of the output is
   5e-17 relative; 1e-15 allows for |x| < 1 on the absolute scale).
+Measured when written (tests/data/indep4_report.md): 26 chains, 520 events, all hypocentres and sizes
+identical, compiled ≤ 8.3e-12, exact ≤ 4.2e-16, quad 0; the potency's error / error_estimate up to 10.1
+(Carlson–Langer's Taylor path), which is why the estimate is reported and not asserted.
 """
 
 from __future__ import annotations

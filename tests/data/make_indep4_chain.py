@@ -2,7 +2,7 @@
 tests/_indep4_chain.py (own Taylor recurrences and event location at 40 digits, order 40; no code of the
 package).
 
-    python tests/data/make_indep4_chain.py [CASES]     # ~0.5-5 s of CPU per event
+    python tests/data/make_indep4_chain.py [CASES [K ...]]     # ~0.05-5 s of CPU per event
 
 Case k draws from numpy.random.default_rng([4, k]) (deterministic): the law in turn over the five of
 ``_indep4_chain.LAWS``; N uniform on 1..8; free or periodic ends; ℓ log-uniform on [0.2, 20]; σ_f from
@@ -73,7 +73,8 @@ def main():
     doc = json.loads(path.read_text()) if path.exists() else {}
     done = {c["k"]: c for c in doc.get("cases", [])}
     # cheap cases first (cost grows with ℓ·N: the steps follow the fastest mode)
-    for k in sorted(range(ncases), key=lambda q: case(q)["ell"] * case(q)["n"]):
+    only = [int(a) for a in sys.argv[2:]]      # optional: just these cases
+    for k in sorted(only or range(ncases), key=lambda q: case(q)["ell"] * case(q)["n"]):
         if k in done:
             continue
         cs = case(k)
@@ -86,6 +87,8 @@ def main():
                                    for a, b in zip(cs["events"], hi) for f in FIELDS)
             assert all(a["hypocentre"] == b["hypocentre"] and a["n_blocks"] == b["n_blocks"]
                        for a, b in zip(cs["events"], hi))
+        if path.exists():                      # merge with what another run wrote meanwhile
+            done.update({c["k"]: c for c in json.loads(path.read_text())["cases"] if c["k"] not in done})
         done[k] = cs
         print(k, cs["law"], cs["n"], cs["ends"], "cpu", cs["cpu_seconds"], cs.get("self_check"), flush=True)
         doc = {"provenance": "tests/data/make_indep4_chain.py (helper indep4's tests/_indep4_chain.py: "
