@@ -9,8 +9,7 @@ Tolerances: hypocentres, sizes and extremum kinds identical; |Δ|/max(1, |x|) �
 catalog's t_start, potency, duration, max_velocity and the extrema's times and ln V. The engines run
 heyoka at tolerance ε (docs/rs-chain.md: "≤ 1.8e-14 from the mpmath references"; docs/rate-state.md); the
 events are roots on Taylor polynomials, and t is absolute time (ulp(10) = 1.8e-15), so 1e-12 leaves ~50×
-over what was measured here (chains ≤ 2.1e-14, sliders ≤ 6.3e-14: tests/data/indep4_report.md) without
-hiding a wrong model term (a 1e-6 change of a parameter moves these far more).
+over what was measured here (chains ≤ 2.1e-14, sliders ≤ 6.3e-14: tests/data/indep4_report.md).
 """
 
 from __future__ import annotations
