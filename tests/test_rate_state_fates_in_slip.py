@@ -55,7 +55,9 @@ def _in_slip(law: str, kappa: float, slip_max: float):
     return sol.status, sol.t[-1] / DC, x[-1], omega, maxima, bool(sol.t_events[0].size)
 
 
-@pytest.mark.parametrize("law, kappa", [("aging", 0.9), ("slip", 0.9)])
+# aging is slow: 7.3 s of CPU on a cold run (load ~12) against slip's 3.8; the same Radau check of the same
+# rule stays fast through slip κ = 0.9 here and PRZ κ = 0.9 below
+@pytest.mark.parametrize("law, kappa", [pytest.param("aging", 0.9, marks=pytest.mark.slow), ("slip", 0.9)])
 def test_these_rows_run_away_in_slip(law, kappa):
     # 2-4 s each; ln V = 600 is e^600 V_lp: no spike of this slider comes back from there
     _, _, x_end, _, _, away = _in_slip(law, kappa, 1000.0)
