@@ -13,15 +13,18 @@ Checks and tolerances:
 * hypocentre and size identical on every event (run from the recorded state), and on the 20 events of a
   free compiled run from u0 (``bf.chain``) — that one drifts with the chaos, so only sizes are compared;
 * compiled: |Δ|/max(1, |x|) of t_start, potency, duration, max_velocity ≤ COMPILED_BOUND = 1e-10, the bound
-  docs/chain.md states for `verify` (DOP853 / order-20 Taylor at tol 1e-11). The per-event
-  ``error_estimate`` (relative to the potency) is compared with the potency's true relative error in
-  the report (tests/data/indep4_report.md); it is not asserted: it is exceeded (below);
+  docs/chain.md states for `verify` (DOP853 / order-20 Taylor at tol 1e-11); and the potency's true
+  relative error ≤ the per-event ``error_estimate`` + 1e-15 (the estimate claims to bound it; 1e-15 ≈ 4 ulps
+  of the potency's own rounding, which no estimate of the integration carries);
 * exact (heyoka, double, tol ε): ≤ EXACT_BOUND = 1e-12; quad (real128 returned as a double): ≤ 1e-15
   (docs/chain.md "Precision": quad agrees to ≤ 1e-25 internally, the double rounding of the output is
   5e-17 relative; 1e-15 allows for |x| < 1 on the absolute scale).
 Measured when written (tests/data/indep4_report.md): 26 chains, 520 events, all hypocentres and sizes
 identical, compiled ≤ 8.3e-12, exact ≤ 4.2e-16, quad 0; the potency's error / error_estimate up to 10.1
-(Carlson–Langer's Taylor path), which is why the estimate is reported and not asserted.
+(Carlson–Langer's Taylor path) and 2.3 (piecewise-linear, DOP853): the estimate summed only the
+displacement's local errors. Since it also carries each step's velocity error into the displacement over the
+rest of the event (``_compiled._segment``, acc[3]), the ratio is ≤ 0.963 over all 520 events (largest:
+case 16, piecewise-linear; Carlson–Langer ≤ 0.19), 2026-11-26.
 """
 
 from __future__ import annotations
@@ -96,14 +99,17 @@ def free_sizes(cs):
 
 def _check(cs, engine, bound, events=None):
     rows = per_event(cs, engine, events)
-    for i, (same, errs, *_rest) in enumerate(rows):
+    for i, (same, errs, est, pot_rel, _steps) in enumerate(rows):
         assert same, (cs["k"], engine, i)
         assert max(errs.values()) <= bound, (cs["k"], engine, i, errs)
+        if engine == "compiled":
+            assert pot_rel <= est + 1e-15, (cs["k"], i, pot_rel, est)
     return rows
 
 
 # a handful: each law once, both ends, the three σ_f > 0 values, both sides of the lone-block threshold
-FAST = [k for k in (1, 2, 3, 4, 5) if k in CASES]
+# and the two chains whose error once exceeded its estimate most (10: Carlson–Langer 10.1x; 16: DOP853 2.3x)
+FAST = [k for k in (1, 2, 3, 4, 5, 10, 16) if k in CASES]
 
 
 @pytest.mark.parametrize("k", FAST)

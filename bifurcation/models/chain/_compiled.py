@@ -17,8 +17,8 @@ The same model and event algorithm as the heyoka engine (``_loop``), in one numb
   block outside the window is stuck among stuck neighbours and starts at its closed-form time, the
   segment's end; velocity maxima are maximised on the dense output;
 * per event the catalog gets an error estimate: the sum over its steps of DOP853's local error
-  estimate of the window's displacement (the Taylor series' last term), ν Σ|err(w)|, relative to the
-  event's potency;
+  estimate of the window's displacement (the Taylor series' last term), ν Σ|err(w)|, plus each earlier
+  step's velocity error carried over this step (h Σ|err(v)|), relative to the event's potency;
 * a block that starts from rest among stuck neighbours (the hypocentre, or a far block that starts
   during the event) follows one stored trajectory (``_lone``: heyoka's Taylor polynomials, computed
   once per run) with no integration, as long as every slipping block of the window is such a lone
@@ -270,6 +270,7 @@ def _step(m, h, tau, win, law, gfun, fr, l2, rtol, atol):
     e5 = 0.0
     e3 = 0.0
     ew = 0.0
+    ev = 0.0
     for i in range(m):
         if not slip[i]:
             w1[i] = w[i]
@@ -303,11 +304,12 @@ def _step(m, h, tau, win, law, gfun, fr, l2, rtol, atol):
         e5 += a5 * a5 + b5 * b5
         e3 += a3 * a3 + b3 * b3
         ew += abs(x5w)
+        ev += abs(x5v)
     if e5 == 0.0 and e3 == 0.0:
-        return 0.0, 0.0
+        return 0.0, 0.0, 0.0
     # Hairer's combination of the 5th- and 3rd-order estimates (dop853.f; scipy's DOP853)
     shrink = math.sqrt(e5 / (e5 + 0.01 * e3))
-    return abs(h) * math.sqrt(e5) * shrink, abs(h) * ew * shrink
+    return abs(h) * math.sqrt(e5) * shrink, abs(h) * ew * shrink, abs(h) * ev * shrink
 
 
 
@@ -930,10 +932,11 @@ def _taylor(m, tau, win, fr, l2, rtol, atol):
 def _taylor_step(m, h, win, kv):
     """Scale the coefficients to θ = τ/h (F[i, k − 1] = c_k h^k), the state at the step's end (win.w1/v1),
     the accelerations at its ends (kv[i, 0], kv[i, 12]) as DOP853's first and last stages. Returns
-    (err, Σ|err(w)|) with the last term as the local error estimate."""
+    (err, Σ|err(w)|, Σ|err(v)|) with the last terms as the local error estimates."""
     slip, w, v, fw, fv, w1, v1 = win.slip, win.w, win.v, win.fw, win.fv, win.w1, win.v1
     P = fw.shape[1]
     ew = 0.0
+    ev = 0.0
     for i in range(m):
         if not slip[i]:
             w1[i] = w[i]
@@ -951,6 +954,7 @@ def _taylor_step(m, h, win, kv):
             fv[i, q] *= hk
         kv[i, 12] = dv
         ew += abs(fw[i, P - 1])
+        ev += abs(fv[i, P - 1])
         sw = 0.0
         sv = 0.0
         for q in range(P - 1, -1, -1):
@@ -958,7 +962,7 @@ def _taylor_step(m, h, win, kv):
             sv += fv[i, q]
         w1[i] = w[i] + sw
         v1[i] = v[i] + sv
-    return 0.5, ew
+    return 0.5, ew, ev
 
 
 @_jit
@@ -1524,9 +1528,9 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above,
         hh = min(h, t_end - tau)
         last = hh == t_end - tau
         if taylor:
-            err, ew = _taylor_step(m, hh, win, kv)
+            err, ew, ev = _taylor_step(m, hh, win, kv)
         else:
-            err, ew = _step(m, hh, tau, win, law, gfun, fr, l2, rtol, atol)
+            err, ew, ev = _step(m, hh, tau, win, law, gfun, fr, l2, rtol, atol)
         if not (err <= 1.0):
             if err != err:          # NaN: a non-finite stage
                 for i in range(m):
@@ -1681,7 +1685,11 @@ def _segment(m, win, g, law, gfun, fr, par, tau_far, t_left, h, acc, vth, above,
             for i in range(m):
                 if slip[i] and kv[i, 0] > 0.0 and kv[i, 12] < 0.0:
                     acc[2] = max(acc[2], _vmax_in(i, win, lim))
-        acc[1] += ew
+        # the step's own displacement error, and what the velocity errors of the event's earlier steps
+        # (acc[3], their sum) add to the displacement over this step: w' = v carries a velocity error on
+        # (the last term of w alone under-estimated the Taylor path's error 2.7-10x: tests/test_chain_error_estimate.py)
+        acc[1] += ew + acc[3] * hh
+        acc[3] += ev
         if xbuf is not None:
             if vth > 0.0:
                 if not dense and _xing_possible(m, win, vth, above):
@@ -2018,7 +2026,7 @@ def run_events(k, win, g, law, gfun, fr, par, scal, out_f, out_i, lone):
     slips alone, ``par[6]`` ≠ 0). Returns (events done, outcome code)."""
     n, periodic = g.s.size, par[4] != 0.0
     nu, l2, t_max = fr[0], par[0], par[5]
-    acc = scal[3:6]
+    acc = scal[3:7]
     for e in range(k):
         hyp, base, t_start = _event_open(g, scal, n, nu)
         lam = 0.0
@@ -2144,7 +2152,7 @@ class CompiledChain:
 
         self._lone = lone_tables(law, n, ends, self.nu, self.nu_f, self.ell, self.sigma) if lone else \
             lone_tables(law, 0, "periodic", self.nu, self.nu_f, self.ell, self.sigma)
-        self._scal = np.array([0.0, 0.0, 0.1, 0.0, 0.0, 0.0])    # t, L, the next event's first step
+        self._scal = np.array([0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0.0])    # t, L, the next event's first step
         self.t_max, self.max_steps = t_max, max_steps
         self.widest: list[int] = []
 

@@ -62,7 +62,7 @@ def run_subevents(k, win, g, law, gfun, fr, par, scal, vth, above, stamp, out_f,
     returned (``SubeventRun.run`` keeps the surplus for the next call). Returns (events done, outcome code)."""
     n, periodic = g.s.size, par[4] != 0.0
     nu, l2, t_max = fr[0], par[0], par[5]
-    acc = scal[3:6]      # [steps, Σ err, vmax] in the scalars: the engine compiles without numba's allocator (_nrt=False)
+    acc = scal[3:7]      # [steps, Σ err, vmax, Σ err(v)] in the scalars: the engine compiles without numba's allocator (_nrt=False)
     nsub = 0
     sub_id = stamp[n]           # the last event's id (stamps of its member blocks)
     while nsub < k:
