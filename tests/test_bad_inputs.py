@@ -1913,7 +1913,8 @@ _W6_SUBMIT = {
     "fig_name_dot": "study.name='.'", "fig_name_dotdot": "study.name='..'", "fig_name_empty": "study.name=''",
     "fig_name_abs": "study.name='/tmp/x'", "fig_name_space": "study.name='a b'", "fig_no_grid": "grid is missing",
     "fig_underscore_float": "is not valid TOML", "fig_tmax_309": "holds the number 1e309",
-    "chain_periodic_str": "grid.periodic.values[0]='periodic'", "chain_preset_int": "engine.preset=5"}
+    "chain_periodic_str": "grid.periodic.values[0]='periodic': is a string, not a number; write 0 (free) or 1 "
+    "(periodic) (no quotes)", "chain_preset_int": "engine.preset=5"}
 #: damaged stores of w6_env, as every reading command meets them
 _W6_STORE_ROWS = [
     *[f"{cmd} ## has a lock file .bifurcation.lock that cannot be read (Is a directory)" for cmd in (         # fixed
@@ -2190,3 +2191,26 @@ def test_export_to_a_read_only_file_system(env, tmp_path, monkeypatch):
     lines = result.stderr.splitlines()
     assert result.exit_code == 2 and len(lines) == 1, result.output
     assert lines[0].startswith(f"bifurcation: error: --out='{tmp_path / 'x.csv'}': cannot be written (Read-only"), lines
+
+
+# -- walk 7 (issue 21: what walk 6 left open) ------------------------------------------------------------
+
+WORKFLOWS.update({f"w7_{k}": v for k, v in {
+    "chain_n_str": (CHAIN, "[grid.n]\nvalues = [4]", '[grid.n]\nvalues = ["four"]'),
+    "chain_seed_str": (CHAIN, "[grid.seed]\nvalues = [1]", '[grid.seed]\nvalues = ["1"]'),
+    "chain_nu_str": (CHAIN, "[grid.nu]\nvalues = [1e-3]", '[grid.nu]\nvalues = ["1e-3"]'),
+}.items()})
+CASES_W7 = [
+    # a count asks for a whole number, as a choice axis names its values (chain_periodic_str, W6's row): both
+    # were "write a number such as 0.4 or 1e-9"
+    "submit {wf_w7_chain_n_str} --store {newstore} ## grid.n.values[0]='four': is a string, not a number; "
+    "write a whole number such as 16 (no quotes)",
+    "submit {wf_w7_chain_seed_str} --store {newstore} ## write a whole number such as 1 (no quotes)",
+    "submit {wf_w7_chain_nu_str} --store {newstore} ## write a number such as 0.4 or 1e-9 (no quotes)",
+]
+
+
+def test_walk7_bad_inputs(env, tmp_path, monkeypatch):
+    argvs = [_split(c)[0] for c in CASES + CASES_WK2 + CASES_W3 + CASES_W5 + CASES_W6 + CASES_W7]
+    assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
+    _run_batch(CASES_W7, env, tmp_path, monkeypatch)
