@@ -2199,6 +2199,8 @@ WORKFLOWS.update({f"w7_{k}": v for k, v in {
     "chain_n_str": (CHAIN, "[grid.n]\nvalues = [4]", '[grid.n]\nvalues = ["four"]'),
     "chain_seed_str": (CHAIN, "[grid.seed]\nvalues = [1]", '[grid.seed]\nvalues = ["1"]'),
     "chain_nu_str": (CHAIN, "[grid.nu]\nvalues = [1e-3]", '[grid.nu]\nvalues = ["1e-3"]'),
+    "rsc_law_upper": (RSC, 'laws = ["aging"]', 'laws = ["AGING"]'),
+    "rs_law_upper": (RS, 'state_law = "prz"', 'state_law = "PRZ"'),
 }.items()})
 CASES_W7 = [
     # a count asks for a whole number, as a choice axis names its values (chain_periodic_str, W6's row): both
@@ -2207,6 +2209,13 @@ CASES_W7 = [
     "write a whole number such as 16 (no quotes)",
     "submit {wf_w7_chain_seed_str} --store {newstore} ## write a whole number such as 1 (no quotes)",
     "submit {wf_w7_chain_nu_str} --store {newstore} ## write a number such as 0.4 or 1e-9 (no quotes)",
+    # a state law spelled exactly, as --ends, --law, --suite and the model's name are (AGING was accepted)
+    "hopf --state-law AGING --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 ## --state-law='AGING': is not a known state "
+    "law (names are lower case); use one of aging, prz, slip",
+    "rate-state --state-law aging,Slip --a 0.005 --b 0.01,0.02 --dc 10,1 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 "
+    "## 'Slip'",
+    "submit {wf_w7_rsc_law_upper} --store {newstore} ## engine.laws[0]='AGING'",
+    "continue {wf_w7_rs_law_upper} --out {newdir} ## 'PRZ': is not a known state law (names are lower case)",
 ]
 
 
