@@ -51,7 +51,7 @@ _FATE = {"steady": RateStateStatus.STEADY_SLIDING, "cycle": RateStateStatus.LIMI
 
 
 def resolve_label(text) -> tuple[str, ...]:
-    """The state law of each state variable named by ``text`` ("aging", "Ruina", "aging+slip")."""
+    """The state law of each state variable named by ``text`` ("aging", "ruina", "aging+slip")."""
     if not isinstance(text, str) or not text.strip():
         raise InputError("state_law", text, "is not a state law name",
                          "give aging, slip or prz, or two joined by '+' such as aging+slip")
@@ -63,7 +63,7 @@ def resolve_label(text) -> tuple[str, ...]:
 
 
 def label_identity(text) -> str:
-    """The canonical label: aliases resolved, lower case ("Dieterich + ruina" → "aging+slip")."""
+    """The canonical label: aliases resolved, spaces dropped ("dieterich + ruina" → "aging+slip")."""
     return "+".join(resolve_label(text))
 
 
