@@ -2223,3 +2223,19 @@ def test_walk7_bad_inputs(env, tmp_path, monkeypatch):
     argvs = [_split(c)[0] for c in CASES + CASES_WK2 + CASES_W3 + CASES_W5 + CASES_W6 + CASES_W7]
     assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
     _run_batch(CASES_W7, env, tmp_path, monkeypatch)
+
+
+def test_a_path_with_a_line_break_is_printed_escaped(env, tmp_path):
+    """A store (or output) whose name holds a line break is printed repr-escaped, on one line, by every command
+    that prints it: `status` printed its header split over two lines (walk 6)."""
+    _, paths, _ = env
+    store = tmp_path / "a\nb.zarr"
+    shutil.copytree(paths["sb"], store)
+    shown = repr(str(store))   # 'a\\nb.zarr', quoted
+    for argv, first in ((["status"], f"study bad-input ({shown}): "), (["verify"], f"store {shown}: "),
+                        (["export", "--out", str(tmp_path / "x\ty.csv")], "wrote 4 points to " + repr(str(tmp_path / "x\ty.csv")))):
+        result = CliRunner().invoke(cli, [argv[0], "--store", str(store), *argv[1:]])
+        assert result.exit_code == 0, result.output
+        assert result.stdout.splitlines()[0].startswith(first), (argv, result.stdout)
+        assert str(store) not in result.stdout, argv   # never raw
+    assert (tmp_path / "x\ty.csv").is_file()

@@ -13,6 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..errors import shown_path
+
 __all__ = ["VerifyReport", "clear_damage", "verify"]
 
 
@@ -42,7 +44,7 @@ class VerifyReport:
     def __str__(self) -> str:
         from ..store.integrity import repair_command
 
-        lines = [f"store {self.store}: {self.tiles} tiles, {self.chunks} chunks checked, "
+        lines = [f"store {shown_path(self.store)}: {self.tiles} tiles, {self.chunks} chunks checked, "
                  f"{len(self.damage)} damaged"]
         lines += [f"damaged: {d}" for d in self.damage[:20]]
         if len(self.damage) > 20:

@@ -28,7 +28,7 @@ from typing import Iterator
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown_path
 
 __all__ = ["DONE", "Damage", "StoreDamagedError", "TileReader", "broken_metadata", "clear_tiles", "damaged_tiles",
            "missing_chunks", "repair_command", "repair_fix", "restore_metadata", "scan"]
@@ -58,8 +58,8 @@ def repair_command(path) -> str:
     be recomputed alone), that command."""
     written_by = _written_by(path)
     if written_by:
-        return f"bifurcation {written_by} WORKFLOW --out {Path(path).parent}"
-    return f"bifurcation verify --store {path} --repair"
+        return f"bifurcation {written_by} WORKFLOW --out {shown_path(Path(path).parent)}"
+    return f"bifurcation verify --store {shown_path(path)} --repair"
 
 
 def repair_fix(path) -> str:
