@@ -2239,3 +2239,24 @@ def test_a_path_with_a_line_break_is_printed_escaped(env, tmp_path):
         assert result.stdout.splitlines()[0].startswith(first), (argv, result.stdout)
         assert str(store) not in result.stdout, argv   # never raw
     assert (tmp_path / "x\ty.csv").is_file()
+
+
+def test_continue_interrupted_while_writing_leaves_no_new_directory(tmp_path, monkeypatch):
+    """Ctrl-C while `continue` writes (here: raised once its store is written, as a SIGINT 3 s into the quick
+    workflow did) leaves none of the directories it created, as its message says; a directory the user had is
+    kept. An empty --out (or one holding only branches.zarr / branches.zarr.partial) was left, walk 6."""
+    from bifurcation.models.rate_state import report
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(report, "write_report", interrupted)
+    monkeypatch.chdir(tmp_path)
+    kept = tmp_path / "mine"
+    kept.mkdir()
+    for out in (tmp_path / "new" / "run", kept / "run"):
+        result = CliRunner().invoke(cli, ["continue", str(ROOT / "workflows" / "rate-state-quick.toml"),
+                                          "--out", str(out)])
+        assert result.exit_code == 130, result.output
+        assert "this run left nothing new" in result.stderr
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["mine"] and not any(kept.iterdir()), out

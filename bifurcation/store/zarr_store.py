@@ -274,15 +274,19 @@ def write_whole_store(path, model, labels, grid, values: dict, attrs: dict, *, t
             old.rename(path)
         for leftover in (partial, old):
             shutil.rmtree(leftover, ignore_errors=True)
-        _create(partial, model, labels, grid, tiles, attrs)
-        with _quiet():
-            group = zarr.open_group(str(partial), mode="r+", use_consolidated=False)
-            for name, dtype in variables(model).items():   # in write order: "done" last
-                data = np.asarray(values[name], dtype=dtype)
-                if data.shape != shape:
-                    raise ValueError(f"write_whole_store: {name} has shape {data.shape}, not {shape}")
-                # every chunk written, also one that equals the fill value: a missing chunk is damage (verify)
-                group[name].with_config({"write_empty_chunks": True})[...] = data
+        try:
+            _create(partial, model, labels, grid, tiles, attrs)
+            with _quiet():
+                group = zarr.open_group(str(partial), mode="r+", use_consolidated=False)
+                for name, dtype in variables(model).items():   # in write order: "done" last
+                    data = np.asarray(values[name], dtype=dtype)
+                    if data.shape != shape:
+                        raise ValueError(f"write_whole_store: {name} has shape {data.shape}, not {shape}")
+                    # every chunk written, also one that equals the fill value: a missing chunk is damage
+                    group[name].with_config({"write_empty_chunks": True})[...] = data
+        except BaseException:   # Ctrl-C mid-write: no half store left beside it (a kill -9's: the next run's)
+            shutil.rmtree(partial, ignore_errors=True)
+            raise
         if path.exists():
             path.rename(old)
         partial.rename(path)
