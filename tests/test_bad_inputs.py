@@ -2260,3 +2260,62 @@ def test_continue_interrupted_while_writing_leaves_no_new_directory(tmp_path, mo
         assert result.exit_code == 130, result.output
         assert "this run left nothing new" in result.stderr
         assert sorted(p.name for p in tmp_path.iterdir()) == ["mine"] and not any(kept.iterdir()), out
+
+
+def _edit_record(store: Path, how: str) -> None:
+    meta = json.loads((store / "zarr.json").read_text())
+    attrs = meta["attributes"]
+    if how == "edited":     # one value changed: the text still parses, to another workflow
+        attrs["workflow_toml"] = attrs["workflow_toml"].replace("values = [0.3, 0.4]", "values = [0.3, 0.5]")
+    elif how == "cut":
+        attrs["workflow_toml"] = attrs["workflow_toml"][:40]
+    else:
+        del attrs["workflow_toml"]
+    (store / "zarr.json").write_text(json.dumps(meta))
+
+
+@pytest.fixture(scope="module")
+def w7_env(env):
+    """``env`` with single-block stores whose record of their workflow was edited, cut or removed."""
+    root, paths, _ = env
+    d = root / "w7"
+    d.mkdir(exist_ok=True)
+    extra = {}
+    for how in ("edited", "cut", "removed"):
+        shutil.copytree(paths["sb"], d / f"{how}.zarr")
+        _edit_record(d / f"{how}.zarr", how)
+        extra[f"w7_{how}"] = str(d / f"{how}.zarr")
+    return root, {**paths, **extra}
+
+
+_RECORD = {"edited": "has a record of its workflow that does not match its checksum",
+           "cut": "has a record of its workflow that does not match its checksum",
+           "removed": "has no record of its workflow (workflow_toml is missing"}
+#: every reader refuses a store whose workflow record is damaged (all were accepted; report printed the text)
+CASES_W7_RECORD = [f"{cmd.format(s=f'{{w7_{how}}}')} ## {needle}" for how, needle in _RECORD.items() for cmd in (
+    "status --store {s}", "query --store {s}", "export --store {s} --out {{outdir}}/x.csv",
+    "report --store {s} --out {{newdir}}", "submit {{wf_fig}} --store {s}", "verify --store {s} --repair",
+    "extrapolate --store {s} --law carlson-langer --nu-f 0.4")]
+
+
+def test_walk7_damaged_workflow_record_is_refused(w7_env, tmp_path, monkeypatch):
+    root, paths = w7_env
+    assert len(CASES_W7_RECORD) == 21
+    _run_batch(CASES_W7_RECORD, (root, paths, None), tmp_path, monkeypatch)
+
+
+@pytest.mark.parametrize("how", ["edited", "cut", "removed"])
+def test_verify_reports_a_damaged_workflow_record(how, env, tmp_path):
+    """`verify` reports the workflow record as damage (exit 1) and says what to do: submit again into a new
+    store (the record is the only copy: `--repair` cannot restore it), after which the store reads again."""
+    _, paths, _ = env
+    store = tmp_path / "s.zarr"
+    shutil.copytree(paths["sb"], store)
+    _edit_record(store, how)
+    result = CliRunner().invoke(cli, ["verify", "--store", str(store)])
+    assert result.exit_code == 1, result.output
+    assert f"damaged: zarr.json: {_RECORD[how].removeprefix('has ')}" in result.stdout
+    assert "fix: submit the workflow file again into a new store" in result.stdout
+    fixed = CliRunner().invoke(cli, ["submit", paths["wf_fig"], "--store", str(store), "--new-store"])
+    assert fixed.exit_code == 0, fixed.output
+    assert CliRunner().invoke(cli, ["verify", "--store", str(store)]).exit_code == 0

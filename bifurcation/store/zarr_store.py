@@ -104,8 +104,9 @@ def read_attrs(path) -> dict:
         return dict(zarr.open_group(str(path), mode="r").attrs)
 
 
-def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
-    """Attributes of the store at ``path``; ``InputError`` if it is not one, or holds another study."""
+def check_store(path, workflow=None, *, argument: str = "--store", record: bool = True) -> dict:
+    """Attributes of the store at ``path``; ``InputError`` if it is not one, or holds another study, or (with
+    ``record``; ``verify`` reports it as damage instead) its record of its workflow is damaged."""
     kind, attrs = _inspect(path)
     if kind == "missing" and _only_lock(Path(path)):
         raise only_lock_error(path, argument)
@@ -131,6 +132,12 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
         raise InputError(argument, str(path), "is not a bifurcation store (or of another format)",
                          "give the path of a store written by `bifurcation submit`, or another path")
     _check_axes(path, attrs, argument)
+    if record:
+        from .integrity import workflow_record_fix, workflow_record_problem
+
+        problem = workflow_record_problem(attrs)
+        if problem:
+            raise InputError(argument, str(path), problem, workflow_record_fix(path))
     if workflow is not None and attrs.get("workflow_fingerprint") != workflow.fingerprint:
         made, now = int(attrs.get("engine_revision", 0)), workflow.spec.revision
         if made != now and attrs.get("model") == workflow.spec.name:
