@@ -3,7 +3,8 @@
 A label is the state law of each state variable: ``aging``, ``slip``, ``prz`` (aliases dieterich,
 ruina, perrin; lower case, as every choice of the CLI) or two joined by ``+`` (``aging+slip``: the
 first variable takes the axes b, dc, the second b2, dc2). Axes: κ = k/k_c, V_lp, a, b, Dc, M (0:
-quasi-static), b2, Dc2; all but κ have a default, so a workflow names only what it sweeps. Per point the runner (``_run``):
+quasi-static), b2, Dc2; all but κ have a default, so a workflow names only what it sweeps. Per point
+the runner (``_run``):
 
 1. the Hopf point of steady sliding at V_lp (``hopf.hopf_point`` at 30 digits, shared by the points
    that differ only in κ): k_c, ω_c, the first Lyapunov coefficient l1 and its sign (``criticality``);
