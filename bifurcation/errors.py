@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 
-__all__ = ["InputError", "Terminated", "stop", "uninterrupted"]
+__all__ = ["InputError", "Terminated", "shown_path", "stop", "uninterrupted"]
 
 
 class InputError(ValueError):
@@ -28,6 +28,15 @@ class InputError(ValueError):
         if self.value is None:
             return f"{argument} {self.problem}; {self.fix}"
         return f"{argument}={_shorten(repr(self.value))}: {self.problem}; {self.fix}"
+
+
+def shown_path(path) -> str:
+    """``path`` as printed in a line of output: as it is, or repr-escaped ('a\\nb.zarr', quoted) where it holds
+    a character that is not printable (a line break, a tab, an escape, a zero-width space), so that a store's
+    name cannot split or hide a line (`status` of a store named "a<newline>b.zarr" printed its header on two
+    lines, walk 6). The one helper every command printing a path uses."""
+    text = str(path)
+    return text if text.isprintable() else repr(text)
 
 
 #: A name or value longer than this is cut in the error line (a 10^5-character TOML key or law was printed

@@ -1913,7 +1913,8 @@ _W6_SUBMIT = {
     "fig_name_dot": "study.name='.'", "fig_name_dotdot": "study.name='..'", "fig_name_empty": "study.name=''",
     "fig_name_abs": "study.name='/tmp/x'", "fig_name_space": "study.name='a b'", "fig_no_grid": "grid is missing",
     "fig_underscore_float": "is not valid TOML", "fig_tmax_309": "holds the number 1e309",
-    "chain_periodic_str": "grid.periodic.values[0]='periodic'", "chain_preset_int": "engine.preset=5"}
+    "chain_periodic_str": "grid.periodic.values[0]='periodic': is a string, not a number; write 0 (free) or 1 "
+    "(periodic) (no quotes)", "chain_preset_int": "engine.preset=5"}
 #: damaged stores of w6_env, as every reading command meets them
 _W6_STORE_ROWS = [
     *[f"{cmd} ## has a lock file .bifurcation.lock that cannot be read (Is a directory)" for cmd in (         # fixed
@@ -2190,3 +2191,131 @@ def test_export_to_a_read_only_file_system(env, tmp_path, monkeypatch):
     lines = result.stderr.splitlines()
     assert result.exit_code == 2 and len(lines) == 1, result.output
     assert lines[0].startswith(f"bifurcation: error: --out='{tmp_path / 'x.csv'}': cannot be written (Read-only"), lines
+
+
+# -- walk 7 (issue 21: what walk 6 left open) ------------------------------------------------------------
+
+WORKFLOWS.update({f"w7_{k}": v for k, v in {
+    "chain_n_str": (CHAIN, "[grid.n]\nvalues = [4]", '[grid.n]\nvalues = ["four"]'),
+    "chain_seed_str": (CHAIN, "[grid.seed]\nvalues = [1]", '[grid.seed]\nvalues = ["1"]'),
+    "chain_nu_str": (CHAIN, "[grid.nu]\nvalues = [1e-3]", '[grid.nu]\nvalues = ["1e-3"]'),
+    "rsc_law_upper": (RSC, 'laws = ["aging"]', 'laws = ["AGING"]'),
+    "rs_law_upper": (RS, 'state_law = "prz"', 'state_law = "PRZ"'),
+}.items()})
+CASES_W7 = [
+    # a count asks for a whole number, as a choice axis names its values (chain_periodic_str, W6's row): both
+    # were "write a number such as 0.4 or 1e-9"
+    "submit {wf_w7_chain_n_str} --store {newstore} ## grid.n.values[0]='four': is a string, not a number; "
+    "write a whole number such as 16 (no quotes)",
+    "submit {wf_w7_chain_seed_str} --store {newstore} ## write a whole number such as 1 (no quotes)",
+    "submit {wf_w7_chain_nu_str} --store {newstore} ## write a number such as 0.4 or 1e-9 (no quotes)",
+    # a state law spelled exactly, as --ends, --law, --suite and the model's name are (AGING was accepted)
+    "hopf --state-law AGING --a 0.01 --b 0.015 --dc 0.01 --v-lp 1 ## --state-law='AGING': is not a known state "
+    "law (names are lower case); use one of aging, prz, slip",
+    "rate-state --state-law aging,Slip --a 0.005 --b 0.01,0.02 --dc 10,1 --k 1e-3 --v-lp 1,10 --at 10 --t-end 40 "
+    "## 'Slip'",
+    "submit {wf_w7_rsc_law_upper} --store {newstore} ## engine.laws[0]='AGING'",
+    "continue {wf_w7_rs_law_upper} --out {newdir} ## 'PRZ': is not a known state law (names are lower case)",
+]
+
+
+def test_walk7_bad_inputs(env, tmp_path, monkeypatch):
+    argvs = [_split(c)[0] for c in CASES + CASES_WK2 + CASES_W3 + CASES_W5 + CASES_W6 + CASES_W7]
+    assert len(set(argvs)) == len(argvs), [a for a in argvs if argvs.count(a) > 1]
+    _run_batch(CASES_W7, env, tmp_path, monkeypatch)
+
+
+def test_a_path_with_a_line_break_is_printed_escaped(env, tmp_path):
+    """A store (or output) whose name holds a line break is printed repr-escaped, on one line, by every command
+    that prints it: `status` printed its header split over two lines (walk 6)."""
+    _, paths, _ = env
+    store = tmp_path / "a\nb.zarr"
+    shutil.copytree(paths["sb"], store)
+    shown = repr(str(store))   # 'a\\nb.zarr', quoted
+    for argv, first in ((["status"], f"study bad-input ({shown}): "), (["verify"], f"store {shown}: "),
+                        (["export", "--out", str(tmp_path / "x\ty.csv")], "wrote 4 points to " + repr(str(tmp_path / "x\ty.csv")))):
+        result = CliRunner().invoke(cli, [argv[0], "--store", str(store), *argv[1:]])
+        assert result.exit_code == 0, result.output
+        assert result.stdout.splitlines()[0].startswith(first), (argv, result.stdout)
+        assert str(store) not in result.stdout, argv   # never raw
+    assert (tmp_path / "x\ty.csv").is_file()
+
+
+def test_continue_interrupted_while_writing_leaves_no_new_directory(tmp_path, monkeypatch):
+    """Ctrl-C while `continue` writes (here: raised once its store is written, as a SIGINT 3 s into the quick
+    workflow did) leaves none of the directories it created, as its message says; a directory the user had is
+    kept. An empty --out (or one holding only branches.zarr / branches.zarr.partial) was left, walk 6."""
+    from bifurcation.models.rate_state import report
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(report, "write_report", interrupted)
+    monkeypatch.chdir(tmp_path)
+    kept = tmp_path / "mine"
+    kept.mkdir()
+    for out in (tmp_path / "new" / "run", kept / "run"):
+        result = CliRunner().invoke(cli, ["continue", str(ROOT / "workflows" / "rate-state-quick.toml"),
+                                          "--out", str(out)])
+        assert result.exit_code == 130, result.output
+        assert "this run left nothing new" in result.stderr
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["mine"] and not any(kept.iterdir()), out
+
+
+def _edit_record(store: Path, how: str) -> None:
+    meta = json.loads((store / "zarr.json").read_text())
+    attrs = meta["attributes"]
+    if how == "edited":     # one value changed: the text still parses, to another workflow
+        attrs["workflow_toml"] = attrs["workflow_toml"].replace("values = [0.3, 0.4]", "values = [0.3, 0.5]")
+    elif how == "cut":
+        attrs["workflow_toml"] = attrs["workflow_toml"][:40]
+    else:
+        del attrs["workflow_toml"]
+    (store / "zarr.json").write_text(json.dumps(meta))
+
+
+@pytest.fixture(scope="module")
+def w7_env(env):
+    """``env`` with single-block stores whose record of their workflow was edited, cut or removed."""
+    root, paths, _ = env
+    d = root / "w7"
+    d.mkdir(exist_ok=True)
+    extra = {}
+    for how in ("edited", "cut", "removed"):
+        shutil.copytree(paths["sb"], d / f"{how}.zarr")
+        _edit_record(d / f"{how}.zarr", how)
+        extra[f"w7_{how}"] = str(d / f"{how}.zarr")
+    return root, {**paths, **extra}
+
+
+_RECORD = {"edited": "has a record of its workflow that does not match its checksum",
+           "cut": "has a record of its workflow that does not match its checksum",
+           "removed": "has no record of its workflow (workflow_toml is missing"}
+#: every reader refuses a store whose workflow record is damaged (all were accepted; report printed the text)
+CASES_W7_RECORD = [f"{cmd.format(s=f'{{w7_{how}}}')} ## {needle}" for how, needle in _RECORD.items() for cmd in (
+    "status --store {s}", "query --store {s}", "export --store {s} --out {{outdir}}/x.csv",
+    "report --store {s} --out {{newdir}}", "submit {{wf_fig}} --store {s}", "verify --store {s} --repair",
+    "extrapolate --store {s} --law carlson-langer --nu-f 0.4")]
+
+
+def test_walk7_damaged_workflow_record_is_refused(w7_env, tmp_path, monkeypatch):
+    root, paths = w7_env
+    assert len(CASES_W7_RECORD) == 21
+    _run_batch(CASES_W7_RECORD, (root, paths, None), tmp_path, monkeypatch)
+
+
+@pytest.mark.parametrize("how", ["edited", "cut", "removed"])
+def test_verify_reports_a_damaged_workflow_record(how, env, tmp_path):
+    """`verify` reports the workflow record as damage (exit 1) and says what to do: submit again into a new
+    store (the record is the only copy: `--repair` cannot restore it), after which the store reads again."""
+    _, paths, _ = env
+    store = tmp_path / "s.zarr"
+    shutil.copytree(paths["sb"], store)
+    _edit_record(store, how)
+    result = CliRunner().invoke(cli, ["verify", "--store", str(store)])
+    assert result.exit_code == 1, result.output
+    assert f"damaged: zarr.json: {_RECORD[how].removeprefix('has ')}" in result.stdout
+    assert "fix: submit the workflow file again into a new store" in result.stdout
+    fixed = CliRunner().invoke(cli, ["submit", paths["wf_fig"], "--store", str(store), "--new-store"])
+    assert fixed.exit_code == 0, fixed.output
+    assert CliRunner().invoke(cli, ["verify", "--store", str(store)]).exit_code == 0

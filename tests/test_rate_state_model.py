@@ -29,7 +29,7 @@ WORKFLOW = textwrap.dedent("""
     [model]
     name = "rate-state"
     [engine]
-    laws = ["aging", "Ruina"]
+    laws = ["aging", "ruina"]
     [grid.kappa]
     values = [0.5, 0.9, 1.5]
     [grid.mass]
@@ -40,14 +40,16 @@ WORKFLOW = textwrap.dedent("""
 
 
 def test_labels_canonicalise_aliases_and_refuse_unknown_laws():
-    assert resolve_label("Dieterich + RUINA") == ("aging", "slip")
+    assert resolve_label("dieterich + ruina") == ("aging", "slip")
+    with pytest.raises(InputError, match=r"state_law='RUINA': is not a known state law \(names are lower case\)"):
+        resolve_label("dieterich+RUINA")   # spelled exactly, as every choice of the CLI (walk 7)
     assert label_identity("perrin") == "prz" and label_identity("slip+aging") == "slip+aging"
     with pytest.raises(InputError, match="state_law='frob': is not a known state law"):
         resolve_label("frob")
     with pytest.raises(InputError, match="names 3 state variables"):
         resolve_label("aging+slip+prz")
     w = parse_workflow(WORKFLOW)
-    assert w.laws == ("aging", "Ruina") and w.shape == (2, 3, 1, 1, 1, 1, 2, 1, 1, 1)
+    assert w.laws == ("aging", "ruina") and w.shape == (2, 3, 1, 1, 1, 1, 2, 1, 1, 1)
     # the defaults stand in for the axes left out
     assert (w.v_lp, w.a, w.b, w.dc, w.b2, w.dc2, w.damping) == ((1.0,), (0.01,), (0.015,), (0.01,), (0.0,), (0.1,), (0.0,))
 
@@ -199,8 +201,8 @@ def test_two_state_variables_take_b2_and_dc2():
     (("[grid.mass]", "[grid.b]\nvalues = [-0.1]\n[grid.mass]"), "grid.b.values[0]=-0.1"),
     (("[grid.mass]", "[grid.dc]\nvalues = [0]\n[grid.mass]"), "grid.dc.values[0]=0"),
     (("values = [0.5, 0.9, 1.5]", "values = [0.0, 0.9]"), "grid.kappa.values[0]=0.0"),
-    (('"Ruina"', '"frob"'), "engine.laws[1]='frob': is not a known state law"),
-    (('"Ruina"', '"aging+slip+prz"'), "names 3 state variables"),
+    (('"ruina"', '"frob"'), "engine.laws[1]='frob': is not a known state law"),
+    (('"ruina"', '"aging+slip+prz"'), "names 3 state variables"),
     (("[grid.kappa]\nvalues = [0.5, 0.9, 1.5]\n", ""), "grid.kappa"),      # the one axis without a default
     (("[grid.mass]\nvalues = [0.0, 1e-5]", "[grid.mass]\nvalues = [-1e-5]"), "grid.mass.values[0]=-1e-05"),
 ])

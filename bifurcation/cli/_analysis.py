@@ -11,6 +11,7 @@ import click
 
 from . import _options as O
 from ._common import echo_json, examples, fail, number
+from ..errors import shown_path
 
 __all__ = ["COMMANDS", "PAPER_WORKFLOWS"]
 
@@ -150,7 +151,7 @@ def report(stores, out: str, force: bool, as_json: bool) -> None:
     if as_json:
         echo_json(_written(files))
         return
-    click.echo(f"wrote {files['markdown']}, {files['html']} and {len(files['figures'])} figure{'' if len(files['figures']) == 1 else 's'}")
+    click.echo(f"wrote {shown_path(files['markdown'])}, {shown_path(files['html'])} and {len(files['figures'])} figure{'' if len(files['figures']) == 1 else 's'}")
 
 
 #: Seconds without a new stage before a line says the current one is still running, and between them.
@@ -293,7 +294,7 @@ def reproduce(out: str, scheduler, workers, new_stores: bool, force: bool, as_js
         echo_json({"submits": summaries, "report": _written(files),
                    "wall_time": round(time.perf_counter() - started, 3)})
         return
-    click.echo(f"wrote {files['markdown']} (and report.html, {len(files['figures'])} figure{'' if len(files['figures']) == 1 else 's'}) in "
+    click.echo(f"wrote {shown_path(files['markdown'])} (and report.html, {len(files['figures'])} figure{'' if len(files['figures']) == 1 else 's'}) in "
                f"{time.perf_counter() - started:.1f} s")
 
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import click
 
-from ..errors import InputError
+from ..errors import InputError, shown_path
 from ._common import examples
 
 __all__ = ["chain_study_cmd"]
@@ -120,7 +120,7 @@ def chain_study_cmd(workflow: str, out, from_data: bool, presets_only: bool, for
                 break
         raise
     if from_data:   # (a run says where it wrote, and in how long, itself)
-        click.echo(f"wrote {out / 'REPORT.md'} and its figures from {data}")
+        click.echo(f"wrote {shown_path(out / 'REPORT.md')} and its figures from {shown_path(data)}")
 
 
 #: what the report reads from data.json before anything else (``report.main``, ``--from-data``)

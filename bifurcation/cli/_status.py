@@ -6,6 +6,7 @@ import click
 
 from . import _options as O
 from ._common import echo_json, examples
+from ..errors import shown_path
 
 __all__ = ["COMMANDS"]
 
@@ -45,7 +46,7 @@ def export_cmd(store: str, out: str, fmt, force: bool, partial: bool, as_json: b
         echo_json(written)
         return
     missing = written["points"] - written["computed"]
-    click.echo(f"wrote {written['points']} points to {written['out']} ({written['format']})"
+    click.echo(f"wrote {written['points']} points to {shown_path(written['out'])} ({written['format']})"
                + (f"; {missing} of them not computed yet (empty, status not-computed): `bifurcation submit` "
                   "the store's workflow to finish it" if missing else "")
                + ("; the per-event catalogs are not in a CSV (one row per run): export to .nc for them, or "

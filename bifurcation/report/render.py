@@ -16,6 +16,7 @@ import numpy as np
 
 from . import figures as F
 from .document import Figure, Heading, Items, Paragraph, Section, Table, to_html, to_markdown
+from ..errors import shown_path
 
 __all__ = ["ReportData", "analyse", "fit_results", "fit_tables", "paper_claims_table", "stability_reruns",
            "write_report"]
@@ -329,7 +330,7 @@ def _blocks(data: ReportData, files) -> list:
     prov = [f"bifurcation {__version__}; " + ", ".join(f"{p} {v}" for p, v in _versions().items())]
     for ds in data.sources:
         a = ds.attrs
-        prov.append(f"store {a.get('store_path', '(in memory)')}: study {a.get('title', '?')!r}, workflow "
+        prov.append(f"store {shown_path(a.get('store_path', '(in memory)'))}: study {a.get('title', '?')!r}, workflow "
                     f"sha256 {str(a.get('workflow_sha256', '?'))[:16]}, precision {a.get('precision', '?')}, "
                     f"{int(np.prod([ds.sizes[d] for d in ('law', 'nu_f', 'nu') if d in ds.sizes]))} points, "
                     f"written by bifurcation {a.get('version_bifurcation', '?')}")

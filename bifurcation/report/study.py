@@ -21,6 +21,7 @@ import numpy as np
 
 from . import figures as F
 from .document import Figure, Heading, Items, Paragraph, Section, Table, to_html, to_markdown
+from ..errors import shown_path
 
 __all__ = ["MIN_SERIES", "block_section", "note", "single_block_section", "write_store_report"]
 
@@ -379,7 +380,7 @@ def _write_store_report(sources, out) -> dict:
                     Paragraph(f"Every number below is read from the stores or computed from them by this package; "
                               f"{units}.")]
     for k, ds in enumerate(stores):
-        note(f"store {k + 1} of {len(stores)} ({ds.attrs.get('store_path', 'in memory')}, model "
+        note(f"store {k + 1} of {len(stores)} ({shown_path(ds.attrs.get('store_path', 'in memory'))}, model "
              f"{store_model(ds.attrs)}): reading it and drawing its section")
         blocks.append(_store_section(ds, out, figures, f"store{k}"))
     if _holds_paper_laws(stores):
@@ -388,7 +389,7 @@ def _write_store_report(sources, out) -> dict:
     prov = [f"bifurcation {__version__}; " + ", ".join(f"{p} {v}" for p, v in _versions().items())]
     for ds in stores:
         a = ds.attrs
-        prov.append(f"store {a.get('store_path', '(in memory)')}: model {a.get('model', 'single-block')}, workflow "
+        prov.append(f"store {shown_path(a.get('store_path', '(in memory)'))}: model {a.get('model', 'single-block')}, workflow "
                     f"sha256 {str(a.get('workflow_sha256', '?'))[:16]}, precision {a.get('precision', '?')}, "
                     f"{math.prod(ds['status'].shape)} points, written by bifurcation {a.get('version_bifurcation', '?')}")
     blocks.append(Section("Provenance", [Items(prov)]))

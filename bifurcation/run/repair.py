@@ -13,6 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..errors import shown_path
+
 __all__ = ["VerifyReport", "clear_damage", "verify"]
 
 
@@ -42,7 +44,7 @@ class VerifyReport:
     def __str__(self) -> str:
         from ..store.integrity import repair_command
 
-        lines = [f"store {self.store}: {self.tiles} tiles, {self.chunks} chunks checked, "
+        lines = [f"store {shown_path(self.store)}: {self.tiles} tiles, {self.chunks} chunks checked, "
                  f"{len(self.damage)} damaged"]
         lines += [f"damaged: {d}" for d in self.damage[:20]]
         if len(self.damage) > 20:
@@ -53,6 +55,10 @@ class VerifyReport:
             lines.append(f"repaired: {self.repaired_tiles} tiles recomputed")
         if self.repaired_tiles or self.restored:
             lines.append("after repair: " + ("sound" if not self.after else f"{len(self.after)} damaged chunks left"))
+        elif any(d.chunk == "zarr.json" for d in self.damage):   # the workflow record: --repair cannot help
+            from ..store.integrity import workflow_record_fix
+
+            lines.append(f"fix: {workflow_record_fix(self.store)}")
         elif self.damage:
             lines.append(f"repair with: {repair_command(self.store)}")
         return "\n".join(lines)
@@ -71,14 +77,19 @@ def _check_free(path: Path) -> None:
 def verify(store, *, repair: bool = False, scheduler=None, workers=None, progress=None) -> VerifyReport:
     """Check every chunk of ``store``; with ``repair``, recompute the damaged tiles (see the module)."""
     from ..store import check_store
-    from ..store.integrity import scan
+    from ..store.integrity import Damage, scan, workflow_record_problem
 
     from ..errors import InputError
     from .cluster import check_scheduler, check_workers
 
     path = Path(store)
-    attrs = check_store(path)
+    attrs = check_store(path, record=False)
     if repair:
+        from ..store.integrity import workflow_record_fix, workflow_record_problem
+
+        if problem := workflow_record_problem(attrs):   # a repair recomputes from that record: none to trust
+            raise InputError("--repair", str(path), f"cannot repair a store that {problem}",
+                             workflow_record_fix(path))
         from ..models import get_model
         from ..store.layout import store_model
 
@@ -97,6 +108,8 @@ def verify(store, *, repair: bool = False, scheduler=None, workers=None, progres
                          "is only used to recompute damaged tiles", "add --repair, or leave it out")
     _check_free(path)
     damage, n_tiles, n_chunks = scan(path)
+    if problem := workflow_record_problem(attrs):   # without repair (refused above): reported as damage
+        damage = [Damage("zarr.json", (), problem.removeprefix("has "), kind="damaged"), *damage]
     if not repair or not (damage or _pending(path)):
         return VerifyReport(str(path), n_tiles, n_chunks, tuple(damage))
     return _repair(path, damage, n_tiles, n_chunks, scheduler, workers, progress)

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown_path
 from .tiles import Tile, compute_tile, iter_tiles
 from ..workflow import Workflow, load_workflow
 from ..store.status import format_rate
@@ -71,13 +71,13 @@ class Summary:
 
     def __str__(self) -> str:
         if self.detached:
-            return (f"study {self.study} → {self.store}\n"
+            return (f"study {self.study} → {shown_path(self.store)}\n"
                     f"detached: {self.points - self.skipped} points in {self.tiles} tiles handed to the "
                     f"{self.cluster.removeprefix('detached on ')} scheduler ({self.skipped} already done); this "
-                    f"process may exit. Follow it with `bifurcation status --store {self.store}`")
+                    f"process may exit. Follow it with `bifurcation status --store {shown_path(self.store)}`")
         statuses = ", ".join(f"{k} {v}" for k, v in self.statuses.items()) or "-"
         lines = [
-            f"study {self.study} → {self.store}",
+            f"study {self.study} → {shown_path(self.store)}",
             f"points: {self.points} in the grid, {self.computed} computed, {self.skipped} skipped "
             f"(already done), {self.failed} failed",
             f"statuses of computed points: {statuses}",

@@ -28,10 +28,11 @@ from typing import Iterator
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown_path
 
 __all__ = ["DONE", "Damage", "StoreDamagedError", "TileReader", "broken_metadata", "clear_tiles", "damaged_tiles",
-           "missing_chunks", "repair_command", "repair_fix", "restore_metadata", "scan"]
+           "missing_chunks", "repair_command", "repair_fix", "restore_metadata", "scan", "workflow_record_fix",
+           "workflow_record_problem"]
 
 #: The resume mask: True where a point's values are written.
 DONE = "done"
@@ -58,8 +59,8 @@ def repair_command(path) -> str:
     be recomputed alone), that command."""
     written_by = _written_by(path)
     if written_by:
-        return f"bifurcation {written_by} WORKFLOW --out {Path(path).parent}"
-    return f"bifurcation verify --store {path} --repair"
+        return f"bifurcation {written_by} WORKFLOW --out {shown_path(Path(path).parent)}"
+    return f"bifurcation verify --store {shown_path(path)} --repair"
 
 
 def repair_fix(path) -> str:
@@ -68,6 +69,32 @@ def repair_fix(path) -> str:
         return (f"run `{repair_command(path)}` to write it again (its workflow is the store's attribute "
                 "workflow_toml)")
     return f"run `{repair_command(path)}` to recompute the damaged tiles"
+
+
+def workflow_record_problem(attrs: dict) -> str | None:
+    """What is wrong with the store's record of its workflow (None if nothing): ``workflow_toml`` against the
+    ``workflow_sha256`` stored with it. A store whose workflow text was edited, cut or removed was accepted by
+    every command, and ``report`` printed the edited text as the store's workflow (walk 6)."""
+    import hashlib
+
+    text, sha = attrs.get("workflow_toml"), attrs.get("workflow_sha256")
+    if not isinstance(text, str):
+        return "has no record of its workflow (workflow_toml is missing from its zarr.json)"
+    if not isinstance(sha, str) or hashlib.sha256(text.encode()).hexdigest() != sha:
+        return ("has a record of its workflow that does not match its checksum (workflow_toml or workflow_sha256 "
+                "edited or cut in its zarr.json)")
+    return None
+
+
+def workflow_record_fix(path) -> str:
+    """The fix for a damaged workflow record. The record is the one copy (the consolidated metadata keeps the
+    arrays', not the root's attributes), and the workflow cannot be recomputed from the results: the study is
+    computed again from the user's workflow file."""
+    written_by = _written_by(path)
+    if written_by:
+        return f"run `bifurcation {written_by} WORKFLOW --out DIR` with the workflow file to write the store again"
+    return ("submit the workflow file again into a new store (--store NEW.zarr, or --new-store): this store's "
+            "results cannot be tied to a workflow")
 
 
 def _written_by(path) -> str:

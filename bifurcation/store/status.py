@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import shown_path
+
 __all__ = ["StudyStatus", "format_eta", "study_status"]
 
 #: Outcomes that are results, not failures (any other status of a done point is counted as a failure).
@@ -72,7 +74,7 @@ class StudyStatus:
 
         percent = 100.0 * self.done / self.points if self.points else 100.0
         width = max([len(self.axis)] + [len(str(k)) for k in self.per_label])
-        lines = [f"study {self.study} ({self.store}): {self.done}/{self.points} points done ({percent:.1f}%), "
+        lines = [f"study {self.study} ({shown_path(self.store)}): {self.done}/{self.points} points done ({percent:.1f}%), "
                  f"{self.failed} failed",
                  f"  {self.axis:{width}s}  {'done/points':>17s}  {'%':>6s}  outcomes"]
         for label, row in self.per_label.items():
@@ -86,7 +88,7 @@ class StudyStatus:
             lines.append(f"being written by {self.writer['describe']}: {rate}{eta}")
         elif self.complete:
             lines.append(f"complete: all {self.points} points computed and no submit is writing it; read it "
-                         f"with `bifurcation query --store {self.store}` or `bifurcation report`")
+                         f"with `bifurcation query --store {shown_path(self.store)}` or `bifurcation report`")
         elif _written_by(self.store):   # written whole (rate-state continue): points missing are damage
             lines.append(f"{self.points - self.done} points not done in a store written whole: "
                          f"{repair_fix(self.store)}")
@@ -95,7 +97,7 @@ class StudyStatus:
                          f"{self.points - self.done} remaining points")
         # a flipped bit in a result chunk is not seen here: say so rather than imply the data are sound
         lines.append(f"chunks not checked for damage (status reads only the done and status arrays): "
-                     f"`bifurcation verify --store {self.store}` checks every one")
+                     f"`bifurcation verify --store {shown_path(self.store)}` checks every one")
         return "\n".join(lines)
 
 
@@ -138,7 +140,7 @@ def _read(path: Path, group, name: str):
     except Exception as exc:  # noqa: BLE001 — whatever zarr raises for a damaged or missing array
         raise InputError("--store", str(path), f"has a damaged {name} array ({type(exc).__name__}: "
                          f"{str(exc).splitlines()[0] if str(exc) else 'unreadable'})",
-                         f"see the damage with `bifurcation verify --store {path}`, then "
+                         f"see the damage with `bifurcation verify --store {shown_path(path)}`, then "
                          f"{repair_fix(path)}") from None
 
 

@@ -104,8 +104,9 @@ def read_attrs(path) -> dict:
         return dict(zarr.open_group(str(path), mode="r").attrs)
 
 
-def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
-    """Attributes of the store at ``path``; ``InputError`` if it is not one, or holds another study."""
+def check_store(path, workflow=None, *, argument: str = "--store", record: bool = True) -> dict:
+    """Attributes of the store at ``path``; ``InputError`` if it is not one, or holds another study, or (with
+    ``record``; ``verify`` reports it as damage instead) its record of its workflow is damaged."""
     kind, attrs = _inspect(path)
     if kind == "missing" and _only_lock(Path(path)):
         raise only_lock_error(path, argument)
@@ -131,6 +132,12 @@ def check_store(path, workflow=None, *, argument: str = "--store") -> dict:
         raise InputError(argument, str(path), "is not a bifurcation store (or of another format)",
                          "give the path of a store written by `bifurcation submit`, or another path")
     _check_axes(path, attrs, argument)
+    if record:
+        from .integrity import workflow_record_fix, workflow_record_problem
+
+        problem = workflow_record_problem(attrs)
+        if problem:
+            raise InputError(argument, str(path), problem, workflow_record_fix(path))
     if workflow is not None and attrs.get("workflow_fingerprint") != workflow.fingerprint:
         made, now = int(attrs.get("engine_revision", 0)), workflow.spec.revision
         if made != now and attrs.get("model") == workflow.spec.name:
@@ -274,15 +281,19 @@ def write_whole_store(path, model, labels, grid, values: dict, attrs: dict, *, t
             old.rename(path)
         for leftover in (partial, old):
             shutil.rmtree(leftover, ignore_errors=True)
-        _create(partial, model, labels, grid, tiles, attrs)
-        with _quiet():
-            group = zarr.open_group(str(partial), mode="r+", use_consolidated=False)
-            for name, dtype in variables(model).items():   # in write order: "done" last
-                data = np.asarray(values[name], dtype=dtype)
-                if data.shape != shape:
-                    raise ValueError(f"write_whole_store: {name} has shape {data.shape}, not {shape}")
-                # every chunk written, also one that equals the fill value: a missing chunk is damage (verify)
-                group[name].with_config({"write_empty_chunks": True})[...] = data
+        try:
+            _create(partial, model, labels, grid, tiles, attrs)
+            with _quiet():
+                group = zarr.open_group(str(partial), mode="r+", use_consolidated=False)
+                for name, dtype in variables(model).items():   # in write order: "done" last
+                    data = np.asarray(values[name], dtype=dtype)
+                    if data.shape != shape:
+                        raise ValueError(f"write_whole_store: {name} has shape {data.shape}, not {shape}")
+                    # every chunk written, also one that equals the fill value: a missing chunk is damage
+                    group[name].with_config({"write_empty_chunks": True})[...] = data
+        except BaseException:   # Ctrl-C mid-write: no half store left beside it (a kill -9's: the next run's)
+            shutil.rmtree(partial, ignore_errors=True)
+            raise
         if path.exists():
             path.rename(old)
         partial.rename(path)

@@ -453,11 +453,21 @@ def _short(text: str) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def _values(table: Table, bounds) -> list[float]:
+def _value_fix(axis) -> str:
+    """What to write for a value of ``axis`` that is not a number: its words' numbers for a choice axis (a
+    chain's ends: 0 free, 1 periodic), a whole number for a count, else a number of its scale."""
+    if axis.names:
+        return "write " + " or ".join(f"{i} ({word})" for i, word in enumerate(axis.names)) + " (no quotes)"
+    if axis.dtype == "int64":
+        return f"write a whole number such as {axis.cast(axis.example)} (no quotes)"
+    return ""   # as_number's own: a number such as 0.4 or 1e-9
+
+
+def _values(table: Table, axis) -> list[float]:
     values = table.array("values")
     for i, v in enumerate(values):
         key = f"{table.key}.values[{i}]"
-        check_range(key, as_number(key, v), *bounds)
+        check_range(key, as_number(key, v, _value_fix(axis)), *axis.bounds)
     return [float(v) for v in values]
 
 
@@ -468,7 +478,7 @@ def _axis_points(table: Table, axis) -> tuple[float, ...]:
                          "give values = [...], ranges = [{ start, stop, num }] and/or "
                          "log = { start, stop, per_decade }")
     bounds = axis.bounds
-    groups = [_values(table, bounds)] if table.has("values") else []
+    groups = [_values(table, axis)] if table.has("values") else []
     if table.has("ranges"):
         for r in table.tables("ranges", ("start", "stop", "num"),
                               fix="write ranges = [{ start = 0.05, stop = 0.95, num = 19 }]"):

@@ -70,10 +70,14 @@ def state_law_names() -> list[str]:
 
 
 def resolve_state_law(name: str, argument: str = "state_law") -> StateLaw:
-    """The law called ``name`` (case-insensitive; aliases accepted), or a one-line ``InputError``."""
-    key = str(name).strip().lower()
+    """The law called ``name`` (aliases accepted), or a one-line ``InputError``. Spelled exactly, in lower case,
+    as every other choice of the CLI is (--ends, --law, --precision, --suite, a workflow's model name): 'AGING'
+    was accepted here while --ends FREE was refused (walk 6)."""
+    key = str(name).strip()
     key = _ALIASES.get(key, key)
     if key not in STATE_LAWS:
-        raise InputError(argument, name, "is not a known state law",
+        lower = _ALIASES.get(key.lower(), key.lower())
+        problem = "is not a known state law" + (" (names are lower case)" if lower in STATE_LAWS else "")
+        raise InputError(argument, name, problem,
                          f"use one of {', '.join(state_law_names())} (or dieterich, ruina, perrin)")
     return STATE_LAWS[key]

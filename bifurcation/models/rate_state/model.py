@@ -1,9 +1,10 @@
 """The ``rate-state`` model of the registry: per point, the Hopf point and the fate of perturbed sliding.
 
 A label is the state law of each state variable: ``aging``, ``slip``, ``prz`` (aliases dieterich,
-ruina, perrin; case-insensitive) or two joined by ``+`` (``aging+slip``: the first variable takes the
-axes b, dc, the second b2, dc2). Axes: κ = k/k_c, V_lp, a, b, Dc, M (0: quasi-static), b2, Dc2; all but
-κ have a default, so a workflow names only what it sweeps. Per point the runner (``_run``):
+ruina, perrin; lower case, as every choice of the CLI) or two joined by ``+`` (``aging+slip``: the
+first variable takes the axes b, dc, the second b2, dc2). Axes: κ = k/k_c, V_lp, a, b, Dc, M (0:
+quasi-static), b2, Dc2; all but κ have a default, so a workflow names only what it sweeps. Per point
+the runner (``_run``):
 
 1. the Hopf point of steady sliding at V_lp (``hopf.hopf_point`` at 30 digits, shared by the points
    that differ only in κ): k_c, ω_c, the first Lyapunov coefficient l1 and its sign (``criticality``);
@@ -51,7 +52,7 @@ _FATE = {"steady": RateStateStatus.STEADY_SLIDING, "cycle": RateStateStatus.LIMI
 
 
 def resolve_label(text) -> tuple[str, ...]:
-    """The state law of each state variable named by ``text`` ("aging", "Ruina", "aging+slip")."""
+    """The state law of each state variable named by ``text`` ("aging", "ruina", "aging+slip")."""
     if not isinstance(text, str) or not text.strip():
         raise InputError("state_law", text, "is not a state law name",
                          "give aging, slip or prz, or two joined by '+' such as aging+slip")
@@ -63,7 +64,7 @@ def resolve_label(text) -> tuple[str, ...]:
 
 
 def label_identity(text) -> str:
-    """The canonical label: aliases resolved, lower case ("Dieterich + ruina" → "aging+slip")."""
+    """The canonical label: aliases resolved, spaces dropped ("dieterich + ruina" → "aging+slip")."""
     return "+".join(resolve_label(text))
 
 

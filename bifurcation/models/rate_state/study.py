@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import re
+import shutil
 import time
 from dataclasses import dataclass
 
@@ -321,12 +322,26 @@ def run_study(path, out_dir=None, echo=print, damping=None) -> dict:
         from .diagram import compute
 
         diagram = compute(results, bautin, echo)
-    out.mkdir(parents=True, exist_ok=True)
     from .report import write_report, write_store
 
-    write_store(out / "branches.zarr", spec, results)
-    write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start, workflow=str(path),
-                 diagram=diagram)
+    # the directories this run creates, deepest first: an interrupt while writing removes them again, as
+    # the interrupt message says nothing new was left (Ctrl-C during the write left an empty --out, or one
+    # with only the store, walk 6); a directory that was there before is never removed
+    created = [d for d in (out, *out.absolute().parents) if not d.exists()]
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        write_store(out / "branches.zarr", spec, results)
+        write_report(out, spec, sweep, bautin, results, fates, time.perf_counter() - t_start,
+                     workflow=str(path), diagram=diagram)
+    except BaseException:
+        if created:
+            shutil.rmtree(created[0], ignore_errors=True)   # --out itself: all in it is this run's
+            for d in created[1:]:
+                try:
+                    d.rmdir()   # only if empty
+                except OSError:
+                    break
+        raise
     echo(f"wrote {out}/branches.zarr, {out}/REPORT.md in {time.perf_counter() - t_start:.0f} s")
     return {"sweep": sweep, "bautin": bautin, "branches": results, "fates": fates, "diagram": diagram}
 
