@@ -24,7 +24,7 @@ def carlson_langer_reference():
 # selected); the modules that use them run last and wait for it, then load from the cache. The same tests run,
 # on the same compiled code; with a warm cache, a subset, or no writable cache nothing changes.
 _NUMBA_TESTS = {"test_chain_compiled.py", "test_chain_compiled_lone.py", "test_chain_compiled_taylor.py",
-                "test_chain_bench.py", "test_cli_bounded.py"}
+                "test_chain_bench.py", "test_cli_bounded.py", "test_indep4_chain.py"}
 _warmup = []   # the running subprocess, if any (in the process that started it)
 
 

@@ -107,9 +107,11 @@ def _check(cs, engine, bound, events=None):
     return rows
 
 
-# a handful: each law once, both ends, the three σ_f > 0 values, both sides of the lone-block threshold
-# and the two chains whose error once exceeded its estimate most (10: Carlson–Langer 10.1x; 16: DOP853 2.3x)
-FAST = [k for k in (1, 2, 3, 4, 5, 10, 16) if k in CASES]
+# Fast: the two Carlson–Langer chains (5: N = 1; 10: N = 8, whose error once exceeded its estimate most,
+# 10.1x), on the loop the fast suite compiles anyway (tests/conftest.py). Every other law runs on the tape's
+# loop, a second ~38 s numba compile the fast suite does not pay: cases 1-4 and 16 (DOP853 2.3x) are in the
+# slow sweep below (test_compiled_against_own_reference, all 26 chains).
+FAST = [k for k in (5, 10) if k in CASES]
 
 
 @pytest.mark.parametrize("k", FAST)
@@ -133,7 +135,7 @@ def test_exact_double_against_own_reference(k):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("k", FAST[:3])
+@pytest.mark.parametrize("k", [k for k in (1, 2, 3) if k in CASES])
 def test_exact_quad_against_own_reference(k):
     _check(CASES[k], "quad", QUAD_BOUND, events=3)
 
