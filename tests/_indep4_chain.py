@@ -24,6 +24,8 @@ from __future__ import annotations
 
 from mpmath import mp, mpf
 
+from _indep4_taylor import deriv as _deriv, horner as _horner, refine as _refine   # the same author's series helpers
+
 LAWS = ("carlson-langer", "piecewise-linear", "exponential", "exp(-x-4*x^2)",
         "piecewise(1 - x, 0.5, 0.75 - x/2, 1.5, 0)")
 
@@ -71,17 +73,6 @@ class _Law:
         return mpf(0)
 
 
-def _horner(c, r):
-    acc = mpf(0)
-    for a in reversed(c):
-        acc = acc * r + a
-    return acc
-
-
-def _deriv(c):
-    return [i * c[i] for i in range(1, len(c))]
-
-
 def _first_root(c, h, skip0, samples=24):
     """First root of the polynomial c in (0, h] (None if no sign change is seen on the samples)."""
     f0 = _horner(c, mpf(0))
@@ -113,27 +104,6 @@ def _first_root(c, h, skip0, samples=24):
         # sign unknown over the whole step: look in (0, first sample] from a nonzero point near 0
         return None
     return None
-
-
-def _refine(c, a, b, fa):
-    dc = _deriv(c)
-    x = (a + b) / 2
-    for _ in range(400):
-        fx = _horner(c, x)
-        if fx == 0:
-            return x
-        if (fx > 0) == (fa > 0):
-            a, fa = x, fx
-        else:
-            b = x
-        d = _horner(dc, x)
-        xn = x - fx / d if d != 0 else (a + b) / 2
-        if not (a < xn < b):
-            xn = (a + b) / 2
-        if abs(xn - x) <= abs(x) * mpf(10) ** (-mp.dps + 2) or b - a <= abs(b) * mpf(10) ** (-mp.dps + 1):
-            return xn
-        x = xn
-    return x
 
 
 def event(law, n, ell, nu, nu_f, ends, sigma_f, s0, u0, t0, *, dps=40, order=40, max_steps=200000):
